@@ -1,0 +1,202 @@
+"""Elastic eigen-solutions of K phi = lambda M phi, lambda = omega^2 in (rad/s)^2.
+
+Modes are mass-normalised (phi^T M phi = 1). Rigid-body modes are detected and
+excluded, so elastic mode 1 is always the first flexible mode, whatever the supports.
+
+Two paths:
+
+* dense (``scipy.linalg.eigh``) for small models;
+* sparse shift-invert Lanczos (``scipy.sparse.linalg.eigsh``) about a small negative
+  shift sigma, so K - sigma M is non-singular even for a free structure. The LU
+  factorisation of K - sigma M is kept in a :class:`ShiftInvert`; a perturbed
+  configuration only adds a few diagonal terms, so its operator reuses the base
+  factorisation through the Woodbury identity instead of factorising again.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+from eigenupdate.errors import InputError
+
+DENSE_LIMIT = 400
+"""Models with at most this many coordinates use the dense solver."""
+
+RIGID_RTOL = 1e-10
+"""A mode is rigid when lambda < RIGID_RTOL * phi^T |K| phi (see :func:`rigid_mask`)."""
+
+
+@dataclass(frozen=True)
+class EigenSolution:
+    """Lowest elastic eigenpairs of one configuration.
+
+    Attributes
+    ----------
+    eigenvalues : (k,) elastic eigenvalues, ascending, (rad/s)^2.
+    modes : (n, k) mass-normalised mode shapes.
+    n_rigid : number of rigid-body modes found and excluded.
+    next_eigenvalue : the (k+1)-th elastic eigenvalue if it was computed, to detect a
+        repeated eigenvalue at the edge of the modes used.
+    """
+
+    eigenvalues: np.ndarray
+    modes: np.ndarray
+    n_rigid: int
+    next_eigenvalue: float | None = None
+
+    @property
+    def frequencies_hz(self) -> np.ndarray:
+        return np.sqrt(np.maximum(self.eigenvalues, 0.0)) / (2 * np.pi)
+
+
+def rigid_mask(K, lam: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """True for rigid-body modes.
+
+    phi^T K phi of a rigid mode is a sum of terms that cancel to round-off, so it is
+    compared with phi^T |K| phi, the same sum without cancellation. The test does not
+    depend on units or mesh size, unlike an absolute frequency threshold. Smooth elastic
+    modes also cancel partly, by about (element size / wavelength)^4 for beams, which is
+    far above 1e-10 for any practical mesh.
+    """
+    ref = np.einsum("ij,ij->j", phi, abs(K) @ phi)
+    return lam < RIGID_RTOL * ref
+
+
+class ShiftInvert:
+    """LU factorisation of A = K - sigma M, with ``solve(b) = A^-1 b``."""
+
+    def __init__(self, K: sp.csr_array, M: sp.csr_array, sigma: float):
+        self.sigma = float(sigma)
+        try:
+            self._lu = spla.splu(sp.csc_matrix(K - self.sigma * M))
+        except RuntimeError as exc:  # exactly singular
+            raise InputError(f"K - sigma M is singular for sigma = {sigma:g}: {exc}") from None
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        return self._lu.solve(np.asarray(b, dtype=float))
+
+    def updated(self, rows: np.ndarray, dk: np.ndarray, dm: np.ndarray) -> ShiftInvert:
+        """Operator of A + U diag(dk - sigma dm) U^T (additions at ``rows``) by Woodbury."""
+        return _Woodbury(self, rows, np.asarray(dk) - self.sigma * np.asarray(dm))
+
+
+class _Woodbury(ShiftInvert):
+    # (A + U D U^T)^-1 b = y - Z (D^-1 + U^T Z)^-1 y[rows],  y = A^-1 b,  Z = A^-1 U
+    def __init__(self, base: ShiftInvert, rows: np.ndarray, d: np.ndarray):
+        rows, inverse = np.unique(rows, return_inverse=True)
+        dsum = np.zeros(rows.size)
+        np.add.at(dsum, inverse, d)
+        keep = dsum != 0
+        self.sigma, self._base, self._rows = base.sigma, base, rows[keep]
+        U = np.zeros((base._lu.shape[0], self._rows.size))
+        U[self._rows, np.arange(self._rows.size)] = 1.0
+        self._Z = base.solve(U)
+        S = np.diag(1.0 / dsum[keep]) + self._Z[self._rows, :]
+        self._S = scipy.linalg.lu_factor(S)
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        y = self._base.solve(b)
+        if self._rows.size == 0:
+            return y
+        return y - self._Z @ scipy.linalg.lu_solve(self._S, y[self._rows])
+
+
+def default_shift(K: sp.csr_array, M: sp.csr_array) -> float:
+    """Small negative shift: a tiny fraction of a typical diagonal ratio K_ii / M_ii.
+
+    Far below the lowest elastic eigenvalue of any sensible model, so the ordering and
+    convergence of shift-invert Lanczos are those of 1/lambda; large enough that
+    K - sigma M factorises stably when K is singular (free structure).
+    """
+    k, m = K.diagonal(), M.diagonal()
+    ok = (k > 0) & (m > 0)
+    ratio = np.median(k[ok] / m[ok]) if ok.any() else 1.0
+    return -1e-8 * ratio
+
+
+def solve_elastic(
+    K,
+    M,
+    n_modes: int,
+    *,
+    operator: ShiftInvert | None = None,
+    dense: bool | None = None,
+) -> EigenSolution:
+    """The ``n_modes`` lowest elastic eigenpairs (and the next eigenvalue when available).
+
+    Parameters
+    ----------
+    K, M : stiffness and mass, dense or sparse, symmetric; M positive definite on the
+        dense path (positive semi-definite is fine on the sparse path).
+    n_modes : number of elastic modes wanted.
+    operator : a :class:`ShiftInvert` of these K and M (sparse path); built if None.
+    dense : force the dense (True) or sparse (False) path; by default dense for small models.
+
+    Examples
+    --------
+    A free-free 2-mass chain (1 kg, 1 N/m, 1 kg): one rigid mode, one elastic at lambda = 2.
+
+    >>> import numpy as np
+    >>> sol = solve_elastic(np.array([[1., -1.], [-1., 1.]]), np.eye(2), 1)
+    >>> sol.n_rigid, np.round(sol.eigenvalues, 12).tolist()
+    (1, [2.0])
+    """
+    n = K.shape[0]
+    if n_modes < 1:
+        raise InputError("at least one mode is required")
+    if dense is None:
+        dense = n <= DENSE_LIMIT and operator is None
+    if dense:
+        return _solve_dense(K, M, n_modes)
+    return _solve_sparse(sp.csr_array(K), sp.csr_array(M), n_modes, operator)
+
+
+def _solve_dense(K, M, n_modes: int) -> EigenSolution:
+    Kd = K.toarray() if sp.issparse(K) else np.asarray(K, dtype=float)
+    Md = M.toarray() if sp.issparse(M) else np.asarray(M, dtype=float)
+    try:
+        lam, phi = scipy.linalg.eigh(Kd, Md)
+    except np.linalg.LinAlgError:
+        raise InputError(
+            "mass matrix is not positive definite (a coordinate without mass?)"
+        ) from None
+    return _elastic(Kd, lam, phi, n_modes, complete=True)
+
+
+def _solve_sparse(K, M, n_modes: int, operator: ShiftInvert | None) -> EigenSolution:
+    op = operator or ShiftInvert(K, M, default_shift(K, M))
+    n = K.shape[0]
+    linop = spla.LinearOperator((n, n), matvec=op.solve, dtype=float)
+    k = n_modes + 7  # room for up to six rigid-body modes and one extra elastic
+    while True:
+        k = min(k, n - 1)
+        lam, phi = spla.eigsh(K, k=k, M=M, sigma=op.sigma, which="LM", OPinv=linop)
+        order = np.argsort(lam)
+        lam, phi = lam[order], phi[:, order]
+        phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, M @ phi))
+        sol = _elastic(K, lam, phi, n_modes, complete=k == n - 1)
+        if sol.next_eigenvalue is not None or k == n - 1:
+            return sol
+        k *= 2
+
+
+def _elastic(K, lam, phi, n_modes: int, complete: bool) -> EigenSolution:
+    rigid = rigid_mask(K, lam, phi)
+    scale = np.max(np.abs(lam)) if lam.size else 1.0
+    if np.any(lam[~rigid] < -1e-8 * scale):
+        raise InputError("stiffness matrix is not positive semi-definite (negative eigenvalue)")
+    el = np.flatnonzero(~rigid)
+    if el.size < n_modes and complete:
+        raise InputError(
+            f"mode {n_modes} requested but the model has only {el.size} elastic modes"
+        )
+    if el.size <= n_modes and not complete:
+        return EigenSolution(lam[el], phi[:, el], int(rigid.sum()), None)
+    nxt = float(lam[el[n_modes]]) if el.size > n_modes else None
+    use = el[:n_modes]
+    return EigenSolution(lam[use].copy(), phi[:, use].copy(), int(rigid.sum()), nxt)

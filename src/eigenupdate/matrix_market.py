@@ -1,0 +1,60 @@
+"""Models assembled elsewhere (NASTRAN, FEMtools, ...) read from Matrix Market files:
+K0, M0 and, per parameter, dK/ds_j and/or dM/ds_j."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import scipy.io
+import scipy.sparse as sp
+
+from eigenupdate.errors import InputError
+from eigenupdate.model import ParametricModel
+from eigenupdate.parameters import Parameter
+
+SYMMETRY_RTOL = 1e-10
+
+
+def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
+    """Read one square, symmetric, real matrix from a Matrix Market file."""
+    path = Path(path)
+    try:
+        a = scipy.io.mmread(path)
+    except (OSError, ValueError, TypeError, IndexError) as exc:
+        raise InputError(f"cannot read Matrix Market file: {exc}", source=str(path)) from None
+    a = sp.csr_array(a)
+    if np.iscomplexobj(a.data):
+        raise InputError("matrix is complex; a real matrix is required", source=str(path))
+    a = a.astype(float)
+    if a.shape[0] != a.shape[1]:
+        raise InputError(f"matrix is not square: shape {a.shape}", source=str(path))
+    if n is not None and a.shape[0] != n:
+        raise InputError(f"matrix is {a.shape[0]}x{a.shape[0]}, K0 is {n}x{n}", source=str(path))
+    asym = abs(a - a.T).max() if a.nnz else 0.0
+    if asym > SYMMETRY_RTOL * (abs(a).max() if a.nnz else 1.0):
+        raise InputError(f"matrix is not symmetric (max |A - A^T| = {asym:.3g})", source=str(path))
+    return a
+
+
+def matrix_model(
+    k0: str | Path,
+    m0: str | Path,
+    parameters: Sequence[tuple[Parameter, str | Path | None, str | Path | None]],
+) -> ParametricModel:
+    """Model K = K0 + sum s_j K_j, M = M0 + sum s_j M_j from files.
+
+    ``parameters`` holds (parameter, K_j file or None, M_j file or None); at least one file each.
+    """
+    K0 = read_matrix(k0)
+    n = K0.shape[0]
+    M0 = read_matrix(m0, n)
+    params, kt, mt = [], [], []
+    for p, kf, mf in parameters:
+        if kf is None and mf is None:
+            raise InputError("needs a K and/or an M file", field=f"parameter {p.name}")
+        params.append(p)
+        kt.append(None if kf is None else read_matrix(kf, n))
+        mt.append(None if mf is None else read_matrix(mf, n))
+    return ParametricModel(K0, M0, tuple(params), tuple(kt), tuple(mt))

@@ -1,0 +1,136 @@
+"""Measured natural frequencies: the CSV a study points at, one row per configuration
+and elastic mode: ``configuration,mode,frequency_hz,std_hz`` ("base" = bare structure).
+``std_hz`` may be empty when the method needs no weights (plain least squares)."""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import tempfile
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from eigenupdate.errors import InputError
+
+COLUMNS = ("configuration", "mode", "frequency_hz", "std_hz")
+
+
+@dataclass(frozen=True)
+class Measurement:
+    configuration: str
+    mode: int
+    frequency_hz: float
+    std_hz: float | None = None
+
+
+def read_measurements(path: str | Path) -> dict[tuple[str, int], Measurement]:
+    """Read a measurement CSV into {(configuration, mode): Measurement}."""
+    path = Path(path)
+    src = str(path)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read measurement file: {exc}", source=src) from None
+    lines = [(i, ln) for i, ln in enumerate(text.splitlines(), 1) if ln.strip()]
+    lines = [(i, ln) for i, ln in lines if not ln.lstrip().startswith("#")]
+    if not lines:
+        raise InputError("measurement file is empty", source=src)
+    header = [h.strip() for h in next(csv.reader([lines[0][1]]))]
+    missing = [c for c in COLUMNS[:3] if c not in header]
+    if missing:
+        raise InputError(
+            f"line {lines[0][0]}: header lacks column(s) {missing}; expected {','.join(COLUMNS)}",
+            source=src,
+        )
+    col = {name: header.index(name) for name in COLUMNS if name in header}
+    out: dict[tuple[str, int], Measurement] = {}
+    for lineno, row in zip((i for i, _ in lines[1:]), csv.reader(ln for _, ln in lines[1:])):
+        where = f"line {lineno}"
+        if len(row) < len(header):
+            raise InputError(f"{where}: {len(row)} fields, expected {len(header)}", source=src)
+        cfg = row[col["configuration"]].strip()
+        mode = _number(row[col["mode"]], int, src, where, "mode")
+        f = _number(row[col["frequency_hz"]], float, src, where, "frequency_hz")
+        std_txt = row[col["std_hz"]].strip() if "std_hz" in col else ""
+        std = _number(std_txt, float, src, where, "std_hz") if std_txt else None
+        if not cfg:
+            raise InputError(f"{where}: empty configuration", source=src)
+        if mode < 1:
+            raise InputError(f"{where}: mode must be >= 1, got {mode}", source=src)
+        if not f > 0:
+            raise InputError(f"{where}: frequency_hz must be > 0, got {f}", source=src)
+        if std is not None and not std > 0:
+            raise InputError(f"{where}: std_hz must be > 0, got {std}", source=src)
+        if (cfg, mode) in out:
+            raise InputError(f"{where}: second row for {cfg!r} mode {mode}", source=src)
+        out[(cfg, mode)] = Measurement(cfg, mode, f, std)
+    return out
+
+
+def _number(text: str, kind, src: str, where: str, name: str):
+    try:
+        v = kind(text.strip())
+    except ValueError:
+        raise InputError(f"{where}: {name} {text.strip()!r} is not a number", source=src) from None
+    if not math.isfinite(v):
+        raise InputError(f"{where}: {name} is not finite", source=src)
+    return v
+
+
+def write_measurements(path: str | Path, rows: Iterable[Measurement]) -> None:
+    """Write a measurement CSV at full precision, atomically (temporary file + rename)."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent or ".", prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
+            w = csv.writer(fh, lineterminator="\n")
+            w.writerow(COLUMNS)
+            for m in rows:
+                std = "" if m.std_hz is None else repr(float(m.std_hz))
+                w.writerow([m.configuration, m.mode, repr(float(m.frequency_hz)), std])
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def select(
+    measurements: Mapping[tuple[str, int], Measurement],
+    rows: Sequence[tuple[str, int]],
+    need_std: bool,
+    source: str | None = None,
+) -> tuple[np.ndarray, np.ndarray | None]:
+    """Frequencies (and std) in the order of ``rows``; InputError names what is missing."""
+    f, s = [], []
+    for cfg, mode in rows:
+        m = measurements.get((cfg, mode))
+        if m is None:
+            raise InputError(
+                f"no measurement for configuration {cfg!r} mode {mode}", source=source
+            )
+        if need_std and m.std_hz is None:
+            raise InputError(
+                f"std_hz is empty for configuration {cfg!r} mode {mode}; weighted methods need it",
+                source=source,
+            )
+        f.append(m.frequency_hz)
+        s.append(m.std_hz)
+    return np.array(f), (np.array(s, dtype=float) if need_std else None)
+
+
+def eigenvalue_std(frequency_hz: np.ndarray, std_hz: np.ndarray) -> np.ndarray:
+    """Standard deviation of lambda = (2 pi f)^2 from that of f: 8 pi^2 f sigma_f.
+
+    >>> round(float(eigenvalue_std(np.array([100.0]), np.array([0.5]))[0]), 3)
+    3947.842
+    """
+    return 8 * np.pi**2 * frequency_hz * std_hz
+
+
+def to_eigenvalue(frequency_hz):
+    """lambda = omega^2 = (2 pi f)^2, (rad/s)^2."""
+    return (2 * np.pi * np.asarray(frequency_hz, dtype=float)) ** 2

@@ -1,0 +1,225 @@
+"""Iterative updating of the parameters from measured eigenvalues.
+
+Each iteration linearises the model (Eq. 1, J delta s = delta lambda) and takes a
+Gauss-Newton step, in parameters normalised by their initial values:
+
+* ``least-squares``: minimise ||delta lambda - J delta s||^2 (paper Section 5);
+* ``weighted-least-squares``: weights W_lambda = diag(1 / sigma_lambda^2), with
+  sigma_lambda = 8 pi^2 f sigma_f from the frequency standard deviations;
+* ``bayesian``: Eq. (6), the minimum-change estimator anchored at the initial
+  estimates s_i, W_s = diag(1 / sigma_s^2) from the prior standard deviations
+  (a parameter without a prior std gets no anchoring weight). It is Gauss-Newton on
+  delta lambda^T W_lambda delta lambda + (s - s_i)^T W_s (s - s_i), solved here as a
+  stacked least-squares problem rather than through the normal equations, which would
+  square the condition number (paper Section 3).
+
+A step that raises that objective, or would make a parameter negative, is shortened
+(backtracking, fraction-to-the-boundary) and the history records it; a full step that
+lowers the objective is taken unchanged, so plain Gauss-Newton iterates (Table 4) are
+reproduced exactly.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from eigenupdate.configurations import Configuration
+from eigenupdate.errors import InputError
+from eigenupdate.jacobian import Linearisation, linearise
+from eigenupdate.measurements import Measurement, eigenvalue_std, select, to_eigenvalue
+from eigenupdate.model import ParametricModel
+
+METHODS = ("least-squares", "weighted-least-squares", "bayesian")
+MAX_HALVINGS = 30
+BOUNDARY_FRACTION = 0.9
+
+
+@dataclass
+class UpdateResult:
+    """Outcome of :func:`update`, read like SciPy's ``OptimizeResult``.
+
+    Attributes
+    ----------
+    method, converged, message, nit : as their names say; ``nit`` counts iterations.
+    parameters : final value of every parameter (updated and fixed), by name.
+    std : posterior standard deviation of each updated parameter, None where undefined
+        (rank-deficient J without a prior; no residual degrees of freedom).
+    history : one entry per iterate; ``history[0]`` is the initial model and
+        ``history[i]`` the model after iteration i. Each holds ``parameters``,
+        ``objective``, ``step`` (fraction of the Gauss-Newton step taken) and ``note``.
+    rows : (configuration, mode) of each equation.
+    measured_hz, initial_hz, updated_hz : frequencies of each row.
+    model : the updated model.
+    """
+
+    method: str
+    converged: bool
+    message: str
+    nit: int
+    parameters: dict[str, float]
+    std: dict[str, float | None]
+    history: list[dict] = field(repr=False)
+    rows: list[tuple[str, int]] = field(repr=False)
+    measured_hz: np.ndarray = field(repr=False)
+    initial_hz: np.ndarray = field(repr=False)
+    updated_hz: np.ndarray = field(repr=False)
+    model: ParametricModel = field(repr=False)
+
+    @property
+    def success(self) -> bool:
+        return self.converged
+
+
+def update(
+    model: ParametricModel,
+    configurations: Sequence[Configuration],
+    modes: Sequence[int],
+    measurements: Mapping[tuple[str, int], Measurement],
+    *,
+    method: str = "least-squares",
+    max_iterations: int = 20,
+    xtol: float = 1e-8,
+    source: str | None = None,
+) -> UpdateResult:
+    """Update the model's updated parameters from measured natural frequencies.
+
+    Parameters
+    ----------
+    model : initial model (its parameter values are the initial estimates s_i).
+    configurations : the bare structure and the perturbed ones.
+    modes : elastic mode numbers used in every configuration.
+    measurements : {(configuration name, mode): Measurement}; frequencies in Hz.
+    method : one of ``METHODS``.
+    max_iterations : iteration limit.
+    xtol : converged when the largest change of a normalised parameter s_j / s_j0 in a
+        step is below ``xtol``.
+    source : file name for error messages.
+    """
+    if method not in METHODS:
+        raise InputError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}",
+                         field="updating.method")
+    if max_iterations < 1:
+        raise InputError("max_iterations must be >= 1", field="updating.max_iterations")
+    weighted = method != "least-squares"
+    upd = model.updated
+    names = [model.names[j] for j in upd]
+    rows = [(c.name, k) for c in configurations for k in sorted(set(modes))]
+    f_meas, f_std = select(measurements, rows, weighted, source)
+    lam_meas = to_eigenvalue(f_meas)
+    w = 1.0 / eigenvalue_std(f_meas, f_std) if weighted else np.ones_like(lam_meas)
+
+    scale = np.array([model.parameters[j].scale for j in upd])
+    z0 = model.values[upd] / scale
+    prior = np.zeros_like(z0)  # sqrt of W_s in normalised parameters
+    if method == "bayesian":
+        stds = [model.parameters[j].std for j in upd]
+        prior = np.array([0.0 if s is None else sc / s for s, sc in zip(stds, scale, strict=True)])
+        if not prior.any():
+            raise InputError("the bayesian method needs a std for at least one updated parameter",
+                             field="model")
+
+    def full(z: np.ndarray) -> np.ndarray:
+        s = model.values.copy()
+        s[upd] = z * scale
+        return s
+
+    def evaluate(z: np.ndarray) -> tuple[Linearisation, float]:
+        lin = linearise(model, configurations, modes, full(z))
+        r = w * (lam_meas - lin.eigenvalues)
+        a = prior * (z - z0)
+        return lin, float(r @ r + a @ a)
+
+    def snapshot(z, obj, step, note) -> dict:
+        return {"parameters": dict(zip(model.names, full(z).tolist(), strict=True)),
+                "objective": obj, "step": step, "note": note}
+
+    z = z0.copy()
+    lin, obj = evaluate(z)
+    lin0 = lin
+    history = [snapshot(z, obj, 0.0, "initial")]
+    converged, message = False, f"iteration limit ({max_iterations}) reached"
+    for it in range(1, max_iterations + 1):
+        A = np.vstack([w[:, None] * lin.normalised, np.diag(prior)])
+        b = np.concatenate([w * (lam_meas - lin.eigenvalues), prior * (z0 - z)])
+        dz = np.linalg.lstsq(A, b, rcond=None)[0]
+        if np.max(np.abs(dz)) < xtol:
+            z = z + dz
+            history.append(snapshot(z, obj, 1.0, "converged"))
+            converged, message = True, f"converged: largest normalised step {np.max(abs(dz)):.1e}"
+            break
+        dz, alpha, note = _physical(z, dz)
+        while True:
+            try:
+                trial, trial_obj = evaluate(z + alpha * dz)
+            except InputError:  # e.g. the trial model has lost a mode
+                trial, trial_obj = None, np.inf
+            if trial_obj < obj:
+                break
+            alpha *= 0.5
+            note = "step halved: objective rose"
+            if alpha < 0.5**MAX_HALVINGS:
+                trial = None
+                break
+        if trial is None:
+            message = f"iteration {it}: no step along the Gauss-Newton direction lowers the objective"
+            history.append(snapshot(z, obj, 0.0, "line search failed"))
+            break
+        z, lin, obj = z + alpha * dz, trial, trial_obj
+        history.append(snapshot(z, obj, alpha, note))
+    nit = len(history) - 1
+
+    lin_final = linearise(model, configurations, modes, full(z))
+    std = _posterior_std(lin_final, w, prior, lam_meas, method) * scale
+    updated = model.with_values(full(z))
+    return UpdateResult(
+        method=method,
+        converged=converged,
+        message=message,
+        nit=nit,
+        parameters=dict(zip(model.names, full(z).tolist(), strict=True)),
+        std={n: (None if not np.isfinite(s) else float(s)) for n, s in zip(names, std, strict=True)},
+        history=history,
+        rows=rows,
+        measured_hz=f_meas,
+        initial_hz=np.sqrt(lin0.eigenvalues) / (2 * np.pi),
+        updated_hz=np.sqrt(np.maximum(lin_final.eigenvalues, 0)) / (2 * np.pi),
+        model=updated,
+    )
+
+
+def _physical(z: np.ndarray, dz: np.ndarray) -> tuple[np.ndarray, float, str]:
+    """Keep the step physical: parameters stay >= 0 (and > 0 if they are > 0 now)."""
+    dz = dz.copy()
+    note = "full step"
+    at_bound = (z <= 0) & (dz < 0)
+    if at_bound.any():
+        dz[at_bound] = 0.0
+        note = "step projected: parameter at zero"
+    down = dz < 0
+    alpha = 1.0
+    if down.any():
+        limit = np.min(z[down] / -dz[down])
+        if limit <= 1.0:
+            alpha = BOUNDARY_FRACTION * limit
+            note = "step shortened: a parameter would become negative"
+    return dz, alpha, note
+
+
+def _posterior_std(lin, w, prior, lam_meas, method) -> np.ndarray:
+    """Posterior std of the normalised parameters (NaN where undefined)."""
+    A = w[:, None] * lin.normalised
+    H = A.T @ A + np.diag(prior**2)
+    p = H.shape[0]
+    if np.linalg.matrix_rank(H) < p:
+        return np.full(p, np.nan)
+    cov = np.linalg.inv(H)
+    if method == "least-squares":
+        dof = A.shape[0] - p
+        if dof <= 0:
+            return np.full(p, np.nan)
+        r = lam_meas - lin.eigenvalues
+        cov = cov * float(r @ r) / dof
+    return np.sqrt(np.maximum(np.diag(cov), 0.0))

@@ -82,6 +82,7 @@ def update(
     method: str = "least-squares",
     max_iterations: int = 20,
     xtol: float = 1e-8,
+    ftol: float = 1e-10,
     source: str | None = None,
 ) -> UpdateResult:
     """Update the model's updated parameters from measured natural frequencies.
@@ -94,8 +95,10 @@ def update(
     measurements : {(configuration name, mode): Measurement}; frequencies in Hz.
     method : one of ``METHODS``.
     max_iterations : iteration limit.
-    xtol : converged when the largest change of a normalised parameter s_j / s_j0 in a
-        step is below ``xtol``.
+    xtol : converged when the largest change of a normalised parameter s_j / s_j0 that
+        the next step would make is below ``xtol``,
+    ftol : or when the objective decrease the next step predicts is below ``ftol`` times
+        the objective (with noisy data the iteration stalls at round-off otherwise).
     source : file name for error messages.
     """
     if method not in METHODS:
@@ -145,10 +148,11 @@ def update(
         A = np.vstack([w[:, None] * lin.normalised, np.diag(prior)])
         b = np.concatenate([w * (lam_meas - lin.eigenvalues), prior * (z0 - z)])
         dz = np.linalg.lstsq(A, b, rcond=None)[0]
-        if np.max(np.abs(dz)) < xtol:
-            z = z + dz
-            history.append(snapshot(z, obj, 1.0, "converged"))
-            converged, message = True, f"converged: largest normalised step {np.max(abs(dz)):.1e}"
+        predicted = obj - float(np.sum((A @ dz - b) ** 2))  # decrease the linear model expects
+        if np.max(np.abs(dz)) < xtol or predicted <= ftol * obj:
+            converged = True
+            message = (f"converged: largest normalised step {np.max(np.abs(dz)):.1e}, "
+                       f"predicted objective decrease {predicted / obj if obj else 0:.1e} relative")
             break
         dz, alpha, note = _physical(z, dz)
         while True:

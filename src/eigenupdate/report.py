@@ -1,0 +1,133 @@
+"""Plain-text tables and JSON documents for the command line."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from eigenupdate.identifiability import IdentifiabilityReport
+from eigenupdate.updating import UpdateResult
+
+
+def table(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    """Right-aligned text table; floats printed with 6 significant digits."""
+
+    def fmt(v: Any) -> str:
+        if v is None:
+            return "-"
+        if isinstance(v, float):
+            return f"{v:.6g}" if math.isfinite(v) else str(v)
+        return str(v)
+
+    cells = [[fmt(v) for v in r] for r in rows]
+    widths = [max(len(h), *(len(r[i]) for r in cells)) for i, h in enumerate(header)]
+    lines = ["  ".join(h.rjust(w) for h, w in zip(header, widths, strict=True))]
+    lines.append("  ".join("-" * w for w in widths))
+    lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in cells]
+    return "\n".join(lines)
+
+
+def _clean(obj: Any) -> Any:
+    """JSON has no NaN or infinity: write null."""
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, dict):
+        return {k: _clean(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_clean(v) for v in obj]
+    return obj
+
+
+def dumps(doc: dict) -> str:
+    return json.dumps(_clean(doc), indent=2)
+
+
+def write_atomic(path: str | Path, text: str) -> None:
+    """Write a text file through a temporary file and a rename: never half-written."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def check_doc(r: IdentifiabilityReport) -> dict:
+    return {
+        "parameters": r.parameters,
+        "equations": r.equations,
+        "rank": r.rank,
+        "condition_J": r.condition_J,
+        "condition_JTJ": r.condition_JTJ,
+        "singular_values": r.singular_values,
+        "weakest": r.weakest,
+    }
+
+
+def check_text(r: IdentifiabilityReport, title: str) -> str:
+    p = len(r.parameters)
+    verdict = (
+        "all parameters identifiable" if r.identifiable
+        else f"NOT identifiable: rank {r.rank} < {p} parameters"
+    )
+    lines = [
+        f"{title}: identifiability of the test plan",
+        f"  updated parameters   {p}",
+        f"  equations            {r.equations}",
+        f"  rank of J^T J        {r.rank}   ({verdict})",
+        f"  condition of J       {r.condition_J:.3g}",
+        f"  condition of J^T J   {r.condition_JTJ:.3g}",
+        "",
+        "Worst-determined parameter combination (smallest singular vector):",
+        table(["parameter", "weight"], [[k, v] for k, v in r.weakest.items() if abs(v) >= 0.05]),
+        "",
+        "Singular values of J: " + ", ".join(f"{s:.3g}" for s in r.singular_values),
+    ]
+    return "\n".join(lines)
+
+
+def update_doc(r: UpdateResult) -> dict:
+    return {
+        "method": r.method,
+        "converged": r.converged,
+        "message": r.message,
+        "iterations": r.nit,
+        "parameters": r.parameters,
+        "std": r.std,
+        "history": [h["parameters"] for h in r.history],
+        "steps": [{k: h[k] for k in ("objective", "step", "note")} for h in r.history],
+        "frequencies": [
+            {"configuration": c, "mode": k, "measured_hz": float(m), "initial_hz": float(i),
+             "updated_hz": float(u)}
+            for (c, k), m, i, u in zip(r.rows, r.measured_hz, r.initial_hz, r.updated_hz,
+                                       strict=True)
+        ],
+    }
+
+
+def update_text(r: UpdateResult, initial: dict[str, float], title: str) -> str:
+    head = f"{title}: {r.method}, {r.message} after {r.nit} iteration(s)"
+    params = table(
+        ["parameter", "initial", "updated", "std", "change %"],
+        [[n, initial[n], v, r.std.get(n), 100 * (v - initial[n]) / initial[n] if initial[n]
+          else None] for n, v in r.parameters.items() if n in r.std],
+    )
+    steps = table(
+        ["iteration", "objective", "step", "note"],
+        [[i, h["objective"], h["step"], h["note"]] for i, h in enumerate(r.history)],
+    )
+    freqs = table(
+        ["configuration", "mode", "measured Hz", "initial Hz", "updated Hz", "error %"],
+        [[c, k, float(m), float(i), float(u), 100 * (u - m) / m]
+         for (c, k), m, i, u in zip(r.rows, r.measured_hz, r.initial_hz, r.updated_hz,
+                                    strict=True)],
+    )
+    return "\n\n".join([head, params, steps, freqs])

@@ -1,0 +1,320 @@
+"""Study files: one TOML file describes the model, the perturbed configurations, the
+measurements and the updating options. Paths inside it are relative to the file.
+
+Every error names the file and the field (``model.mass[2].value``); unknown keys are
+errors too, so a misspelt option is not silently ignored.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from eigenupdate.beam import beam_model
+from eigenupdate.configurations import BASE, Addition, Configuration
+from eigenupdate.errors import InputError
+from eigenupdate.matrix_market import matrix_model
+from eigenupdate.measurements import Measurement, read_measurements
+from eigenupdate.model import ParametricModel
+from eigenupdate.parameters import Parameter
+from eigenupdate.spring_mass import Mass, Spring, spring_mass_model
+from eigenupdate.updating import METHODS
+
+MODEL_TYPES = ("spring-mass", "beam", "matrices")
+
+
+@dataclass
+class Study:
+    """A parsed study file."""
+
+    path: Path
+    title: str
+    model_type: str
+    model: ParametricModel
+    configurations: list[Configuration]
+    modes: list[int]
+    frequencies: Path | None = None
+    method: str = "least-squares"
+    max_iterations: int = 20
+    tolerance: float = 1e-8
+    frf: dict[str, list[Path]] = field(default_factory=dict)
+    frf_options: dict[str, Any] = field(default_factory=dict)
+
+    def measurements(self) -> dict[tuple[str, int], Measurement]:
+        """Read the measurement CSV; configuration names must be those of the study."""
+        if self.frequencies is None:
+            raise InputError("no measurement file given", source=str(self.path),
+                             field="measurement.frequencies")
+        data = read_measurements(self.frequencies)
+        known = {c.name for c in self.configurations}
+        for cfg, _ in data:
+            if cfg not in known:
+                raise InputError(
+                    f"configuration {cfg!r} is not in the study (known: {sorted(known)})",
+                    source=str(self.frequencies), field="configuration",
+                )
+        return data
+
+    def require_modes(self) -> list[int]:
+        if not self.modes:
+            raise InputError("no modes given", source=str(self.path), field="measurement.modes")
+        return self.modes
+
+
+class _Reader:
+    """Typed access to one TOML table, with the dotted field name for errors."""
+
+    def __init__(self, data: dict, where: str, source: str):
+        if not isinstance(data, dict):
+            raise InputError("must be a table", source=source, field=where)
+        self.data, self.where, self.source = data, where, source
+        self.used: set[str] = set()
+
+    def _f(self, key: str) -> str:
+        return f"{self.where}.{key}" if self.where else key
+
+    def error(self, key: str, msg: str) -> InputError:
+        return InputError(msg, source=self.source, field=self._f(key))
+
+    def get(self, key: str, kind: str, default: Any = ..., ) -> Any:
+        self.used.add(key)
+        if key not in self.data:
+            if default is ...:
+                raise self.error(key, "is required")
+            return default
+        v = self.data[key]
+        check = {
+            "str": lambda x: isinstance(x, str),
+            "int": lambda x: isinstance(x, int) and not isinstance(x, bool),
+            "float": lambda x: isinstance(x, int | float) and not isinstance(x, bool)
+            and math.isfinite(x),
+            "bool": lambda x: isinstance(x, bool),
+            "list": lambda x: isinstance(x, list),
+            "table": lambda x: isinstance(x, dict),
+            "tables": lambda x: isinstance(x, list) and all(isinstance(i, dict) for i in x),
+        }[kind]
+        if not check(v):
+            names = {"str": "a string", "int": "an integer", "float": "a finite number",
+                     "bool": "true or false", "list": "a list", "table": "a table",
+                     "tables": "an array of tables"}
+            raise self.error(key, f"must be {names[kind]}, got {v!r}")
+        return float(v) if kind == "float" else v
+
+    def floats(self, key: str, default: Any = ...) -> float | list[float] | None:
+        """A number or a list of numbers."""
+        v = self.get(key, "list", default) if isinstance(self.data.get(key), list) else \
+            self.get(key, "float", default)
+        if isinstance(v, list):
+            bad = [x for x in v if isinstance(x, bool) or not isinstance(x, int | float)]
+            if bad or not v:
+                raise self.error(key, "must be a number or a non-empty list of numbers")
+            return [float(x) for x in v]
+        return v
+
+    def finish(self) -> None:
+        extra = sorted(set(self.data) - self.used)
+        if extra:
+            raise InputError(f"unknown key(s) {extra}", source=self.source, field=self.where or None)
+
+
+def load_study(path: str | Path) -> Study:
+    """Parse and validate a study file."""
+    path = Path(path)
+    src = str(path)
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except OSError as exc:
+        raise InputError(f"cannot read study file: {exc.strerror or exc}", source=src) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"invalid TOML: {exc}", source=src) from None
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not UTF-8 text: {exc}", source=src) from None
+    top = _Reader(data, "", src)
+    title = top.get("title", "str", path.stem)
+    m = _Reader(top.get("model", "table"), "model", src)
+    mtype = m.get("type", "str")
+    builders = {"spring-mass": _spring_mass, "beam": _beam, "matrices": _matrices}
+    if mtype not in builders:
+        raise m.error("type", f"unknown model type {mtype!r}; expected one of {list(MODEL_TYPES)}")
+    try:
+        model = builders[mtype](m, path.parent)
+    except InputError as exc:
+        if exc.source:
+            raise
+        raise InputError(str(exc), source=src) from None
+    m.finish()
+
+    perts = [_perturbation(_Reader(t, f"perturbation[{i + 1}]", src))
+             for i, t in enumerate(top.get("perturbation", "tables", []))]
+    configs = [Configuration(BASE), *perts]
+    names = [c.name for c in configs]
+    for i, c in enumerate(configs):
+        if c.name in names[:i]:
+            raise InputError(f"duplicate configuration name {c.name!r}", source=src,
+                             field=f"perturbation[{i}].name")
+        try:
+            c.rows(model)
+        except InputError as exc:
+            raise InputError(str(exc), source=src, field=f"perturbation[{i}]") from None
+
+    meas = _Reader(top.get("measurement", "table", {}), "measurement", src)
+    modes = meas.get("modes", "list", [])
+    if any(isinstance(k, bool) or not isinstance(k, int) or k < 1 for k in modes):
+        raise meas.error("modes", f"must be elastic mode numbers >= 1, got {modes}")
+    if len(set(modes)) != len(modes):
+        raise meas.error("modes", f"repeated mode number in {modes}")
+    freq = meas.get("frequencies", "str", None)
+    frf_table = meas.get("frf", "table", {})
+    frf_options = meas.get("frf_options", "table", {})
+    meas.finish()
+    frf = _frf_files(frf_table, names, path.parent, src)
+
+    up = _Reader(top.get("updating", "table", {}), "updating", src)
+    method = up.get("method", "str", "least-squares")
+    if method not in METHODS:
+        raise up.error("method", f"unknown method {method!r}; expected one of {list(METHODS)}")
+    max_it = up.get("max_iterations", "int", 20)
+    if max_it < 1:
+        raise up.error("max_iterations", "must be >= 1")
+    tol = up.get("tolerance", "float", 1e-8)
+    if tol <= 0:
+        raise up.error("tolerance", "must be > 0")
+    up.finish()
+    top.finish()
+    return Study(
+        path=path, title=title, model_type=mtype, model=model, configurations=configs,
+        modes=sorted(modes), frequencies=None if freq is None else path.parent / freq,
+        method=method, max_iterations=max_it, tolerance=tol, frf=frf, frf_options=frf_options,
+    )
+
+
+def _parameter(r: _Reader, default_value: Any = ...) -> Parameter:
+    name = r.get("name", "str")
+    value = r.get("value", "float", default_value)
+    std = r.get("std", "float", None)
+    update = r.get("update", "bool", True)
+    if value < 0:
+        raise r.error("value", f"must be >= 0, got {value}")
+    if std is not None and std <= 0:
+        raise r.error("std", f"must be > 0, got {std}")
+    return Parameter(name, value, std, update)
+
+
+def _positive(r: _Reader, p: Parameter) -> None:
+    if p.value <= 0:
+        raise r.error("value", f"must be > 0, got {p.value}")
+
+
+def _spring_mass(m: _Reader, _base: Path) -> ParametricModel:
+    masses, springs = [], []
+    for i, t in enumerate(m.get("mass", "tables", [])):
+        r = _Reader(t, f"model.mass[{i + 1}]", m.source)
+        p = _parameter(r)
+        _positive(r, p)
+        c = r.get("coordinate", "int")
+        if c < 1:
+            raise r.error("coordinate", f"must be >= 1, got {c}")
+        r.finish()
+        masses.append(Mass(p, c))
+    for i, t in enumerate(m.get("spring", "tables", [])):
+        r = _Reader(t, f"model.spring[{i + 1}]", m.source)
+        p = _parameter(r)
+        _positive(r, p)
+        cs = r.get("coordinates", "list")
+        if len(cs) != 2 or not all(isinstance(c, int) and c >= 0 for c in cs) or cs[0] == cs[1]:
+            raise r.error("coordinates", f"must be two different coordinates (0 = ground), got {cs}")
+        r.finish()
+        springs.append(Spring(p, (cs[0], cs[1])))
+    n = max([x.coordinate for x in masses] + [c for s in springs for c in s.coordinates], default=0)
+    massless = sorted(set(range(1, n + 1)) - {x.coordinate for x in masses})
+    if massless:
+        raise m.error("mass", f"coordinate(s) {massless} have no mass")
+    if not masses:
+        raise m.error("mass", "a spring-mass model needs at least one [[model.mass]]")
+    return spring_mass_model(masses, springs, n)
+
+
+def _beam(m: _Reader, _base: Path) -> ParametricModel:
+    nodes = m.floats("nodes")
+    if not isinstance(nodes, list):
+        raise m.error("nodes", "must be a list of node positions (m)")
+    pms = []
+    for i, t in enumerate(m.get("point_mass", "tables", [])):
+        r = _Reader(t, f"model.point_mass[{i + 1}]", m.source)
+        p = _parameter(r)
+        pms.append((p, r.get("coordinate", "int")))
+        r.finish()
+    restrained = m.get("restrained", "list", [])
+    if not all(isinstance(c, int) and not isinstance(c, bool) for c in restrained):
+        raise m.error("restrained", f"must be a list of coordinates, got {restrained}")
+    return beam_model(
+        nodes, m.floats("EI"), m.floats("mass_per_length"),
+        EI_std=m.floats("EI_std", None), mass_per_length_std=m.floats("mass_per_length_std", None),
+        point_masses=pms, restrained=restrained,
+        update_EI=m.get("update_EI", "bool", True),
+        update_mass_per_length=m.get("update_mass_per_length", "bool", True),
+    )
+
+
+def _matrices(m: _Reader, base: Path) -> ParametricModel:
+    k0 = base / m.get("K0", "str")
+    m0 = base / m.get("M0", "str")
+    params = []
+    for i, t in enumerate(m.get("parameter", "tables")):
+        r = _Reader(t, f"model.parameter[{i + 1}]", m.source)
+        p = _parameter(r)
+        kf, mf = r.get("K", "str", None), r.get("M", "str", None)
+        if kf is None and mf is None:
+            raise r.error("K", "a parameter needs a K and/or an M file")
+        r.finish()
+        params.append((p, None if kf is None else base / kf, None if mf is None else base / mf))
+    return matrix_model(k0, m0, params)
+
+
+def _perturbation(r: _Reader) -> Configuration:
+    adds = []
+    if "add" in r.data:
+        for j, t in enumerate(r.get("add", "tables")):
+            adds.append(_addition(_Reader(t, f"{r.where}.add[{j + 1}]", r.source)))
+    if "coordinate" in r.data:
+        adds.append(_addition(r, finish=False))
+    if not adds:
+        raise r.error("coordinate", "a perturbation needs a coordinate (or add = [...])")
+    a0 = adds[0]
+    default = f"{a0.mass:g} kg at {a0.coordinate}" if a0.mass else \
+        f"{a0.stiffness:g} N/m at {a0.coordinate}"
+    name = r.get("name", "str", default if len(adds) == 1 else ...)
+    if name == BASE:
+        raise r.error("name", f"{BASE!r} is the bare structure; choose another name")
+    r.finish()
+    return Configuration(name, tuple(adds))
+
+
+def _addition(r: _Reader, finish: bool = True) -> Addition:
+    c = r.get("coordinate", "int")
+    mass = r.get("mass", "float", 0.0)
+    k = r.get("stiffness", "float", 0.0)
+    if mass < 0 or k < 0 or (mass == 0 and k == 0):
+        raise r.error("mass", f"needs mass > 0 and/or stiffness > 0, got mass={mass}, "
+                              f"stiffness={k}")
+    if finish:
+        r.finish()
+    return Addition(c, mass=mass, stiffness=k)
+
+
+def _frf_files(table: dict, names: list[str], base: Path, src: str) -> dict[str, list[Path]]:
+    out = {}
+    for key, v in table.items():
+        if key not in names:
+            raise InputError(f"configuration {key!r} is not in the study", source=src,
+                             field=f"measurement.frf.{key}")
+        files = [v] if isinstance(v, str) else v
+        if not isinstance(files, list) or not files or not all(isinstance(f, str) for f in files):
+            raise InputError("must be a file path or a list of paths", source=src,
+                             field=f"measurement.frf.{key}")
+        out[key] = [base / f for f in files]
+    return out

@@ -22,14 +22,17 @@ from eigenupdate.parameters import Parameter
 def element_stiffness(length: float) -> np.ndarray:
     """Element stiffness for EI = 1 (multiply by EI)."""
     L = length
-    return np.array(
-        [
-            [12, 6 * L, -12, 6 * L],
-            [6 * L, 4 * L**2, -6 * L, 2 * L**2],
-            [-12, -6 * L, 12, -6 * L],
-            [6 * L, 2 * L**2, -6 * L, 4 * L**2],
-        ]
-    ) / L**3
+    return (
+        np.array(
+            [
+                [12, 6 * L, -12, 6 * L],
+                [6 * L, 4 * L**2, -6 * L, 2 * L**2],
+                [-12, -6 * L, 12, -6 * L],
+                [6 * L, 2 * L**2, -6 * L, 4 * L**2],
+            ]
+        )
+        / L**3
+    )
 
 
 def element_mass(length: float) -> np.ndarray:
@@ -86,7 +89,9 @@ def beam_model(
         raise InputError("at least two node positions are required", field="model.nodes")
     lengths = np.diff(x)
     if np.any(lengths <= 0) or not np.all(np.isfinite(x)):
-        raise InputError("node positions must be finite and strictly increasing", field="model.nodes")
+        raise InputError(
+            "node positions must be finite and strictly increasing", field="model.nodes"
+        )
     ne = lengths.size
     n_full = 2 * (ne + 1)
     ei = _per_element(EI, ne, "model.EI")
@@ -119,9 +124,7 @@ def beam_model(
         kt.append(element_term(e, element_stiffness(lengths[e])))
         mt.append(None)
     for e in range(ne):
-        params.append(
-            Parameter(f"rhoA{e + 1}", rho[e], _std(rho_std, e), update_mass_per_length)
-        )
+        params.append(Parameter(f"rhoA{e + 1}", rho[e], _std(rho_std, e), update_mass_per_length))
         kt.append(None)
         mt.append(element_term(e, element_mass(lengths[e])))
     for p, c in point_masses:

@@ -72,7 +72,8 @@ def base_and(perturbations: list[Configuration]) -> list[Configuration]:
 def mass_at(coordinate: int, mass: float, name: str | None = None) -> Configuration:
     """One mass added at one coordinate.
 
-    >>> mass_at(4, 0.35)
-    Configuration(name='0.35 kg at 4', additions=(Addition(coordinate=4, mass=0.35, stiffness=0.0),))
+    >>> c = mass_at(4, 0.35)
+    >>> c.name, c.additions[0].coordinate, c.additions[0].mass
+    ('0.35 kg at 4', 4, 0.35)
     """
     return Configuration(name or f"{mass:g} kg at {coordinate}", (Addition(coordinate, mass=mass),))

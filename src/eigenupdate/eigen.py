@@ -27,8 +27,8 @@ from eigenupdate.errors import InputError
 DENSE_LIMIT = 400
 """Models with at most this many coordinates use the dense solver."""
 
-RIGID_RTOL = 1e-10
-"""A mode is rigid when lambda < RIGID_RTOL * phi^T |K| phi (see :func:`rigid_mask`)."""
+RIGID_RTOL = 1e-13
+"""A mode is rigid when |lambda| < RIGID_RTOL * max_i K_ii / M_ii (see :func:`rigid_mask`)."""
 
 
 @dataclass(frozen=True)
@@ -54,17 +54,28 @@ class EigenSolution:
         return np.sqrt(np.maximum(self.eigenvalues, 0.0)) / (2 * np.pi)
 
 
-def rigid_mask(K, lam: np.ndarray, phi: np.ndarray) -> np.ndarray:
-    """True for rigid-body modes.
+def rigid_mask(K, M, lam: np.ndarray) -> np.ndarray:
+    """True for rigid-body modes (ascending ``lam``).
 
-    phi^T K phi of a rigid mode is a sum of terms that cancel to round-off, so it is
-    compared with phi^T |K| phi, the same sum without cancellation. The test does not
-    depend on units or mesh size, unlike an absolute frequency threshold. Smooth elastic
-    modes also cancel partly, by about (element size / wavelength)^4 for beams, which is
-    far above 1e-10 for any practical mesh.
+    A rigid-body eigenvalue is zero up to round-off, which is about machine epsilon
+    times the largest eigenvalue; max_i K_ii / M_ii estimates that one, in any units.
+    Eigenvalues below RIGID_RTOL times it are rigid. A model whose lowest elastic
+    eigenvalue is itself near round-off (an over-refined mesh, a near-massless
+    coordinate) cannot be told apart from a rigid body: that is an error, not a guess.
     """
-    ref = np.einsum("ij,ij->j", phi, abs(K) @ phi)
-    return lam < RIGID_RTOL * ref
+    k, m = np.asarray(K.diagonal()), np.asarray(M.diagonal())
+    ok = m > 0
+    scale = float(np.max(k[ok] / m[ok])) if ok.any() else 1.0
+    rigid = np.abs(lam) < RIGID_RTOL * scale
+    if rigid.any() and (~rigid).any():
+        worst, first = np.max(np.abs(lam[rigid])), np.min(lam[~rigid])
+        if first > 0 and worst > 1e-3 * first:
+            raise InputError(
+                f"cannot separate rigid-body from elastic modes: eigenvalue {worst:.3g} is at "
+                f"the round-off level of this model (max K_ii/M_ii = {scale:.3g}); the model "
+                f"is too ill-conditioned (over-refined mesh or near-massless coordinates)"
+            )
+    return rigid
 
 
 class ShiftInvert:
@@ -107,16 +118,33 @@ class _Woodbury(ShiftInvert):
 
 
 def default_shift(K: sp.csr_array, M: sp.csr_array) -> float:
-    """Small negative shift: a tiny fraction of a typical diagonal ratio K_ii / M_ii.
+    """First guess of a negative shift: 1e-8 of the median diagonal ratio K_ii / M_ii.
 
-    Far below the lowest elastic eigenvalue of any sensible model, so the ordering and
-    convergence of shift-invert Lanczos are those of 1/lambda; large enough that
-    K - sigma M factorises stably when K is singular (free structure).
+    The diagonal ratio scales like the highest eigenvalue, so on fine meshes this guess
+    can lie beyond the lowest elastic eigenvalue; :func:`base_operator` then corrects it.
     """
     k, m = K.diagonal(), M.diagonal()
     ok = (k > 0) & (m > 0)
     ratio = np.median(k[ok] / m[ok]) if ok.any() else 1.0
     return -1e-8 * ratio
+
+
+def base_operator(K, M, n_modes: int) -> tuple[ShiftInvert, EigenSolution]:
+    """Shift-invert operator for the sparse path and the solution it gives.
+
+    Lanczos on (K - sigma M)^-1 converges fastest when |sigma| is well below the lowest
+    elastic eigenvalue lambda_1 (the spectrum then maps like 1/lambda), while a shift
+    much closer to 0 than lambda_1 only worsens the conditioning of a free structure's
+    K - sigma M. If the first guess is not below lambda_1 / 10, refactorise at
+    sigma = -lambda_1 / 10.
+    """
+    K, M = sp.csr_array(K), sp.csr_array(M)
+    op = ShiftInvert(K, M, default_shift(K, M))
+    sol = _solve_sparse(K, M, n_modes, op)
+    if sol.eigenvalues.size and sol.eigenvalues[0] < 10 * abs(op.sigma):
+        op = ShiftInvert(K, M, -0.1 * sol.eigenvalues[0])
+        sol = _solve_sparse(K, M, n_modes, op)
+    return op, sol
 
 
 def solve_elastic(
@@ -165,11 +193,13 @@ def _solve_dense(K, M, n_modes: int) -> EigenSolution:
         raise InputError(
             "mass matrix is not positive definite (a coordinate without mass?)"
         ) from None
-    return _elastic(Kd, lam, phi, n_modes, complete=True)
+    return _elastic(Kd, Md, lam, phi, n_modes, complete=True)
 
 
 def _solve_sparse(K, M, n_modes: int, operator: ShiftInvert | None) -> EigenSolution:
-    op = operator or ShiftInvert(K, M, default_shift(K, M))
+    if operator is None:
+        return base_operator(K, M, n_modes)[1]
+    op = operator
     n = K.shape[0]
     linop = spla.LinearOperator((n, n), matvec=op.solve, dtype=float)
     k = n_modes + 7  # room for up to six rigid-body modes and one extra elastic
@@ -179,16 +209,15 @@ def _solve_sparse(K, M, n_modes: int, operator: ShiftInvert | None) -> EigenSolu
         order = np.argsort(lam)
         lam, phi = lam[order], phi[:, order]
         phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, M @ phi))
-        sol = _elastic(K, lam, phi, n_modes, complete=k == n - 1)
+        sol = _elastic(K, M, lam, phi, n_modes, complete=k == n - 1)
         if sol.next_eigenvalue is not None or k == n - 1:
             return sol
         k *= 2
 
 
-def _elastic(K, lam, phi, n_modes: int, complete: bool) -> EigenSolution:
-    rigid = rigid_mask(K, lam, phi)
-    scale = np.max(np.abs(lam)) if lam.size else 1.0
-    if np.any(lam[~rigid] < -1e-8 * scale):
+def _elastic(K, M, lam, phi, n_modes: int, complete: bool) -> EigenSolution:
+    rigid = rigid_mask(K, M, lam)
+    if np.any(lam[~rigid] < 0):
         raise InputError("stiffness matrix is not positive semi-definite (negative eigenvalue)")
     el = np.flatnonzero(~rigid)
     if el.size < n_modes and complete:

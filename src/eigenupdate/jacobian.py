@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from eigenupdate.configurations import Configuration
-from eigenupdate.eigen import EigenSolution, ShiftInvert, default_shift, solve_elastic
+from eigenupdate.eigen import DENSE_LIMIT, EigenSolution, base_operator, solve_elastic
 from eigenupdate.errors import InputError
 from eigenupdate.model import ParametricModel
 from eigenupdate.sensitivity import eigenvalue_derivatives
@@ -57,18 +57,24 @@ def solve_configurations(
     perturbed configuration reuses it (see :class:`eigenupdate.eigen.ShiftInvert`).
     """
     K, M = model.stiffness(values), model.mass(values)
-    sparse = not (dense if dense is not None else model.n <= 400)
-    base_op = ShiftInvert(K, M, default_shift(K, M)) if sparse else None
+    sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
     out = []
+    try:
+        base_op, base_sol = base_operator(K, M, n_modes) if sparse else (None, None)
+    except InputError as exc:
+        raise InputError(str(exc), field="the bare structure") from None
     for c in configurations:
-        dk, dm = c.delta(model)
-        op = None
-        if base_op is not None:
-            rows = c.rows(model)
-            op = base_op.updated(
-                rows, [a.stiffness for a in c.additions], [a.mass for a in c.additions]
-            ) if rows.size else base_op
         try:
+            if not c.additions and base_sol is not None:
+                out.append(base_sol)
+                continue
+            dk, dm = c.delta(model)
+            op = None
+            if base_op is not None:
+                rows = c.rows(model)
+                op = base_op.updated(
+                    rows, [a.stiffness for a in c.additions], [a.mass for a in c.additions]
+                )
             out.append(solve_elastic(K + dk, M + dm, n_modes, operator=op, dense=not sparse))
         except InputError as exc:
             raise InputError(str(exc), field=f"configuration {c.name!r}") from None
@@ -113,4 +119,6 @@ def linearise(
         lam.extend(sol.eigenvalues[np.asarray(modes) - 1])
         rows.extend((c.name, k) for k in modes)
     scale = np.array([model.parameters[j].scale for j in upd])  # initial values, not current
-    return Linearisation(rows, np.array(lam), np.vstack(blocks), scale, [model.names[j] for j in upd])
+    return Linearisation(
+        rows, np.array(lam), np.vstack(blocks), scale, [model.names[j] for j in upd]
+    )

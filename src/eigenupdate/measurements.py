@@ -48,7 +48,9 @@ def read_measurements(path: str | Path) -> dict[tuple[str, int], Measurement]:
         )
     col = {name: header.index(name) for name in COLUMNS if name in header}
     out: dict[tuple[str, int], Measurement] = {}
-    for lineno, row in zip((i for i, _ in lines[1:]), csv.reader(ln for _, ln in lines[1:])):
+    for lineno, row in zip(
+        (i for i, _ in lines[1:]), csv.reader(ln for _, ln in lines[1:]), strict=True
+    ):
         where = f"line {lineno}"
         if len(row) < len(header):
             raise InputError(f"{where}: {len(row)} fields, expected {len(header)}", source=src)
@@ -109,9 +111,7 @@ def select(
     for cfg, mode in rows:
         m = measurements.get((cfg, mode))
         if m is None:
-            raise InputError(
-                f"no measurement for configuration {cfg!r} mode {mode}", source=source
-            )
+            raise InputError(f"no measurement for configuration {cfg!r} mode {mode}", source=source)
         if need_std and m.std_hz is None:
             raise InputError(
                 f"std_hz is empty for configuration {cfg!r} mode {mode}; weighted methods need it",

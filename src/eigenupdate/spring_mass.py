@@ -67,7 +67,8 @@ def spring_mass_model(
             )
         if s.parameter.value <= 0:
             raise InputError(
-                f"stiffness must be > 0, got {s.parameter.value}", field=f"spring {s.parameter.name}"
+                f"stiffness must be > 0, got {s.parameter.value}",
+                field=f"spring {s.parameter.name}",
             )
     params, kt, mt = [], [], []
     for m in masses:

@@ -46,15 +46,17 @@ class Study:
     def measurements(self) -> dict[tuple[str, int], Measurement]:
         """Read the measurement CSV; configuration names must be those of the study."""
         if self.frequencies is None:
-            raise InputError("no measurement file given", source=str(self.path),
-                             field="measurement.frequencies")
+            raise InputError(
+                "no measurement file given", source=str(self.path), field="measurement.frequencies"
+            )
         data = read_measurements(self.frequencies)
         known = {c.name for c in self.configurations}
         for cfg, _ in data:
             if cfg not in known:
                 raise InputError(
                     f"configuration {cfg!r} is not in the study (known: {sorted(known)})",
-                    source=str(self.frequencies), field="configuration",
+                    source=str(self.frequencies),
+                    field="configuration",
                 )
         return data
 
@@ -79,7 +81,12 @@ class _Reader:
     def error(self, key: str, msg: str) -> InputError:
         return InputError(msg, source=self.source, field=self._f(key))
 
-    def get(self, key: str, kind: str, default: Any = ..., ) -> Any:
+    def get(
+        self,
+        key: str,
+        kind: str,
+        default: Any = ...,
+    ) -> Any:
         self.used.add(key)
         if key not in self.data:
             if default is ...:
@@ -89,24 +96,34 @@ class _Reader:
         check = {
             "str": lambda x: isinstance(x, str),
             "int": lambda x: isinstance(x, int) and not isinstance(x, bool),
-            "float": lambda x: isinstance(x, int | float) and not isinstance(x, bool)
-            and math.isfinite(x),
+            "float": lambda x: (
+                isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x)
+            ),
             "bool": lambda x: isinstance(x, bool),
             "list": lambda x: isinstance(x, list),
             "table": lambda x: isinstance(x, dict),
             "tables": lambda x: isinstance(x, list) and all(isinstance(i, dict) for i in x),
         }[kind]
         if not check(v):
-            names = {"str": "a string", "int": "an integer", "float": "a finite number",
-                     "bool": "true or false", "list": "a list", "table": "a table",
-                     "tables": "an array of tables"}
+            names = {
+                "str": "a string",
+                "int": "an integer",
+                "float": "a finite number",
+                "bool": "true or false",
+                "list": "a list",
+                "table": "a table",
+                "tables": "an array of tables",
+            }
             raise self.error(key, f"must be {names[kind]}, got {v!r}")
         return float(v) if kind == "float" else v
 
     def floats(self, key: str, default: Any = ...) -> float | list[float] | None:
         """A number or a list of numbers."""
-        v = self.get(key, "list", default) if isinstance(self.data.get(key), list) else \
-            self.get(key, "float", default)
+        v = (
+            self.get(key, "list", default)
+            if isinstance(self.data.get(key), list)
+            else self.get(key, "float", default)
+        )
         if isinstance(v, list):
             bad = [x for x in v if isinstance(x, bool) or not isinstance(x, int | float)]
             if bad or not v:
@@ -117,7 +134,9 @@ class _Reader:
     def finish(self) -> None:
         extra = sorted(set(self.data) - self.used)
         if extra:
-            raise InputError(f"unknown key(s) {extra}", source=self.source, field=self.where or None)
+            raise InputError(
+                f"unknown key(s) {extra}", source=self.source, field=self.where or None
+            )
 
 
 def load_study(path: str | Path) -> Study:
@@ -148,14 +167,19 @@ def load_study(path: str | Path) -> Study:
         raise InputError(str(exc), source=src) from None
     m.finish()
 
-    perts = [_perturbation(_Reader(t, f"perturbation[{i + 1}]", src))
-             for i, t in enumerate(top.get("perturbation", "tables", []))]
+    perts = [
+        _perturbation(_Reader(t, f"perturbation[{i + 1}]", src))
+        for i, t in enumerate(top.get("perturbation", "tables", []))
+    ]
     configs = [Configuration(BASE), *perts]
     names = [c.name for c in configs]
     for i, c in enumerate(configs):
         if c.name in names[:i]:
-            raise InputError(f"duplicate configuration name {c.name!r}", source=src,
-                             field=f"perturbation[{i}].name")
+            raise InputError(
+                f"duplicate configuration name {c.name!r}",
+                source=src,
+                field=f"perturbation[{i}].name",
+            )
         try:
             c.rows(model)
         except InputError as exc:
@@ -186,9 +210,18 @@ def load_study(path: str | Path) -> Study:
     up.finish()
     top.finish()
     return Study(
-        path=path, title=title, model_type=mtype, model=model, configurations=configs,
-        modes=sorted(modes), frequencies=None if freq is None else path.parent / freq,
-        method=method, max_iterations=max_it, tolerance=tol, frf=frf, frf_options=frf_options,
+        path=path,
+        title=title,
+        model_type=mtype,
+        model=model,
+        configurations=configs,
+        modes=sorted(modes),
+        frequencies=None if freq is None else path.parent / freq,
+        method=method,
+        max_iterations=max_it,
+        tolerance=tol,
+        frf=frf,
+        frf_options=frf_options,
     )
 
 
@@ -226,7 +259,9 @@ def _spring_mass(m: _Reader, _base: Path) -> ParametricModel:
         _positive(r, p)
         cs = r.get("coordinates", "list")
         if len(cs) != 2 or not all(isinstance(c, int) and c >= 0 for c in cs) or cs[0] == cs[1]:
-            raise r.error("coordinates", f"must be two different coordinates (0 = ground), got {cs}")
+            raise r.error(
+                "coordinates", f"must be two different coordinates (0 = ground), got {cs}"
+            )
         r.finish()
         springs.append(Spring(p, (cs[0], cs[1])))
     n = max([x.coordinate for x in masses] + [c for s in springs for c in s.coordinates], default=0)
@@ -252,9 +287,13 @@ def _beam(m: _Reader, _base: Path) -> ParametricModel:
     if not all(isinstance(c, int) and not isinstance(c, bool) for c in restrained):
         raise m.error("restrained", f"must be a list of coordinates, got {restrained}")
     return beam_model(
-        nodes, m.floats("EI"), m.floats("mass_per_length"),
-        EI_std=m.floats("EI_std", None), mass_per_length_std=m.floats("mass_per_length_std", None),
-        point_masses=pms, restrained=restrained,
+        nodes,
+        m.floats("EI"),
+        m.floats("mass_per_length"),
+        EI_std=m.floats("EI_std", None),
+        mass_per_length_std=m.floats("mass_per_length_std", None),
+        point_masses=pms,
+        restrained=restrained,
         update_EI=m.get("update_EI", "bool", True),
         update_mass_per_length=m.get("update_mass_per_length", "bool", True),
     )
@@ -285,8 +324,11 @@ def _perturbation(r: _Reader) -> Configuration:
     if not adds:
         raise r.error("coordinate", "a perturbation needs a coordinate (or add = [...])")
     a0 = adds[0]
-    default = f"{a0.mass:g} kg at {a0.coordinate}" if a0.mass else \
-        f"{a0.stiffness:g} N/m at {a0.coordinate}"
+    default = (
+        f"{a0.mass:g} kg at {a0.coordinate}"
+        if a0.mass
+        else f"{a0.stiffness:g} N/m at {a0.coordinate}"
+    )
     name = r.get("name", "str", default if len(adds) == 1 else ...)
     if name == BASE:
         raise r.error("name", f"{BASE!r} is the bare structure; choose another name")
@@ -299,8 +341,9 @@ def _addition(r: _Reader, finish: bool = True) -> Addition:
     mass = r.get("mass", "float", 0.0)
     k = r.get("stiffness", "float", 0.0)
     if mass < 0 or k < 0 or (mass == 0 and k == 0):
-        raise r.error("mass", f"needs mass > 0 and/or stiffness > 0, got mass={mass}, "
-                              f"stiffness={k}")
+        raise r.error(
+            "mass", f"needs mass > 0 and/or stiffness > 0, got mass={mass}, stiffness={k}"
+        )
     if finish:
         r.finish()
     return Addition(c, mass=mass, stiffness=k)
@@ -310,11 +353,15 @@ def _frf_files(table: dict, names: list[str], base: Path, src: str) -> dict[str,
     out = {}
     for key, v in table.items():
         if key not in names:
-            raise InputError(f"configuration {key!r} is not in the study", source=src,
-                             field=f"measurement.frf.{key}")
+            raise InputError(
+                f"configuration {key!r} is not in the study",
+                source=src,
+                field=f"measurement.frf.{key}",
+            )
         files = [v] if isinstance(v, str) else v
         if not isinstance(files, list) or not files or not all(isinstance(f, str) for f in files):
-            raise InputError("must be a file path or a list of paths", source=src,
-                             field=f"measurement.frf.{key}")
+            raise InputError(
+                "must be a file path or a list of paths", source=src, field=f"measurement.frf.{key}"
+            )
         out[key] = [base / f for f in files]
     return out

@@ -102,8 +102,10 @@ def update(
     source : file name for error messages.
     """
     if method not in METHODS:
-        raise InputError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}",
-                         field="updating.method")
+        raise InputError(
+            f"unknown method {method!r}; expected one of {', '.join(METHODS)}",
+            field="updating.method",
+        )
     if max_iterations < 1:
         raise InputError("max_iterations must be >= 1", field="updating.max_iterations")
     weighted = method != "least-squares"
@@ -121,8 +123,9 @@ def update(
         stds = [model.parameters[j].std for j in upd]
         prior = np.array([0.0 if s is None else sc / s for s, sc in zip(stds, scale, strict=True)])
         if not prior.any():
-            raise InputError("the bayesian method needs a std for at least one updated parameter",
-                             field="model")
+            raise InputError(
+                "the bayesian method needs a std for at least one updated parameter", field="model"
+            )
 
     def full(z: np.ndarray) -> np.ndarray:
         s = model.values.copy()
@@ -136,8 +139,12 @@ def update(
         return lin, float(r @ r + a @ a)
 
     def snapshot(z, obj, step, note) -> dict:
-        return {"parameters": dict(zip(model.names, full(z).tolist(), strict=True)),
-                "objective": obj, "step": step, "note": note}
+        return {
+            "parameters": dict(zip(model.names, full(z).tolist(), strict=True)),
+            "objective": obj,
+            "step": step,
+            "note": note,
+        }
 
     z = z0.copy()
     lin, obj = evaluate(z)
@@ -151,8 +158,10 @@ def update(
         predicted = obj - float(np.sum((A @ dz - b) ** 2))  # decrease the linear model expects
         if np.max(np.abs(dz)) < xtol or predicted <= ftol * obj:
             converged = True
-            message = (f"converged: largest normalised step {np.max(np.abs(dz)):.1e}, "
-                       f"predicted objective decrease {predicted / obj if obj else 0:.1e} relative")
+            message = (
+                f"converged: largest normalised step {np.max(np.abs(dz)):.1e}, "
+                f"predicted objective decrease {predicted / obj if obj else 0:.1e} relative"
+            )
             break
         dz, alpha, note = _physical(z, dz)
         while True:
@@ -168,7 +177,9 @@ def update(
                 trial = None
                 break
         if trial is None:
-            message = f"iteration {it}: no step along the Gauss-Newton direction lowers the objective"
+            message = (
+                f"iteration {it}: no step along the Gauss-Newton direction lowers the objective"
+            )
             history.append(snapshot(z, obj, 0.0, "line search failed"))
             break
         z, lin, obj = z + alpha * dz, trial, trial_obj
@@ -184,7 +195,9 @@ def update(
         message=message,
         nit=nit,
         parameters=dict(zip(model.names, full(z).tolist(), strict=True)),
-        std={n: (None if not np.isfinite(s) else float(s)) for n, s in zip(names, std, strict=True)},
+        std={
+            n: (None if not np.isfinite(s) else float(s)) for n, s in zip(names, std, strict=True)
+        },
         history=history,
         rows=rows,
         measured_hz=f_meas,

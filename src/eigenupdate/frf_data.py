@@ -1,0 +1,520 @@
+"""Frequency response functions (FRFs): the in-memory type, unit conversion and CSV files.
+
+An :class:`FRF` always holds *receptance* (displacement over force, m/N in SI) on a
+strictly increasing frequency axis in Hz.  Measured mobility (velocity/force) or
+accelerance (acceleration/force) is converted on input with :func:`to_receptance`.
+
+Conventions
+-----------
+* Harmonic time dependence ``exp(+i w t)``, so velocity = ``i w`` x displacement and
+  acceleration = ``-w**2`` x displacement, with ``w = 2 pi f``.
+* Units are SI: Hz, m/N.  For rotational degrees of freedom the SI analogues apply
+  (rad/N, m/(N m), rad/(N m)).
+* Degrees of freedom are ``(node, direction)`` pairs with the direction codes of
+  universal file dataset 58: 0 scalar, 1/2/3 = +X/+Y/+Z translation, 4/5/6 = +X/+Y/+Z
+  rotation, negative codes for the negative directions.  No sign flip is applied
+  for negative directions; the code is kept as read.
+
+CSV format (:func:`read_frf_csv`, :func:`write_frf_csv`)::
+
+    # comment lines start with '#', blank lines are ignored
+    frequency_hz,real,imag
+    0.5,1.25e-06,-3.0e-08
+    1.0,1.31e-06,-6.2e-08
+
+The header line is required; the values are receptance in m/N.  The file carries no
+degree-of-freedom information: ``response`` and ``reference`` are read as ``(0, 0)``.
+"""
+
+from __future__ import annotations
+
+import math
+import operator
+import os
+import secrets
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from eigenupdate.errors import InputError
+
+__all__ = [
+    "CSV_COLUMNS",
+    "FRF",
+    "FRF_KINDS",
+    "atomic_write",
+    "check_same_axis",
+    "dof_label",
+    "is_uniform",
+    "read_frf_csv",
+    "to_receptance",
+    "write_frf_csv",
+]
+
+PathLike = str | os.PathLike[str]
+
+#: Required CSV header, in this order.
+CSV_COLUMNS: tuple[str, str, str] = ("frequency_hz", "real", "imag")
+
+#: FRF kinds accepted by :func:`to_receptance`.
+FRF_KINDS: tuple[str, str, str] = ("receptance", "mobility", "accelerance")
+
+_AXIS_RTOL = 1e-9
+_DIRECTION_NAMES = {0: "S", 1: "X", 2: "Y", 3: "Z", 4: "RX", 5: "RY", 6: "RZ"}
+
+
+def dof_label(dof: tuple[int, int]) -> str:
+    """Return a short label such as ``'12+Z'`` or ``'3-RX'`` for a ``(node, direction)`` pair.
+
+    Examples
+    --------
+    >>> dof_label((12, 3)), dof_label((3, -4)), dof_label((0, 0))
+    ('12+Z', '3-RX', '0S')
+    """
+    node, direction = dof
+    if direction == 0:
+        return f"{node}S"
+    sign = "+" if direction > 0 else "-"
+    return f"{node}{sign}{_DIRECTION_NAMES.get(abs(direction), str(abs(direction)))}"
+
+
+def _as_dof(value: object, name: str, source: str | None) -> tuple[int, int]:
+    try:
+        node, direction = (operator.index(v) for v in value)  # type: ignore[attr-defined]
+    except (TypeError, ValueError):
+        raise InputError(
+            f"must be a (node, direction) pair of integers, got {value!r}",
+            source=source,
+            field=name,
+        ) from None
+    if not -6 <= direction <= 6:
+        raise InputError(f"direction code {direction} is not in -6..6", source=source, field=name)
+    return int(node), int(direction)
+
+
+@dataclass(frozen=True, eq=False, repr=False)
+class FRF:
+    """One measured or computed frequency response function, as receptance.
+
+    Parameters
+    ----------
+    frequency_hz : ndarray, shape (n,)
+        Frequency axis in Hz: finite, ``>= 0`` and strictly increasing.  It need not be
+        uniformly spaced.
+    receptance : ndarray, shape (n,), complex
+        Displacement over force in m/N.  NaN is allowed (e.g. the undefined 0 Hz value
+        produced by :func:`to_receptance`); infinities are not.
+    response, reference : tuple of int
+        ``(node, direction)`` with universal-file direction codes (see the module notes).
+    source : str
+        File the FRF came from, used in error messages; empty if none.
+
+    Raises
+    ------
+    InputError
+        If the arrays have the wrong shape or the frequency axis is not valid.  The
+        message names ``source`` when it is set.
+
+    Notes
+    -----
+    Both arrays are copied and made read-only.  Instances compare by identity (``eq`` is
+    not generated because the fields are arrays).
+
+    Examples
+    --------
+    >>> frf = FRF(np.array([1.0, 2.0]), np.array([1e-6 - 1e-7j, 2e-6 - 3e-7j]), (5, 3), (1, 3))
+    >>> frf
+    FRF(n=2, 1..2 Hz, response=5+Z, reference=1+Z)
+    >>> float(frf.receptance[1].real)
+    2e-06
+    """
+
+    frequency_hz: np.ndarray
+    receptance: np.ndarray
+    response: tuple[int, int] = (0, 0)
+    reference: tuple[int, int] = (0, 0)
+    source: str = ""
+
+    def __post_init__(self) -> None:
+        src = self.source or None
+        try:
+            freq = np.array(self.frequency_hz, dtype=np.float64)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"not numeric: {exc}", source=src, field="frequency_hz") from None
+        try:
+            rec = np.array(self.receptance, dtype=np.complex128)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"not numeric: {exc}", source=src, field="receptance") from None
+        if freq.ndim != 1 or freq.size == 0:
+            raise InputError(
+                f"must be a non-empty 1-D array, got shape {freq.shape}",
+                source=src,
+                field="frequency_hz",
+            )
+        if rec.shape != freq.shape:
+            raise InputError(
+                f"shape {rec.shape} does not match frequency_hz shape {freq.shape}",
+                source=src,
+                field="receptance",
+            )
+        _check_axis(freq, src)
+        if np.isinf(rec).any():
+            bad = int(np.flatnonzero(np.isinf(rec))[0])
+            raise InputError(
+                f"infinite value at index {bad} ({freq[bad]:g} Hz)", source=src, field="receptance"
+            )
+        freq.flags.writeable = False
+        rec.flags.writeable = False
+        object.__setattr__(self, "frequency_hz", freq)
+        object.__setattr__(self, "receptance", rec)
+        object.__setattr__(self, "response", _as_dof(self.response, "response", src))
+        object.__setattr__(self, "reference", _as_dof(self.reference, "reference", src))
+        object.__setattr__(self, "source", str(self.source))
+
+    def __repr__(self) -> str:
+        f = self.frequency_hz
+        src = f", source={self.source!r}" if self.source else ""
+        return (
+            f"FRF(n={f.size}, {f[0]:g}..{f[-1]:g} Hz, response={dof_label(self.response)}, "
+            f"reference={dof_label(self.reference)}{src})"
+        )
+
+
+def _check_axis(freq: np.ndarray, source: str | None, field: str = "frequency_hz") -> None:
+    """Raise InputError unless ``freq`` is finite, >= 0 and strictly increasing."""
+    if not np.isfinite(freq).all():
+        bad = int(np.flatnonzero(~np.isfinite(freq))[0])
+        raise InputError(f"non-finite value at index {bad}", source=source, field=field)
+    if freq[0] < 0:
+        raise InputError(f"negative frequency {freq[0]:g} Hz", source=source, field=field)
+    steps = np.diff(freq)
+    if (steps <= 0).any():
+        bad = int(np.flatnonzero(steps <= 0)[0])
+        raise InputError(
+            f"not strictly increasing: {freq[bad + 1]!r} Hz at index {bad + 1} follows "
+            f"{freq[bad]!r} Hz",
+            source=source,
+            field=field,
+        )
+
+
+def is_uniform(frequency_hz: np.ndarray, rtol: float = _AXIS_RTOL) -> bool:
+    """Return True if the axis is evenly spaced to within ``rtol`` times its largest value.
+
+    Examples
+    --------
+    >>> is_uniform(np.linspace(0.0, 10.0, 11)), is_uniform(np.array([0.0, 1.0, 3.0]))
+    (True, False)
+    """
+    f = np.asarray(frequency_hz, dtype=np.float64)
+    if f.size < 3:
+        return True
+    ideal = np.linspace(f[0], f[-1], f.size)
+    return bool(np.max(np.abs(f - ideal)) <= rtol * np.max(np.abs(f)))
+
+
+def to_receptance(frequency_hz: ArrayLike, values: ArrayLike, kind: str) -> np.ndarray:
+    """Convert mobility or accelerance to receptance (displacement/force).
+
+    With ``w = 2 pi f`` and time dependence ``exp(i w t)``::
+
+        H_disp = H_vel / (i w) = -H_acc / w**2
+
+    Parameters
+    ----------
+    frequency_hz : array_like, shape (n,)
+        Frequencies in Hz.
+    values : array_like, shape (n,)
+        FRF values in SI units (m/s/N for mobility, m/s**2/N for accelerance).
+    kind : {"receptance", "mobility", "accelerance"}
+        What ``values`` are (case-insensitive).
+
+    Returns
+    -------
+    ndarray, complex, shape (n,)
+        Receptance in m/N (a new array).  At 0 Hz the conversion from mobility or
+        accelerance is undefined and the result is NaN there; callers should drop the
+        0 Hz line.
+
+    Raises
+    ------
+    ValueError
+        If ``kind`` is unknown or the shapes differ.
+
+    Examples
+    --------
+    Accelerance of an undamped SDOF (m = 1 kg, k = 100 N/m, so w_n = 10 rad/s) at
+    w = 0 and 5 rad/s, converted back to receptance ``1 / (k - m w**2)``:
+
+    >>> w = np.array([0.0, 5.0])
+    >>> acc = -w**2 / (100.0 - w**2)
+    >>> to_receptance(w / (2 * np.pi), acc, "accelerance").real
+    array([       nan, 0.01333333])
+    >>> 1 / (100.0 - 25.0)
+    0.013333333333333334
+    """
+    key = kind.strip().lower()
+    if key not in FRF_KINDS:
+        raise ValueError(f"unknown FRF kind {kind!r}; expected one of {', '.join(FRF_KINDS)}")
+    f = np.asarray(frequency_hz, dtype=np.float64)
+    h = np.array(values, dtype=np.complex128)
+    if f.shape != h.shape:
+        raise ValueError(f"frequency shape {f.shape} does not match values shape {h.shape}")
+    if key == "receptance":
+        return h
+    w = 2.0 * np.pi * f
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = h / (1j * w) if key == "mobility" else -h / (w * w)
+    out[w == 0] = complex(np.nan, np.nan)
+    return out
+
+
+def check_same_axis(frfs: Sequence[FRF], source: PathLike = "") -> np.ndarray:
+    """Check that all FRFs share one frequency axis and return it.
+
+    Two axes are the same when they have the same length and every pair of values differs
+    by at most ``1e-9`` times the largest frequency.  Note that ASCII universal files store
+    the abscissa with 6 significant digits, so an axis read from such a file may not match
+    the same axis read from CSV or binary UFF.
+
+    Parameters
+    ----------
+    frfs : sequence of FRF
+        FRFs to combine, e.g. the FRFs of one measurement set.
+    source : str or path-like
+        Name used in the error message (e.g. the set or file name).
+
+    Returns
+    -------
+    ndarray
+        The frequency axis of the first FRF (read-only).
+
+    Raises
+    ------
+    InputError
+        If ``frfs`` is empty or an axis differs; the message names both FRFs.
+
+    Examples
+    --------
+    >>> a = FRF(np.array([1.0, 2.0]), np.ones(2), (1, 3), (1, 3))
+    >>> b = FRF(np.array([1.0, 2.0]), np.ones(2), (2, 3), (1, 3))
+    >>> check_same_axis([a, b], "set A")
+    array([1., 2.])
+    """
+    src = str(source) or None
+    if len(frfs) == 0:
+        raise InputError("no FRFs to combine", source=src, field="frequency_hz")
+    first = frfs[0]
+    ref = first.frequency_hz
+    scale = float(np.max(np.abs(ref)))
+    for i, frf in enumerate(frfs[1:], start=2):
+        f = frf.frequency_hz
+        same = f.shape == ref.shape and bool(
+            np.all(np.abs(f - ref) <= _AXIS_RTOL * max(scale, float(np.max(np.abs(f)))))
+        )
+        if not same:
+            raise InputError(
+                f"frequency axis of FRF {i} ({_describe(frf)}: {_axis_summary(f)}) differs "
+                f"from FRF 1 ({_describe(first)}: {_axis_summary(ref)})",
+                source=src,
+                field="frequency_hz",
+            )
+    return ref
+
+
+def _describe(frf: FRF) -> str:
+    text = f"{dof_label(frf.response)}/{dof_label(frf.reference)}"
+    return f"{text} from {frf.source}" if frf.source else text
+
+
+def _axis_summary(f: np.ndarray) -> str:
+    return f"{f.size} lines {f[0]:.9g}..{f[-1]:.9g} Hz"
+
+
+# ----------------------------------------------------------------------------- CSV
+
+
+def read_frf_csv(path: PathLike) -> FRF:
+    """Read one receptance FRF from a CSV file with columns ``frequency_hz,real,imag``.
+
+    Lines starting with ``#`` and blank lines are ignored; text after a ``#`` on a data
+    line is a comment.  The first other line must be the header ``frequency_hz,real,imag``
+    (case-insensitive, spaces allowed).  Values are receptance in m/N; ``response`` and
+    ``reference`` of the result are ``(0, 0)``.
+
+    Parameters
+    ----------
+    path : str or path-like
+        CSV file (UTF-8, an optional BOM is accepted).
+
+    Returns
+    -------
+    FRF
+        With ``source`` set to ``str(path)``.
+
+    Raises
+    ------
+    InputError
+        If the file cannot be read, the header is missing or wrong, a line has the wrong
+        number of columns or a non-numeric or non-finite value (the message names the line
+        number), there are no data rows, or the frequencies are negative or not strictly
+        increasing.
+    """
+    src = str(path)
+    try:
+        with open(path, encoding="utf-8-sig", newline="") as fh:
+            lines = fh.read().splitlines()
+    except UnicodeDecodeError as exc:
+        raise InputError(f"not a UTF-8 text file ({exc.reason})", source=src) from None
+    except OSError as exc:
+        raise InputError(f"cannot read file: {exc.strerror or exc}", source=src) from None
+
+    header_seen = False
+    rows: list[tuple[float, float, float]] = []
+    linenos: list[int] = []
+    for lineno, raw in enumerate(lines, start=1):
+        text = raw.split("#", 1)[0].strip()
+        if not text:
+            continue
+        cells = [c.strip() for c in text.split(",")]
+        if not header_seen:
+            names = tuple(c.lower() for c in cells)
+            if names != CSV_COLUMNS:
+                raise InputError(
+                    f"expected header line {','.join(CSV_COLUMNS)!r}, got {text!r}",
+                    source=src,
+                    field=f"line {lineno}",
+                )
+            header_seen = True
+            continue
+        if len(cells) != len(CSV_COLUMNS):
+            raise InputError(
+                f"expected {len(CSV_COLUMNS)} columns ({','.join(CSV_COLUMNS)}), got {len(cells)}",
+                source=src,
+                field=f"line {lineno}",
+            )
+        values = []
+        for name, cell in zip(CSV_COLUMNS, cells, strict=True):
+            try:
+                value = float(cell)
+            except ValueError:
+                raise InputError(
+                    f"column {name}: non-numeric value {cell!r}", source=src, field=f"line {lineno}"
+                ) from None
+            if not math.isfinite(value):
+                raise InputError(
+                    f"column {name}: non-finite value {cell!r}", source=src, field=f"line {lineno}"
+                )
+            values.append(value)
+        rows.append((values[0], values[1], values[2]))
+        linenos.append(lineno)
+
+    if not header_seen:
+        raise InputError(
+            f"no header line {','.join(CSV_COLUMNS)!r} (empty file?)", source=src, field="header"
+        )
+    if not rows:
+        raise InputError("no data rows after the header", source=src, field="frequency_hz")
+    data = np.array(rows, dtype=np.float64)
+    freq = data[:, 0]
+    if freq[0] < 0:
+        raise InputError(
+            f"column frequency_hz: negative frequency {freq[0]!r}",
+            source=src,
+            field=f"line {linenos[0]}",
+        )
+    steps = np.diff(freq)
+    if (steps <= 0).any():
+        k = int(np.flatnonzero(steps <= 0)[0]) + 1
+        raise InputError(
+            f"column frequency_hz: {freq[k]!r} Hz is not greater than the previous "
+            f"{freq[k - 1]!r} Hz (line {linenos[k - 1]}); frequencies must be strictly increasing",
+            source=src,
+            field=f"line {linenos[k]}",
+        )
+    return FRF(freq, data[:, 1] + 1j * data[:, 2], (0, 0), (0, 0), source=src)
+
+
+def write_frf_csv(path: PathLike, frf: FRF) -> None:
+    """Write one FRF as receptance to a CSV file readable by :func:`read_frf_csv`.
+
+    Values are written with 17 significant digits, so a write/read round trip is exact.
+    The file is replaced atomically: the data go to a temporary file in the same
+    directory, which is then renamed over ``path``.
+
+    Parameters
+    ----------
+    path : str or path-like
+        Destination file.
+    frf : FRF
+        The FRF; its response/reference DOFs are written as a comment only.
+
+    Raises
+    ------
+    ValueError
+        If the receptance contains NaN (e.g. an unconverted 0 Hz line); drop it first.
+    OSError
+        If the file cannot be written (no partial file is left behind).
+    """
+    rec = frf.receptance
+    if not np.isfinite(rec).all():
+        bad = int(np.flatnonzero(~np.isfinite(rec))[0])
+        raise ValueError(
+            f"{path}: receptance is not finite at {frf.frequency_hz[bad]:g} Hz (index {bad}); "
+            "drop that line before writing"
+        )
+    out = [
+        "# eigenupdate FRF: receptance in m/N",
+        f"# response={dof_label(frf.response)} reference={dof_label(frf.reference)}"
+        + (f" source={frf.source}" if frf.source else ""),
+        ",".join(CSV_COLUMNS),
+    ]
+    out.extend(
+        f"{f!r},{h.real!r},{h.imag!r}"
+        for f, h in zip(frf.frequency_hz.tolist(), rec.tolist(), strict=True)
+    )
+    text = "\n".join(out) + "\n"
+
+    def _write(tmp: str) -> None:
+        with open(tmp, "w", encoding="utf-8", newline="\n") as fh:
+            fh.write(text)
+
+    atomic_write(path, _write)
+
+
+# ----------------------------------------------------------------------------- files
+
+
+def atomic_write(path: PathLike, write: Callable[[str], None]) -> None:
+    """Create ``path`` atomically: ``write(tmp)`` fills a temporary file, then it is renamed.
+
+    The temporary file is created empty (honouring the umask) in the directory of
+    ``path``, passed to ``write`` by name, flushed to disk and moved over ``path`` with
+    :func:`os.replace`.  On any error the temporary file is removed and ``path`` is left
+    untouched.
+
+    Parameters
+    ----------
+    path : str or path-like
+        Destination file.
+    write : callable
+        Called with the temporary file name; must write the complete content.
+    """
+    target = Path(path)
+    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp")
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
+    os.close(fd)
+    try:
+        write(str(tmp))
+        with open(tmp, "rb+") as fh:
+            os.fsync(fh.fileno())
+        os.replace(tmp, target)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise

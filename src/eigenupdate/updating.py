@@ -13,10 +13,11 @@ Gauss-Newton step, in parameters normalised by their initial values:
   stacked least-squares problem rather than through the normal equations, which would
   square the condition number (paper Section 3).
 
-A step that raises that objective, or would make a parameter negative, is shortened
-(backtracking, fraction-to-the-boundary) and the history records it; a full step that
-lowers the objective is taken unchanged, so plain Gauss-Newton iterates (Table 4) are
-reproduced exactly.
+A step that would make a parameter non-physical is replaced by the bounded
+least-squares step (parameters stay above 1e-3 of their initial value, or >= 0 when
+that is 0); a step that raises the objective is halved until it lowers it. The history
+records both; a full step that lowers the objective is taken unchanged, so plain
+Gauss-Newton iterates (Table 4) are reproduced exactly.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.optimize import lsq_linear
 
 from eigenupdate.configurations import Configuration
 from eigenupdate.errors import InputError
@@ -34,7 +36,8 @@ from eigenupdate.model import ParametricModel
 
 METHODS = ("least-squares", "weighted-least-squares", "bayesian")
 MAX_HALVINGS = 30
-BOUNDARY_FRACTION = 0.9
+FLOOR = 1e-3
+"""A parameter with a positive initial value may not fall below FLOOR times it."""
 
 
 @dataclass
@@ -146,6 +149,7 @@ def update(
             "note": note,
         }
 
+    lower = FLOOR * z0  # 0 for parameters whose initial value is 0
     z = z0.copy()
     lin, obj = evaluate(z)
     lin0 = lin
@@ -154,7 +158,7 @@ def update(
     for it in range(1, max_iterations + 1):
         A = np.vstack([w[:, None] * lin.normalised, np.diag(prior)])
         b = np.concatenate([w * (lam_meas - lin.eigenvalues), prior * (z0 - z)])
-        dz = np.linalg.lstsq(A, b, rcond=None)[0]
+        dz, note = _step(A, b, z, lower)
         predicted = obj - float(np.sum((A @ dz - b) ** 2))  # decrease the linear model expects
         if np.max(np.abs(dz)) < xtol or predicted <= ftol * obj:
             converged = True
@@ -163,7 +167,7 @@ def update(
                 f"predicted objective decrease {predicted / obj if obj else 0:.1e} relative"
             )
             break
-        dz, alpha, note = _physical(z, dz)
+        alpha = 1.0
         while True:
             try:
                 trial, trial_obj = evaluate(z + alpha * dz)
@@ -207,22 +211,14 @@ def update(
     )
 
 
-def _physical(z: np.ndarray, dz: np.ndarray) -> tuple[np.ndarray, float, str]:
-    """Keep the step physical: parameters stay >= 0 (and > 0 if they are > 0 now)."""
-    dz = dz.copy()
-    note = "full step"
-    at_bound = (z <= 0) & (dz < 0)
-    if at_bound.any():
-        dz[at_bound] = 0.0
-        note = "step projected: parameter at zero"
-    down = dz < 0
-    alpha = 1.0
-    if down.any():
-        limit = np.min(z[down] / -dz[down])
-        if limit <= 1.0:
-            alpha = BOUNDARY_FRACTION * limit
-            note = "step shortened: a parameter would become negative"
-    return dz, alpha, note
+def _step(A, b, z, lower) -> tuple[np.ndarray, str]:
+    """Gauss-Newton step; if it would make a parameter non-physical, the bounded
+    least-squares step instead (z + dz >= lower), so the direction stays a descent one."""
+    dz = np.linalg.lstsq(A, b, rcond=None)[0]
+    if np.all(z + dz >= lower):
+        return dz, "full step"
+    dz = lsq_linear(A, b, bounds=(lower - z, np.inf), method="bvls").x
+    return dz, "step bounded: a parameter would become non-physical"
 
 
 def _posterior_std(lin, w, prior, lam_meas, method) -> np.ndarray:

@@ -1,0 +1,199 @@
+"""Command line: study formats, outputs, and bad input (one line, exit status 2)."""
+
+import json
+
+import numpy as np
+import pytest
+import scipy.io
+import scipy.sparse as sp
+from conftest import EXAMPLES
+
+FIG2 = (EXAMPLES / "paper_fig2" / "study.toml").read_text()
+
+
+def write(tmp_path, text, name="study.toml"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def assert_bad(run_cli, args, *fragments):
+    code, out, err = run_cli(*args)
+    assert code == 2, (out, err)
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    for f in fragments:
+        assert f in lines[0], lines[0]
+    return lines[0]
+
+
+@pytest.fixture
+def fig2_dir(tmp_path, run_cli):
+    (tmp_path / "truth.toml").write_text((EXAMPLES / "paper_fig2" / "truth.toml").read_text())
+    write(tmp_path, FIG2)
+    assert run_cli("simulate", tmp_path / "truth.toml", "-o", tmp_path / "measured.csv")[0] == 0
+    return tmp_path
+
+
+def test_unknown_coordinate(tmp_path, run_cli):
+    s = write(tmp_path, FIG2.replace("coordinate = 4\nmass = 0.35", "coordinate = 9\nmass = 0.35"))
+    assert_bad(run_cli, ["check", s], "study.toml", "perturbation", "unknown coordinate 9")
+
+
+def test_non_positive_mass(tmp_path, run_cli):
+    s = write(tmp_path, FIG2.replace("value = 9.7", "value = -9.7", 1))
+    assert_bad(run_cli, ["check", s], "study.toml", "model.mass[1].value", ">= 0")
+    s = write(tmp_path, FIG2.replace("value = 9.7", "value = 0.0", 1))
+    assert_bad(run_cli, ["check", s], "model.mass[1].value", "> 0")
+
+
+def test_non_positive_stiffness(tmp_path, run_cli):
+    s = write(tmp_path, FIG2.replace("value = 1.200e+06", "value = 0", 1))
+    assert_bad(run_cli, ["check", s], "model.spring[1].value", "> 0")
+
+
+def test_duplicate_parameter_name(tmp_path, run_cli):
+    s = write(tmp_path, FIG2.replace('name = "m2"', 'name = "m1"'))
+    assert_bad(run_cli, ["check", s], "study.toml", "duplicate parameter name 'm1'")
+
+
+def test_missing_measurement(fig2_dir, run_cli):
+    csv = fig2_dir / "measured.csv"
+    csv.write_text("".join(ln for ln in csv.read_text().splitlines(True)
+                           if not ln.startswith("0.35 kg at 2,3")))
+    assert_bad(run_cli, ["update", fig2_dir / "study.toml"], "measured.csv",
+               "no measurement for configuration '0.35 kg at 2' mode 3")
+
+
+def test_mode_beyond_model(fig2_dir, run_cli):
+    s = write(fig2_dir, FIG2.replace("modes = [1, 2, 3]", "modes = [1, 2, 5]"))
+    assert_bad(run_cli, ["check", s], "mode 5 requested", "only 4 elastic modes")
+    assert_bad(run_cli, ["frequencies", s], "only 4 elastic modes")
+
+
+def test_unreadable_toml_names_line(tmp_path, run_cli):
+    s = write(tmp_path, FIG2.replace('type = "spring-mass"', 'type = spring-mass'))
+    msg = assert_bad(run_cli, ["check", s], "study.toml", "invalid TOML")
+    assert "line 6" in msg
+
+
+def test_missing_study_file(tmp_path, run_cli):
+    assert_bad(run_cli, ["check", tmp_path / "nope.toml"], "nope.toml", "cannot read")
+
+
+def test_unreadable_csv_names_line(fig2_dir, run_cli):
+    csv = fig2_dir / "measured.csv"
+    lines = csv.read_text().splitlines(True)
+    lines[3] = "0.35 kg at 1,1,forty-two,\n"
+    csv.write_text("".join(lines))
+    assert_bad(run_cli, ["update", fig2_dir / "study.toml"], "measured.csv", "line 4",
+               "frequency_hz 'forty-two' is not a number")
+    csv.write_text("config,mode,f\nbase,1,3\n")
+    assert_bad(run_cli, ["update", fig2_dir / "study.toml"], "measured.csv", "header")
+
+
+def test_unknown_configuration_in_csv(fig2_dir, run_cli):
+    csv = fig2_dir / "measured.csv"
+    csv.write_text(csv.read_text() + "0.5 kg at 3,1,40.0,\n")
+    assert_bad(run_cli, ["update", fig2_dir / "study.toml"], "configuration '0.5 kg at 3'")
+
+
+def test_unknown_key_is_an_error(tmp_path, run_cli):
+    s = write(tmp_path, FIG2.replace("max_iterations = 20", "max_iteration = 20"))
+    assert_bad(run_cli, ["update", s], "updating", "unknown key(s) ['max_iteration']")
+
+
+def matrices_study(tmp_path, asymmetric=False):
+    """The Fig. 2 system assembled as Matrix Market files: K0 = M0 = 0, one file per
+    parameter (unit spring or unit mass matrix)."""
+    from models import fig2
+
+    model = fig2()
+    zero = sp.coo_matrix((4, 4))
+    scipy.io.mmwrite(tmp_path / "K0.mtx", zero)
+    scipy.io.mmwrite(tmp_path / "M0.mtx", zero)
+    text = ['title = "Fig. 2 from matrices"\n[model]\ntype = "matrices"\nK0 = "K0.mtx"\n'
+            'M0 = "M0.mtx"\n']
+    for p, kt, mt in zip(model.parameters, model.k_terms, model.m_terms, strict=True):
+        key, mat = ("K", kt) if kt is not None else ("M", mt)
+        mat = sp.coo_matrix(mat)
+        if asymmetric and p.name == "k2":
+            mat = sp.coo_matrix(mat.toarray() + np.triu(np.ones((4, 4)), 1) * 0.5)
+        scipy.io.mmwrite(tmp_path / f"{p.name}.mtx", mat)
+        text.append(f'[[model.parameter]]\nname = "{p.name}"\nvalue = {p.value}\n'
+                    f'{key} = "{p.name}.mtx"\n')
+    perts = FIG2[FIG2.index("[[perturbation]]"):]
+    return write(tmp_path, "".join(text) + perts)
+
+
+def test_matrix_model_equals_spring_mass(fig2_dir, run_cli):
+    s = matrices_study(fig2_dir)
+    _, out_m, _ = run_cli("update", s, "--json")
+    _, out_s, _ = run_cli("update", fig2_dir / "study.toml", "--json")
+    a, b = json.loads(out_m), json.loads(out_s)
+    assert a["converged"]
+    for ha, hb in zip(a["history"], b["history"], strict=True):
+        assert ha == pytest.approx(hb, rel=1e-9)
+
+
+def test_non_symmetric_matrix_file(tmp_path, run_cli):
+    s = matrices_study(tmp_path, asymmetric=True)
+    assert_bad(run_cli, ["check", s], "k2.mtx", "not symmetric")
+
+
+def test_several_masses_at_one_coordinate_and_grounded_springs(tmp_path, run_cli):
+    # Paper Table 2 style: 0.35 and 0.7 kg at the same coordinate; plus a grounded spring
+    # and a two-addition perturbation.
+    head = FIG2[: FIG2.index("[[perturbation]]")]
+    perts = (
+        '[[perturbation]]\nname = "a"\ncoordinate = 1\nmass = 0.35\n\n'
+        '[[perturbation]]\nname = "b"\ncoordinate = 1\nmass = 0.7\n\n'
+        '[[perturbation]]\nname = "k"\ncoordinate = 3\nstiffness = 1e5\n\n'
+        '[[perturbation]]\nname = "two"\nadd = [{coordinate = 2, mass = 0.2}, '
+        '{coordinate = 4, mass = 0.1}]\n\n[measurement]\nmodes = [1, 2, 3, 4]\n'
+    )
+    s = write(tmp_path, head + perts)
+    code, out, _ = run_cli("frequencies", s, "--json")
+    assert code == 0
+    f = {c["name"]: c["frequencies_hz"] for c in json.loads(out)["configurations"]}
+    assert f["b"][0] < f["a"][0] < f["base"][0] < f["k"][0]
+    code, out, _ = run_cli("check", s, "--json")
+    assert code == 0 and json.loads(out)["equations"] == 20
+
+
+def test_text_outputs(fig2_dir, run_cli):
+    for cmd in ("frequencies", "check", "update"):
+        code, out, err = run_cli(cmd, fig2_dir / "study.toml")
+        assert code == 0, err
+        assert "Paper Fig. 2" in out
+
+
+def test_save_result_and_nonconvergence_exit_1(fig2_dir, run_cli):
+    s = write(fig2_dir, FIG2.replace("max_iterations = 20", "max_iterations = 2"))
+    code, out, err = run_cli("update", s, "--json", "--save", fig2_dir / "result.json")
+    assert code == 1
+    assert "not converged" in err
+    doc = json.loads((fig2_dir / "result.json").read_text())
+    assert doc["converged"] is False and len(doc["history"]) == 3
+    assert json.loads(out)["parameters"] == doc["parameters"]
+
+
+def test_simulate_with_noise_is_reproducible(fig2_dir, run_cli):
+    t = fig2_dir / "truth.toml"
+    run_cli("simulate", t, "-o", fig2_dir / "a.csv", "--noise-hz", "0.001", "--seed", "4")
+    run_cli("simulate", t, "-o", fig2_dir / "measured.csv", "--noise-hz", "0.001", "--seed", "4")
+    a = (fig2_dir / "a.csv").read_text()
+    assert a == (fig2_dir / "measured.csv").read_text()
+    assert a.splitlines()[1].endswith(",0.001")
+    code, _, err = run_cli("update", fig2_dir / "study.toml", "--method",
+                           "weighted-least-squares")
+    assert code == 0, err
+
+
+def test_beam_study_errors(tmp_path, run_cli):
+    beam = (EXAMPLES / "paper_beam" / "study.toml").read_text()
+    s = write(tmp_path, beam.replace("0.39, 0.49", "0.49, 0.39"))
+    assert_bad(run_cli, ["check", s], "model.nodes", "strictly increasing")
+    s = write(tmp_path, beam.replace("coordinate = 11\nvalue", "coordinate = 19\nvalue"))
+    assert_bad(run_cli, ["check", s], "point_mass m_L", "unknown coordinate 19")

@@ -260,13 +260,13 @@ def test_undamped_resonance_hit_exactly_by_direct_method():
 def test_uff_mapping_round_trip():
     for c in range(1, 19):
         assert coordinate_from_uff("beam", uff_point("beam", c)) == c
-        assert coordinate_from_uff("spring_mass", uff_point("spring_mass", c)) == c
+        assert coordinate_from_uff("spring-mass", uff_point("spring-mass", c)) == c
     assert uff_point("beam", 1) == (1, 3)
     assert uff_point("beam", 2) == (1, 5)
     assert uff_point("beam", 15) == (8, 3)
-    assert uff_point("matrix", 7) == (7, 1)
+    assert uff_point("matrices", 7) == (7, 1)
     assert infer_model_kind(paper_beam()) == "beam"
-    assert infer_model_kind(sdof()) == "matrix"
+    assert infer_model_kind(sdof()) == "spring-mass"
 
 
 @pytest.mark.parametrize(
@@ -276,9 +276,9 @@ def test_uff_mapping_round_trip():
         (uff_point, ("beam", 0)),
         (coordinate_from_uff, ("beam", (3, 1))),
         (coordinate_from_uff, ("beam", (3, -3))),
-        (coordinate_from_uff, ("matrix", (3, 3))),
-        (coordinate_from_uff, ("matrix", (0, 1))),
-        (coordinate_from_uff, ("matrix", "x")),
+        (coordinate_from_uff, ("matrices", (3, 3))),
+        (coordinate_from_uff, ("matrices", (0, 1))),
+        (coordinate_from_uff, ("matrices", "x")),
     ],
 )
 def test_uff_mapping_errors(call, args):

@@ -137,7 +137,7 @@ def beam_model(
         kt.append(None)
         mt.append(sp.csr_array(([1.0], ([i], [i])), shape=(keep.size, keep.size)))
     zero = sp.csr_array((keep.size, keep.size))
-    return ParametricModel(zero, zero, tuple(params), tuple(kt), tuple(mt), keep)
+    return ParametricModel(zero, zero, tuple(params), tuple(kt), tuple(mt), keep, "beam")
 
 
 def _per_element(value, ne: int, name: str) -> np.ndarray | None:

@@ -35,8 +35,8 @@ model kind                coordinate                   UFF (node, direction)
 ========================  ===========================  =====================
 ``"beam"``                ``2 i - 1`` (translation)    ``(i, 3)``  (+Z)
 ``"beam"``                ``2 i`` (rotation)           ``(i, 5)``  (+RY)
-``"spring_mass"``,        ``c``                        ``(c, 1)``  (+X)
-``"matrix"``
+``"spring-mass"``,        ``c``                        ``(c, 1)``  (+X)
+``"matrices"``
 ========================  ===========================  =====================
 """
 
@@ -70,7 +70,7 @@ __all__ = [
 METHODS: tuple[str, str, str] = ("auto", "direct", "modal")
 
 #: Model kinds known to :func:`uff_point`.
-MODEL_KINDS: tuple[str, str, str] = ("beam", "spring_mass", "matrix")
+MODEL_KINDS: tuple[str, str, str] = ("beam", "spring-mass", "matrices")
 
 # Dense complex systems solved at once by the direct method: a bound on memory (bytes).
 _BATCH_BYTES = 64 * 2**20
@@ -84,12 +84,7 @@ _DENSE_FILL = 0.2
 
 
 def infer_model_kind(model: ParametricModel) -> str:
-    """Guess the model kind from its parameter names: ``"beam"`` or ``"matrix"``.
-
-    :func:`eigenupdate.beam.beam_model` names its parameters ``EI1..`` and ``rhoA1..``;
-    a model with both ``EI1`` and ``rhoA1`` is taken to be a beam, any other model is
-    ``"matrix"`` (which maps coordinates like ``"spring_mass"``). Pass the kind
-    explicitly where a guess is not good enough.
+    """The model's kind (``model.kind``): "beam", "spring-mass" or "matrices".
 
     Examples
     --------
@@ -97,8 +92,7 @@ def infer_model_kind(model: ParametricModel) -> str:
     >>> infer_model_kind(beam_model([0.0, 0.4, 0.8], 4557.0, 3.4))
     'beam'
     """
-    names = set(model.names)
-    return "beam" if {"EI1", "rhoA1"} <= names else "matrix"
+    return model.kind
 
 
 def _check_kind(model_kind: str) -> str:
@@ -117,7 +111,7 @@ def uff_point(model_kind: str, coordinate: int) -> tuple[int, int]:
     --------
     >>> uff_point("beam", 1), uff_point("beam", 15), uff_point("beam", 12)
     ((1, 3), (8, 3), (6, 5))
-    >>> uff_point("spring_mass", 4)
+    >>> uff_point("spring-mass", 4)
     (4, 1)
     """
     _check_kind(model_kind)
@@ -140,7 +134,7 @@ def coordinate_from_uff(model_kind: str, point: tuple[int, int]) -> int:
     --------
     >>> coordinate_from_uff("beam", (8, 3)), coordinate_from_uff("beam", (6, 5))
     (15, 12)
-    >>> coordinate_from_uff("matrix", (3, 1))
+    >>> coordinate_from_uff("matrices", (3, 1))
     3
     """
     _check_kind(model_kind)

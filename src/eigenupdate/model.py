@@ -49,6 +49,7 @@ class ParametricModel:
     k_terms: tuple[sp.csr_array | None, ...]
     m_terms: tuple[sp.csr_array | None, ...]
     coordinates: np.ndarray = field(default=None)  # user coordinate number of each row
+    kind: str = "matrices"  # "beam", "spring-mass" or "matrices": how coordinates map to UFF
 
     def __post_init__(self) -> None:
         n = np.shape(self.k0)[0]
@@ -118,7 +119,7 @@ class ParametricModel:
         else:
             new = [p.with_value(v) for p, v in zip(self.parameters, values, strict=True)]
         return ParametricModel(
-            self.k0, self.m0, tuple(new), self.k_terms, self.m_terms, self.coordinates
+            self.k0, self.m0, tuple(new), self.k_terms, self.m_terms, self.coordinates, self.kind
         )
 
 

@@ -96,7 +96,7 @@ def synthetic_frfs(
         standard deviation ``noise * peak / sqrt(2)``, the same at every frequency.
     seed : int, Generator or None
         Random seed (reproducible noise) or a NumPy Generator.
-    model_kind : {"beam", "spring_mass", "matrix"}, optional
+    model_kind : {"beam", "spring-mass", "matrices"}, optional
         How coordinates map to universal-file ``(node, direction)`` labels; guessed by
         :func:`eigenupdate.frf.infer_model_kind` if None.
 

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from eigenupdate import report
+from eigenupdate.atomic import write_text
 from eigenupdate.errors import InputError
 from eigenupdate.identifiability import check
 from eigenupdate.jacobian import solve_configurations
@@ -85,7 +86,7 @@ def cmd_update(args) -> int:
     )
     doc = report.update_doc(res)
     if args.save:
-        report.write_atomic(args.save, report.dumps({"study": str(study.path), **doc}) + "\n")
+        write_text(args.save, report.dumps({"study": str(study.path), **doc}) + "\n")
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
     print(report.dumps(doc) if args.json else report.update_text(res, initial, study.title))
     if not res.converged:

@@ -31,21 +31,19 @@ from __future__ import annotations
 import math
 import operator
 import os
-import secrets
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from eigenupdate.atomic import atomic_write
 from eigenupdate.errors import InputError
 
 __all__ = [
     "CSV_COLUMNS",
     "FRF",
     "FRF_KINDS",
-    "atomic_write",
     "check_same_axis",
     "dof_label",
     "is_uniform",
@@ -486,35 +484,3 @@ def write_frf_csv(path: PathLike, frf: FRF) -> None:
 
 
 # ----------------------------------------------------------------------------- files
-
-
-def atomic_write(path: PathLike, write: Callable[[str], None]) -> None:
-    """Create ``path`` atomically: ``write(tmp)`` fills a temporary file, then it is renamed.
-
-    The temporary file is created empty (honouring the umask) in the directory of
-    ``path``, passed to ``write`` by name, flushed to disk and moved over ``path`` with
-    :func:`os.replace`.  On any error the temporary file is removed and ``path`` is left
-    untouched.
-
-    Parameters
-    ----------
-    path : str or path-like
-        Destination file.
-    write : callable
-        Called with the temporary file name; must write the complete content.
-    """
-    target = Path(path)
-    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp")
-    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
-    os.close(fd)
-    try:
-        write(str(tmp))
-        with open(tmp, "rb+") as fh:
-            os.fsync(fh.fileno())
-        os.replace(tmp, target)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise

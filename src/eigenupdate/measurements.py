@@ -5,15 +5,15 @@ and elastic mode: ``configuration,mode,frequency_hz,std_hz`` ("base" = bare stru
 from __future__ import annotations
 
 import csv
+import io
 import math
-import os
-import tempfile
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from eigenupdate.atomic import write_text
 from eigenupdate.errors import InputError
 
 COLUMNS = ("configuration", "mode", "frequency_hz", "std_hz")
@@ -85,19 +85,13 @@ def _number(text: str, kind, src: str, where: str, name: str):
 
 def write_measurements(path: str | Path, rows: Iterable[Measurement]) -> None:
     """Write a measurement CSV at full precision, atomically (temporary file + rename)."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent or ".", prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", newline="", encoding="utf-8") as fh:
-            w = csv.writer(fh, lineterminator="\n")
-            w.writerow(COLUMNS)
-            for m in rows:
-                std = "" if m.std_hz is None else repr(float(m.std_hz))
-                w.writerow([m.configuration, m.mode, repr(float(m.frequency_hz)), std])
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(COLUMNS)
+    for m in rows:
+        std = "" if m.std_hz is None else repr(float(m.std_hz))
+        w.writerow([m.configuration, m.mode, repr(float(m.frequency_hz)), std])
+    write_text(path, buf.getvalue())
 
 
 def select(

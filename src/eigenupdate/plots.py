@@ -27,11 +27,11 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
+from eigenupdate.atomic import atomic_write
 from eigenupdate.configurations import Configuration
 from eigenupdate.eigen import DENSE_LIMIT, ShiftInvert, default_shift, solve_elastic
 from eigenupdate.errors import InputError
 from eigenupdate.frf import configuration_matrices, infer_model_kind
-from eigenupdate.frf_data import atomic_write
 from eigenupdate.model import ParametricModel
 
 __all__ = [

@@ -4,10 +4,7 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import tempfile
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
 from eigenupdate.identifiability import IdentifiabilityReport
@@ -45,19 +42,6 @@ def _clean(obj: Any) -> Any:
 
 def dumps(doc: dict) -> str:
     return json.dumps(_clean(doc), indent=2)
-
-
-def write_atomic(path: str | Path, text: str) -> None:
-    """Write a text file through a temporary file and a rename: never half-written."""
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def check_doc(r: IdentifiabilityReport) -> dict:

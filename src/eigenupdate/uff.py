@@ -90,11 +90,11 @@ import numpy as np
 import pyuff
 from numpy.typing import ArrayLike
 
+from eigenupdate.atomic import atomic_write
 from eigenupdate.errors import InputError
 from eigenupdate.frf_data import (
     FRF,
     FRF_KINDS,
-    atomic_write,
     dof_label,
     is_uniform,
     to_receptance,

@@ -7,18 +7,27 @@ Exit status: 0 success, 1 the update did not converge (the result is still print
 from __future__ import annotations
 
 import argparse
+import json
+import re
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
 from eigenupdate import report
 from eigenupdate.atomic import write_text
 from eigenupdate.errors import InputError
+from eigenupdate.extraction import extract_configuration, extraction_csv
+from eigenupdate.frf import receptance, uff_point
+from eigenupdate.frf_data import dof_label
 from eigenupdate.identifiability import check
 from eigenupdate.jacobian import solve_configurations
 from eigenupdate.measurements import Measurement, write_measurements
+from eigenupdate.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.study import Study, load_study
+from eigenupdate.synthetic import synthetic_frfs
+from eigenupdate.uff import Mode, read_frf_files, write_frfs, write_modes
 from eigenupdate.updating import METHODS, update
 
 
@@ -95,6 +104,190 @@ def cmd_update(args) -> int:
     return 0
 
 
+def _progress(msg: str) -> None:
+    print(msg, file=sys.stderr, flush=True)
+
+
+def _safe_name(name: str) -> str:
+    return re.sub(r"[^A-Za-z0-9.-]+", "_", name).strip("_") or "configuration"
+
+
+def _frf_options(study: Study) -> tuple[dict, float | None]:
+    """[measurement.frf_options]: bands_hz (list, or table by configuration), exclude_below_hz."""
+    opts = dict(study.frf_options)
+    src, field = str(study.path), "measurement.frf_options"
+    bands = opts.pop("bands_hz", None)
+    low = opts.pop("exclude_below_hz", None)
+    if opts:
+        raise InputError(f"unknown key(s) {sorted(opts)}", source=src, field=field)
+    names = [c.name for c in study.configurations]
+    if bands is None:
+        table = {}
+    elif isinstance(bands, list):
+        table = {n: bands for n in names}
+    elif isinstance(bands, dict):
+        unknown = set(bands) - set(names)
+        if unknown:
+            raise InputError(f"unknown configuration(s) {sorted(unknown)}", source=src,
+                             field=f"{field}.bands_hz")
+        table = bands
+    else:
+        raise InputError("must be a list of [low, high] pairs or a table of them", source=src,
+                         field=f"{field}.bands_hz")
+    for name, b in table.items():
+        ok = isinstance(b, list) and all(
+            isinstance(x, list) and len(x) == 2 and all(isinstance(v, int | float) for v in x)
+            and 0 <= x[0] < x[1] for x in b)
+        if not ok:
+            raise InputError(f"{name!r}: bands must be [low, high] pairs in Hz, low < high",
+                             source=src, field=f"{field}.bands_hz")
+    if low is not None and not (isinstance(low, int | float) and low >= 0):
+        raise InputError("must be a number >= 0", source=src, field=f"{field}.exclude_below_hz")
+    return table, low
+
+
+def cmd_extract(args) -> int:
+    study = load_study(args.study)
+    modes = study.require_modes()
+    bands, low = _frf_options(study)
+    if args.plots:
+        Path(args.plots).mkdir(parents=True, exist_ok=True)
+    results = []
+    n = len(study.configurations)
+    for i, c in enumerate(study.configurations, 1):
+        files = study.frf.get(c.name)
+        if not files:
+            raise InputError(f"configuration {c.name!r} has no FRF file", source=str(study.path),
+                             field="measurement.frf")
+        frfs = read_frf_files(files)
+        _progress(f"[{i}/{n}] {c.name}: {len(frfs)} FRF(s) from {len(files)} file(s)")
+        ex = extract_configuration(frfs, modes, c.name, bands_hz=bands.get(c.name),
+                                   exclude_below_hz=low)
+        for m in ex:
+            d = m.disagreement
+            if d is not None and d > 4:
+                _progress(f"  warning: {c.name} mode {m.mode}: Dobson {m.frequency_hz:.4f} Hz and "
+                          f"rational fraction {m.check_hz:.4f} Hz differ by {d:.1f} std")
+        results += ex
+        if args.plots:
+            for j, x in enumerate(frfs):
+                fits = [m.fits[j] for m in ex if m.fits[j] is not None]
+                if fits:
+                    out = Path(args.plots) / f"extract_{_safe_name(c.name)}_{j + 1}.png"
+                    plot_extraction_fit(out, x.frequency_hz, x.receptance, fits,
+                                        title=f"{c.name}: {dof_label(x.response)}/"
+                                              f"{dof_label(x.reference)}")
+    write_text(args.output, extraction_csv(results))
+    if args.uff55:
+        write_modes(args.uff55, [
+            Mode(m.frequency_hz, loss_factor=m.loss_factor, mode_number=m.mode,
+                 label=m.configuration)
+            for m in results])
+    print(report.table(
+        ["configuration", "mode", "f Hz", "std Hz", "loss factor", "check f Hz", "diff/std"],
+        [[m.configuration, m.mode, m.frequency_hz, m.std_hz, m.loss_factor, m.check_hz,
+          m.disagreement] for m in results]))
+    _progress(f"wrote {len(results)} frequencies to {args.output}")
+    return 0
+
+
+def cmd_simulate_frf(args) -> int:
+    study = load_study(args.study)
+    if not (args.df > 0 and args.fmax > args.df):
+        raise InputError("need 0 < --df < --fmax")
+    f = np.arange(args.df, args.fmax + 0.5 * args.df, args.df)  # 0 Hz: rigid modes are infinite
+    out = Path(args.output)
+    out.mkdir(parents=True, exist_ok=True)
+    rng = np.random.default_rng(args.seed)
+    lines = ["[measurement.frf]"]
+    for c in study.configurations:
+        frfs = synthetic_frfs(study.model, c, f, args.input, args.outputs, args.loss_factor,
+                              noise=args.noise, seed=rng)
+        name = f"{_safe_name(c.name)}.uff"
+        write_frfs(out / name, frfs, binary=args.binary)
+        lines.append(f'"{c.name}" = "{out.name}/{name}"')
+    print("\n".join(lines))
+    return 0
+
+
+def _updated_values(study: Study, path: str) -> dict[str, float]:
+    try:
+        doc = json.loads(Path(path).read_text(encoding="utf-8"))
+        values = doc["parameters"]
+        if not isinstance(values, dict):
+            raise TypeError
+    except OSError as exc:
+        raise InputError(f"cannot read result: {exc.strerror or exc}", source=path) from None
+    except (ValueError, KeyError, TypeError):
+        raise InputError("not a result of 'eigenupdate update --save' (no parameters table)",
+                         source=path, field="parameters") from None
+    unknown = set(values) - set(study.model.names)
+    if unknown:
+        raise InputError(f"parameters {sorted(unknown)} are not in the study's model",
+                         source=path, field="parameters")
+    return values
+
+
+def cmd_frf(args) -> int:
+    study = load_study(args.study)
+    config = _configuration(study, args.configuration)
+    kind = study.model_type
+    measured = None
+    if args.measured:
+        frfs = read_frf_files([args.measured])
+        want = (uff_point(kind, args.output), uff_point(kind, args.input))
+        match = [x for x in frfs if (x.response, x.reference) == want]
+        if not match and len(frfs) == 1 and frfs[0].response == (0, 0):
+            match = frfs  # a CSV FRF carries no points: take it as the one asked for
+        if not match:
+            have = ", ".join(f"{dof_label(x.response)}/{dof_label(x.reference)}" for x in frfs)
+            raise InputError(f"no FRF for response {dof_label(want[0])}, reference "
+                             f"{dof_label(want[1])} (file has {have})", source=args.measured)
+        measured = match[0]
+        f = measured.frequency_hz
+    else:
+        modes = study.modes or [1]
+        top = solve_configurations(study.model, [config], max(modes))[0].frequencies_hz[-1]
+        fmax = args.fmax or 2.0 * top
+        f = np.linspace(fmax / 2000, fmax, 2000)
+    f_pos = f[f > 0]
+    curves = {}
+    models = {"initial": study.model}
+    if args.updated:
+        models["updated"] = study.model.with_values(_updated_values(study, args.updated))
+    for label, model in models.items():
+        h = receptance(model, f_pos, args.input, args.output, configuration=config,
+                       loss_factor=args.loss_factor)
+        curves[label] = (f_pos, h)
+    plot_frf_comparison(
+        args.o, None, measured=measured, initial=curves["initial"], updated=curves.get("updated"),
+        title=f"{study.title}\n{config.name}: receptance {args.output}/{args.input}, "
+              f"loss factor {args.loss_factor:g}")
+    _progress(f"wrote {args.o}")
+    return 0
+
+
+def _configuration(study: Study, name: str | None):
+    if name is None:
+        return study.configurations[0]
+    for c in study.configurations:
+        if c.name == name:
+            return c
+    raise InputError(f"no configuration {name!r} (have {[c.name for c in study.configurations]})")
+
+
+def cmd_sweep(args) -> int:
+    study = load_study(args.study)
+    if not args.max_mass > 0:
+        raise InputError("--max-mass must be > 0")
+    n = args.modes or max(study.modes or [3])
+    plot_mass_sweep(args.o, study.model, args.coordinate, args.max_mass, n,
+                    configuration=_configuration(study, args.configuration),
+                    title=f"{study.title}: mass added at coordinate {args.coordinate}")
+    _progress(f"wrote {args.o}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="eigenupdate",
@@ -128,6 +321,49 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
     s.set_defaults(func=cmd_update)
+
+    s = sub.add_parser("extract", help="natural frequencies from the study's measured FRFs")
+    s.add_argument("study")
+    s.add_argument("-o", "--output", required=True, help="measurement CSV to write")
+    s.add_argument("--uff55", help="also write the modes (with loss factors) as UFF 55")
+    s.add_argument("--plots", metavar="DIR", help="save a plot of every fit in DIR")
+    s.set_defaults(func=cmd_extract)
+
+    s = sub.add_parser("simulate-frf", help="synthetic noisy FRFs of every configuration (UFF 58)")
+    s.add_argument("study")
+    s.add_argument("-o", "--output", required=True, metavar="DIR")
+    s.add_argument("--input", type=int, required=True, help="excitation coordinate")
+    s.add_argument("--outputs", type=int, nargs="+", required=True, help="response coordinates")
+    s.add_argument("--loss-factor", type=float, nargs="+", default=[0.01],
+                   help="hysteretic loss factor, one value or one per elastic mode")
+    s.add_argument("--noise", type=float, default=0.01,
+                   help="complex noise std as a fraction of the largest peak")
+    s.add_argument("--fmax", type=float, required=True, help="highest frequency (Hz)")
+    s.add_argument("--df", type=float, default=0.5, help="frequency resolution (Hz)")
+    s.add_argument("--binary", action="store_true", help="write binary UFF 58b")
+    s.add_argument("--seed", type=int)
+    s.set_defaults(func=cmd_simulate_frf)
+
+    s = sub.add_parser("frf", help="plot predicted (and measured) receptance, paper Fig. 7")
+    s.add_argument("study")
+    s.add_argument("--input", type=int, required=True, help="excitation coordinate")
+    s.add_argument("--output", type=int, required=True, help="response coordinate")
+    s.add_argument("--configuration", help="configuration name (default: base)")
+    s.add_argument("--measured", help="FRF file (UFF 58 or CSV) to compare with")
+    s.add_argument("--updated", metavar="RESULT.json", help="result of 'update --save'")
+    s.add_argument("--loss-factor", type=float, default=0.01)
+    s.add_argument("--fmax", type=float, help="highest frequency without --measured (Hz)")
+    s.add_argument("-o", required=True, metavar="FIG", help="figure file (.png, .svg, .pdf)")
+    s.set_defaults(func=cmd_frf)
+
+    s = sub.add_parser("sweep", help="frequencies against added mass at a coordinate, Fig. 4")
+    s.add_argument("study")
+    s.add_argument("--coordinate", type=int, required=True)
+    s.add_argument("--max-mass", type=float, required=True, help="largest added mass (kg)")
+    s.add_argument("--modes", type=int, help="number of elastic modes")
+    s.add_argument("--configuration", help="configuration to add the mass to (default: base)")
+    s.add_argument("-o", required=True, metavar="FIG")
+    s.set_defaults(func=cmd_sweep)
     return p
 
 
@@ -138,6 +374,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except InputError as exc:
         print(f"eigenupdate: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # output piped into `head` and the like
+        sys.stderr.close()
+        return 0
 
 
 if __name__ == "__main__":

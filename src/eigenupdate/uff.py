@@ -651,6 +651,8 @@ class Mode:
         when writing.
     source : str
         File the mode came from, used in error messages.
+    label : str
+        Free text kept in the dataset's third ID line, e.g. the test configuration.
 
     Notes
     -----
@@ -673,6 +675,7 @@ class Mode:
     shape: ArrayLike | None = None
     mode_number: int = 0
     source: str = ""
+    label: str = ""
 
     def __post_init__(self) -> None:
         src = self.source or None
@@ -797,7 +800,7 @@ def write_modes(path: PathLike, modes: Sequence[Mode]) -> None:
             pyuff.prepare_55(
                 id1="eigenupdate normal mode",
                 id2=f"mode {mode.mode_number or k}",
-                id3="NONE",
+                id3=mode.label[:80] or "NONE",
                 id4="NONE",
                 id5="NONE",
                 model_type=1,
@@ -873,6 +876,8 @@ def read_modes(path: PathLike) -> list[Mode]:
                 node_nums=np.asarray(dset["node_nums"], dtype=np.int64),
                 shape=shape,
                 mode_number=int(dset.get("mode_n", 0)),
+                label="" if str(dset.get("id3", "NONE")).strip() == "NONE"
+                else str(dset.get("id3", "")).strip(),
             )
         except (KeyError, TypeError, ValueError) as exc:  # InputError is a ValueError
             err = InputError(f"{where}: {exc}", source=src)
@@ -891,3 +896,14 @@ def read_modes(path: PathLike) -> list[Mode]:
             f"no normal-mode dataset (type 55, analysis type 2) in file{extra}", source=src
         )
     return modes
+
+
+def read_frf_files(paths: Sequence[PathLike]) -> list[FRF]:
+    """FRFs of several files: ``.csv`` files by :func:`eigenupdate.frf_data.read_frf_csv`
+    (one receptance each), anything else as a universal file (:func:`read_frfs`)."""
+    from eigenupdate.frf_data import read_frf_csv
+
+    out: list[FRF] = []
+    for p in paths:
+        out += [read_frf_csv(p)] if str(p).lower().endswith(".csv") else read_frfs(p)
+    return out

@@ -20,11 +20,12 @@ LOSS = [0.02, 0.008, 0.002]  # modes 1, 2, 3: loss factors from 0.002 to 0.02
 
 def test_beam_extraction_accuracy_and_honest_std():
     """Bare beam + nine 0.2 kg perturbations, 0.5 Hz lines to 1600 Hz, rigid-body modes
-    in the FRFs, complex noise 1 % of the largest resonance, 5 noise seeds (100 modes)."""
+    in the FRFs, complex noise 1 % of the largest resonance, 5 noise seeds; the three
+    modes below 1600 Hz (150 modes)."""
     study = load_study(BEAM)
     f = np.arange(0.5, 1600.25, 0.5)
-    truth = solve_configurations(study.model, study.configurations, 2)
-    z_dobson, z_rfp, rel, rel_eta, agree = [], [], [], [], []
+    truth = solve_configurations(study.model, study.configurations, 3)
+    z_dobson, z_rfp, rel, rel_eta, z_eta, agree = [], [], [], [], [], []
     for seed in range(5):
         for i, (c, sol) in enumerate(zip(study.configurations, truth, strict=True)):
             frfs = synthetic_frfs(study.model, c, f, 11, [1, 15], LOSS, noise=0.01,
@@ -32,12 +33,17 @@ def test_beam_extraction_accuracy_and_honest_std():
             for m in extract_configuration(frfs, [1, 2], c.name):
                 exact = sol.frequencies_hz[m.mode - 1]
                 rel.append(abs(m.frequency_hz - exact) / exact)
-                rel_eta.append(abs(m.loss_factor - LOSS[m.mode - 1]) / LOSS[m.mode - 1])
+                if m.mode <= 2:  # the modes the study uses
+                    rel_eta.append(abs(m.loss_factor - LOSS[m.mode - 1]) / LOSS[m.mode - 1])
+                z_eta.append((m.loss_factor - LOSS[m.mode - 1]) / m.loss_factor_std)
                 z_dobson.append((m.frequency_hz - exact) / m.std_hz)
                 z_rfp.append((m.check_hz - exact) / m.check_std_hz)
                 agree.append(m.disagreement)
     assert max(rel) < 5e-4  # within 0.05 %
     assert max(rel_eta) < 0.10
+    # Mode 3 (eta = 0.002: 2.2 Hz half-power bandwidth, 4 lines) misses by up to ~13 %,
+    # but its std says so.
+    assert np.mean(np.abs(z_eta) < 3) >= 0.95
     for z in (np.array(z_dobson), np.array(z_rfp)):
         assert np.mean(np.abs(z) < 3) >= 0.95  # true error inside 3 std
         assert 0.5 < np.sqrt(np.mean(z**2)) < 2.0  # std neither too small nor too large
@@ -77,7 +83,7 @@ def test_full_chain(chain, run_cli):
     assert code == 0, err
     assert "[10/10]" in err  # progress
     modes = read_modes(chain / "modes.uff")
-    assert len(modes) == 20 and modes[0].label == "base" and modes[0].loss_factor > 0
+    assert len(modes) == 30 and modes[0].label == "base" and modes[0].loss_factor > 0  # 3 peaks
     code, out, err = run_cli("update", chain / "study.toml", "--json", "--save",
                              chain / "result.json")
     assert code == 0, err

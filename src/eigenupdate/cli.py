@@ -27,7 +27,7 @@ from eigenupdate.measurements import Measurement, write_measurements
 from eigenupdate.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.study import Study, load_study
 from eigenupdate.synthetic import synthetic_frfs
-from eigenupdate.uff import Mode, read_frf_files, write_frfs, write_modes
+from eigenupdate.uff import Mode, read_frf_files, read_modes, write_frfs, write_modes
 from eigenupdate.updating import METHODS, update
 
 
@@ -251,20 +251,33 @@ def cmd_frf(args) -> int:
         fmax = args.fmax or 2.0 * top
         f = np.linspace(fmax / 2000, fmax, 2000)
     f_pos = f[f > 0]
+    eta, eta_text = args.loss_factor, f"loss factor {args.loss_factor:g}"
+    if args.damping:
+        eta = _extracted_loss_factors(args.damping, config.name)
+        eta_text = "extracted loss factors " + ", ".join(f"{e:.3g}" for e in eta)
     curves = {}
     models = {"initial": study.model}
     if args.updated:
         models["updated"] = study.model.with_values(_updated_values(study, args.updated))
     for label, model in models.items():
         h = receptance(model, f_pos, args.input, args.output, configuration=config,
-                       loss_factor=args.loss_factor)
+                       loss_factor=eta)
         curves[label] = (f_pos, h)
     plot_frf_comparison(
         args.o, None, measured=measured, initial=curves["initial"], updated=curves.get("updated"),
-        title=f"{study.title}\n{config.name}: receptance {args.output}/{args.input}, "
-              f"loss factor {args.loss_factor:g}")
+        title=f"{study.title}\n{config.name}: receptance {args.output}/{args.input}, {eta_text}")
     _progress(f"wrote {args.o}")
     return 0
+
+
+def _extracted_loss_factors(path: str, configuration: str) -> list[float]:
+    """Loss factors of elastic modes 1, 2, ... of a configuration from `extract --uff55`."""
+    modes = sorted((m.mode_number, m.loss_factor) for m in read_modes(path)
+                   if m.label == configuration)
+    if not modes or [k for k, _ in modes] != list(range(1, len(modes) + 1)):
+        raise InputError(f"no loss factors of modes 1, 2, ... for configuration "
+                         f"{configuration!r}", source=path)
+    return [eta for _, eta in modes]
 
 
 def _configuration(study: Study, name: str | None):
@@ -351,7 +364,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--configuration", help="configuration name (default: base)")
     s.add_argument("--measured", help="FRF file (UFF 58 or CSV) to compare with")
     s.add_argument("--updated", metavar="RESULT.json", help="result of 'update --save'")
-    s.add_argument("--loss-factor", type=float, default=0.01)
+    s.add_argument("--loss-factor", type=float, default=0.01,
+                   help="hysteretic loss factor of every mode (default 0.01)")
+    s.add_argument("--damping", metavar="UFF55",
+                   help="per-mode loss factors from 'extract --uff55' (modes above the last "
+                        "take its value)")
     s.add_argument("--fmax", type=float, help="highest frequency without --measured (Hz)")
     s.add_argument("-o", required=True, metavar="FIG", help="figure file (.png, .svg, .pdf)")
     s.set_defaults(func=cmd_frf)

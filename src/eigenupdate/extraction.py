@@ -126,7 +126,8 @@ def extract_configuration(
     exclude_below_hz: float | None = None,
     cross_check: bool = True,
 ) -> list[ExtractedMode]:
-    """Natural frequency, loss factor and their standard deviations of each used mode.
+    """Natural frequency, loss factor and their standard deviations of every elastic mode
+    found, at least modes 1..max(modes) (an error if one of ``modes`` cannot be fitted).
 
     Parameters
     ----------
@@ -151,12 +152,14 @@ def extract_configuration(
             raise InputError(f"{len(bands)} bands given, elastic mode {n} is used",
                              field=f"{where} bands_hz")
     per_frf = [_dobson(x, bands, where) for x in frfs]
-    checks = [_rational_fraction(x, bands[:n]) for x in frfs] if cross_check else []
+    checks = [_rational_fraction(x, bands) for x in frfs] if cross_check else []
     out = []
-    for k in modes:
+    for k in range(1, len(bands) + 1):
         fits = tuple(p[k - 1] for p in per_frf)
         good = [ft for ft in fits if ft is not None]
         if not good:
+            if k not in modes:
+                continue  # a mode the study does not use: report what could be fitted
             lo, hi = bands[k - 1]
             raise InputError(f"{where}: no FRF shows a resonance in {lo:.4g}-{hi:.4g} Hz "
                              f"(elastic mode {k})")

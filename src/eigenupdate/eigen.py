@@ -184,7 +184,9 @@ def solve_elastic(
     return _solve_sparse(sp.csr_array(K), sp.csr_array(M), n_modes, operator)
 
 
-def _solve_dense(K, M, n_modes: int) -> EigenSolution:
+def all_modes(K, M) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Every eigenpair of a small model, dense: (lambda ascending, mass-normalised phi,
+    rigid-body mask)."""
     Kd = K.toarray() if sp.issparse(K) else np.asarray(K, dtype=float)
     Md = M.toarray() if sp.issparse(M) else np.asarray(M, dtype=float)
     try:
@@ -193,30 +195,39 @@ def _solve_dense(K, M, n_modes: int) -> EigenSolution:
         raise InputError(
             "mass matrix is not positive definite (a coordinate without mass?)"
         ) from None
-    return _elastic(Kd, Md, lam, phi, n_modes, complete=True)
+    return lam, phi, rigid_mask(Kd, Md, lam)
+
+
+def lowest_modes(K, M, k: int, op: ShiftInvert) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The k lowest eigenpairs by shift-invert Lanczos: (lambda ascending, mass-normalised
+    phi, rigid-body mask)."""
+    n = K.shape[0]
+    linop = spla.LinearOperator((n, n), matvec=op.solve, dtype=float)
+    lam, phi = spla.eigsh(K, k=min(k, n - 1), M=M, sigma=op.sigma, which="LM", OPinv=linop)
+    order = np.argsort(lam)
+    lam, phi = lam[order], phi[:, order]
+    phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, M @ phi))
+    return lam, phi, rigid_mask(K, M, lam)
+
+
+def _solve_dense(K, M, n_modes: int) -> EigenSolution:
+    return _elastic(*all_modes(K, M), n_modes, complete=True)
 
 
 def _solve_sparse(K, M, n_modes: int, operator: ShiftInvert | None) -> EigenSolution:
     if operator is None:
         return base_operator(K, M, n_modes)[1]
-    op = operator
     n = K.shape[0]
-    linop = spla.LinearOperator((n, n), matvec=op.solve, dtype=float)
     k = n_modes + 7  # room for up to six rigid-body modes and one extra elastic
     while True:
         k = min(k, n - 1)
-        lam, phi = spla.eigsh(K, k=k, M=M, sigma=op.sigma, which="LM", OPinv=linop)
-        order = np.argsort(lam)
-        lam, phi = lam[order], phi[:, order]
-        phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, M @ phi))
-        sol = _elastic(K, M, lam, phi, n_modes, complete=k == n - 1)
+        sol = _elastic(*lowest_modes(K, M, k, operator), n_modes, complete=k == n - 1)
         if sol.next_eigenvalue is not None or k == n - 1:
             return sol
         k *= 2
 
 
-def _elastic(K, M, lam, phi, n_modes: int, complete: bool) -> EigenSolution:
-    rigid = rigid_mask(K, M, lam)
+def _elastic(lam, phi, rigid, n_modes: int, complete: bool) -> EigenSolution:
     if np.any(lam[~rigid] < 0):
         raise InputError("stiffness matrix is not positive semi-definite (negative eigenvalue)")
     el = np.flatnonzero(~rigid)

@@ -52,7 +52,7 @@ import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike
 
 from eigenupdate.configurations import Configuration
-from eigenupdate.eigen import DENSE_LIMIT, ShiftInvert, default_shift, rigid_mask
+from eigenupdate.eigen import DENSE_LIMIT, ShiftInvert, all_modes, base_operator, lowest_modes
 from eigenupdate.errors import InputError
 from eigenupdate.model import ParametricModel
 
@@ -414,42 +414,21 @@ def _resonance_error(f: float) -> InputError:
 def _count_rigid(K, M) -> int:
     """Number of rigid-body modes of (K, M)."""
     if K.shape[0] <= DENSE_LIMIT:
-        return int(_dense_modes(K, M)[2].sum())
-    lam, phi = _sparse_eigs(K, M, min(7, K.shape[0] - 1))
-    return int(rigid_mask(K, M, lam).sum())
+        return int(all_modes(K, M)[2].sum())
+    return int(lowest_modes(K, M, 7, _operator(K, M))[2].sum())
 
 
-def _dense_modes(K, M) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """All eigenpairs (lambda, mass-normalised phi, rigid mask), ascending."""
-    Kd, Md = K.toarray(), M.toarray()
-    try:
-        lam, phi = scipy.linalg.eigh(Kd, Md)
-    except np.linalg.LinAlgError:
-        raise InputError(
-            "mass matrix is not positive definite (a coordinate without mass?); "
-            "use method='direct'"
-        ) from None
-    return lam, phi, rigid_mask(Kd, Md, lam)
-
-
-def _sparse_eigs(K, M, k: int, op: ShiftInvert | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """The k lowest eigenpairs by shift-invert Lanczos about a small negative shift."""
-    op = op or ShiftInvert(K, M, default_shift(K, M))
-    n = K.shape[0]
-    linop = spla.LinearOperator((n, n), matvec=op.solve, dtype=float)
-    lam, phi = spla.eigsh(K, k=k, M=M, sigma=op.sigma, which="LM", OPinv=linop)
-    order = np.argsort(lam)
-    lam, phi = lam[order], phi[:, order]
-    return lam, phi / np.sqrt(np.einsum("ij,ij->j", phi, M @ phi))
+def _operator(K, M) -> ShiftInvert:
+    return base_operator(K, M, 1)[0]
 
 
 def _modal(K, M, freq, eta, in_rows, out_rows, n_modes, static_correction) -> np.ndarray:
     n = K.shape[0]
     op = None
     if n <= DENSE_LIMIT:
-        lam, phi, rigid = _dense_modes(K, M)
+        lam, phi, rigid = all_modes(K, M)
     else:
-        op = ShiftInvert(K, M, default_shift(K, M))
+        op = _operator(K, M)
         lam, phi, rigid = _sparse_modes(K, M, op, n_modes, 2 * np.pi * float(freq.max()))
     el_all = np.flatnonzero(~rigid)
     el = el_all
@@ -517,8 +496,7 @@ def _sparse_modes(K, M, op, n_modes, w_max) -> tuple[np.ndarray, np.ndarray, np.
     n = K.shape[0]
     k = min(n - 1, (n_modes + 7) if n_modes is not None else 20)
     while True:
-        lam, phi = _sparse_eigs(K, M, k, op)
-        rigid = rigid_mask(K, M, lam)
+        lam, phi, rigid = lowest_modes(K, M, k, op)
         n_el = int((~rigid).sum())
         if n_modes is not None:
             done = n_el >= n_modes

@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike
 
 from eigenupdate.atomic import atomic_write
 from eigenupdate.configurations import Configuration
-from eigenupdate.eigen import DENSE_LIMIT, ShiftInvert, default_shift, solve_elastic
+from eigenupdate.eigen import DENSE_LIMIT, base_operator, solve_elastic
 from eigenupdate.errors import InputError
 from eigenupdate.frf import configuration_matrices, infer_model_kind
 from eigenupdate.model import ParametricModel
@@ -295,7 +295,7 @@ def mass_sweep(
     n = K.shape[0]
     freqs = np.empty((masses.size, n_modes))
     # Large models: factorise K - sigma M once; each added mass is a rank-one Woodbury update.
-    op = ShiftInvert(K, M, default_shift(K, M)) if n > DENSE_LIMIT else None
+    op = base_operator(K, M, n_modes)[0] if n > DENSE_LIMIT else None
     for i, dm in enumerate(masses):
         Mi = M + dm * _diag_unit(row, n)
         kw = {}

@@ -190,7 +190,7 @@ def update(
         history.append(snapshot(z, obj, alpha, note))
     nit = len(history) - 1
 
-    lin_final = linearise(model, configurations, modes, full(z))
+    lin_final = lin  # always the linearisation at the current z
     std = _posterior_std(lin_final, w, prior, lam_meas, method) * scale
     updated = model.with_values(full(z))
     return UpdateResult(

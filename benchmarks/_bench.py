@@ -1,0 +1,530 @@
+"""The benchmark proper; run it through bench_update.py (which sets the BLAS threads)."""
+
+from __future__ import annotations
+
+import datetime as _dt
+import json
+import os
+import platform
+import resource
+import sys
+import time
+from collections import defaultdict
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+import numpy as np
+import scipy
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+from frame import (
+    COLUMN,
+    E_STEEL,
+    NU,
+    RHO_STEEL,
+    SIZES,
+    Frame,
+    build_frame,
+    cantilever,
+    mass_sites,
+)
+from scipy.optimize import least_squares
+
+import eigenupdate.eigen as eig
+import eigenupdate.jacobian as jac
+import eigenupdate.updating as upd
+from eigenupdate.configurations import BASE, Configuration, mass_at
+from eigenupdate.eigen import default_shift, solve_elastic
+from eigenupdate.jacobian import linearise, solve_configurations
+from eigenupdate.measurements import Measurement
+from eigenupdate.model import ParametricModel
+from eigenupdate.updating import update
+
+N_MODES = 10
+N_PERTURBATIONS = 20
+ADDED_MASS_FRACTION = 0.01  # each added mass: 1 % of the frame's total mass
+
+# (a) size, (b) size, default cap on the baseline's iterations (least_squares max_nfev)
+PLAN = {"full": ("full", "b-full", 20), "small": ("small", "b-small", 3)}
+
+
+# ----------------------------------------------------------------------------- timing
+
+
+class Timers:
+    """Accumulated wall time and call count per label."""
+
+    def __init__(self):
+        self.seconds = defaultdict(float)
+        self.calls = defaultdict(int)
+
+    @contextmanager
+    def __call__(self, label):
+        t = time.perf_counter()
+        try:
+            yield
+        finally:
+            self.seconds[label] += time.perf_counter() - t
+            self.calls[label] += 1
+
+    def as_dict(self):
+        return {k: {"seconds": round(v, 4), "calls": self.calls[k]}
+                for k, v in self.seconds.items()}
+
+
+@contextmanager
+def instrumented(timers: Timers):
+    """Time the package's stages by wrapping its module attributes for the duration.
+
+    Nothing in the package is changed on disk; the originals are restored on exit.
+    Labels: factorisation (ShiftInvert: LU of K - sigma M), Woodbury set-up, LU solves
+    (every A^-1 b, almost all inside ARPACK), eigsh (eigen.lowest_modes: ARPACK + mass
+    normalisation + rigid-body test, including its LU solves), sensitivities
+    (Fox-Kapoor), assembly (K(s), M(s)). A stage the package no longer has is skipped.
+    """
+    base_cls = eig.ShiftInvert
+
+    class TimedShiftInvert(base_cls):
+        last = None
+
+        def __init__(self, K, M, sigma):
+            with timers("factorisation"):
+                super().__init__(K, M, sigma)
+            TimedShiftInvert.last = self
+
+        def solve(self, b):
+            with timers("LU solves"):
+                return super().solve(b)
+
+        def updated(self, rows, dk, dm):
+            with timers("Woodbury set-up"):
+                return super().updated(rows, dk, dm)
+
+    def timed(label, f):
+        def g(*a, **kw):
+            with timers(label):
+                return f(*a, **kw)
+        return g
+
+    patches = [(eig, "ShiftInvert", lambda f: TimedShiftInvert),
+               (eig, "lowest_modes", lambda f: timed("eigsh", f)),
+               (jac, "eigenvalue_derivatives", lambda f: timed("sensitivities", f)),
+               (ParametricModel, "stiffness", lambda f: timed("assembly", f)),
+               (ParametricModel, "mass", lambda f: timed("assembly", f))]
+    saved = []
+    for obj, name, wrap in patches:
+        if hasattr(obj, name):
+            saved.append((obj, name, getattr(obj, name)))
+            setattr(obj, name, wrap(getattr(obj, name)))
+    try:
+        yield TimedShiftInvert
+    finally:
+        for obj, name, value in saved:
+            setattr(obj, name, value)
+
+
+@contextmanager
+def counting(module, name, counter: list):
+    """Count calls of module.name (e.g. updating.linearise) for the duration."""
+    f = getattr(module, name)
+
+    def g(*a, **kw):
+        counter[0] += 1
+        return f(*a, **kw)
+
+    setattr(module, name, g)
+    try:
+        yield
+    finally:
+        setattr(module, name, f)
+
+
+def peak_rss_gib() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 2**20  # Linux: KiB
+
+
+# ----------------------------------------------------------------------------- problem
+
+
+@dataclass
+class Problem:
+    frame: Frame
+    configurations: list
+    modes: list
+    measurements: dict
+    lam_meas: np.ndarray  # measured eigenvalues in row order (configuration, mode)
+
+    @property
+    def model(self):
+        return self.frame.model
+
+
+def make_problem(size_key: str, simulate: bool = True) -> Problem:
+    frame = build_frame(*SIZES[size_key])
+    added = ADDED_MASS_FRACTION * frame.total_mass
+    configs = [Configuration(BASE)] + [
+        mass_at(c, added, name=f"m{i + 1:02d}@{c}")
+        for i, c in enumerate(mass_sites(frame, N_PERTURBATIONS))
+    ]
+    modes = list(range(1, N_MODES + 1))
+    meas, lam = {}, np.array([])
+    if simulate:  # error-free data from the true model
+        sols = solve_configurations(frame.model.with_values(frame.truth), configs, N_MODES)
+        lam = np.concatenate([s.eigenvalues for s in sols])
+        for c, s in zip(configs, sols, strict=True):
+            for k in modes:
+                meas[(c.name, k)] = Measurement(c.name, k, float(s.frequencies_hz[k - 1]))
+    return Problem(frame, configs, modes, meas, lam)
+
+
+def param_errors(values, truth) -> dict:
+    rel = np.asarray(values) / truth - 1
+    return {"max_rel": float(np.max(np.abs(rel))), "rms_rel": float(np.sqrt(np.mean(rel**2)))}
+
+
+# ----------------------------------------------------------------------------- self-check
+
+
+def self_check() -> dict:
+    """Element and solver sanity checks (asserts); returns the figures."""
+    out = {}
+    # cantilever, 20 elements, along X and along Z: first bending frequency in both
+    # planes against 1.8751^2 sqrt(EI / (rho A L^4)) / (2 pi)
+    L, beta = 3.0, 1.87510407
+    worst = 0.0
+    for axis in ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (1.0, 2.0, 0.5)):
+        k, m = cantilever(20, L, COLUMN, axis)
+        f = solve_elastic(E_STEEL * k, RHO_STEEL * m, 4, dense=True).frequencies_hz
+        for inertia in (COLUMN.Iz, COLUMN.Iy):
+            omega = beta**2 * np.sqrt(E_STEEL * inertia / (RHO_STEEL * COLUMN.A * L**4))
+            err = float(np.min(np.abs(f / (omega / (2 * np.pi)) - 1)))
+            worst = max(worst, err)
+            assert err < 1e-6, f"cantilever bending: {f} vs {omega / (2 * np.pi)}"
+        # first torsion mode: sqrt(G J / (rho Ip)) / (4 L); linear element, coarser
+        g = E_STEEL / (2 * (1 + NU))
+        exact_t = np.sqrt(g * COLUMN.J / (RHO_STEEL * (COLUMN.Iy + COLUMN.Iz))) / (4 * L)
+        assert np.min(np.abs(f / exact_t - 1)) < 1e-3, "cantilever torsion"
+    out["cantilever_bending_max_rel_error"] = worst
+    print(f"self-check: cantilever (20 elements, 3 orientations) first bending frequency "
+          f"vs 1.8751^2 sqrt(EI/(rho A L^4)): max rel. error {worst:.1e}")
+
+    # free-free frame: exactly six rigid-body modes are found and excluded (sparse path)
+    free = build_frame(*SIZES["b-small"], supports="free")
+    K, M = free.model.stiffness(free.truth), free.model.mass(free.truth)
+    sol = solve_elastic(K, M, N_MODES, dense=False)
+    dense = solve_elastic(K, M, N_MODES, dense=True)
+    assert sol.n_rigid == 6 == dense.n_rigid, (sol.n_rigid, dense.n_rigid)
+    dif = float(np.max(np.abs(sol.eigenvalues / dense.eigenvalues - 1)))
+    assert dif < 1e-7, dif  # ARPACK start vector is random; seen 2e-10..2e-9
+    out["free_frame"] = {"n": free.model.n, "n_rigid": sol.n_rigid,
+                         "sparse_vs_dense_max_rel": dif}
+    print(f"self-check: free-free frame ({free.model.n} coordinates): {sol.n_rigid} rigid-body "
+          f"modes excluded; sparse vs dense elastic eigenvalues agree to {dif:.1e}")
+    return out
+
+
+# ----------------------------------------------------------------------------- (a)
+
+
+def bench_a(size_key: str) -> dict:
+    t = time.perf_counter()
+    prob = make_problem(size_key, simulate=False)
+    model, configs, modes = prob.model, prob.configurations, prob.modes
+    t_build = time.perf_counter() - t
+    n = model.n
+    print(f"(a) frame {SIZES[size_key]} (bays X, bays Y, storeys, elements/member): "
+          f"{n} coordinates, {prob.frame.n_elements} elements, {len(model.parameters)} "
+          f"parameters, {len(configs)} configurations x {len(modes)} modes; built in "
+          f"{t_build:.1f} s")
+
+    # one base eigen-solve, fresh factorisation (assembly of K, M not included)
+    K, M = model.stiffness(), model.mass()
+    base_timers = Timers()
+    with instrumented(base_timers) as cls:
+        t = time.perf_counter()
+        base = solve_elastic(K, M, N_MODES)
+        t_base = time.perf_counter() - t
+        lu = cls.last._lu
+    fill = int(lu.L.nnz + lu.U.nnz)
+    t_fact = base_timers.seconds["factorisation"]
+    n_solves_base = base_timers.calls["LU solves"]
+    n_fact_base = base_timers.calls["factorisation"]
+    print(f"(a) one base eigen-solve: {t_base:.2f} s = factorisation {t_fact:.2f} s "
+          f"(x{n_fact_base}, nnz(L+U) = {fill:,}) + eigsh {base_timers.seconds['eigsh']:.2f} s "
+          f"(x{base_timers.calls['eigsh']}, {n_solves_base} LU solves taking "
+          f"{base_timers.seconds['LU solves']:.2f} s) + other "
+          f"{t_base - t_fact - base_timers.seconds['eigsh']:.2f} s; "
+          f"first frequencies {np.round(base.frequencies_hz[:4], 3).tolist()} Hz, "
+          f"{base.n_rigid} rigid modes")
+
+    # one update iteration: linearise (21 eigen-solves + sensitivities) + the GN step
+    timers = Timers()
+    with instrumented(timers):
+        t = time.perf_counter()
+        lin = linearise(model, configs, modes)
+        t_lin = time.perf_counter() - t
+    # data for the step: the first-order prediction of the true eigenvalues (solving the
+    # truth would double the run time; the least-squares step costs the same either way)
+    scale = lin.scale
+    dz_true = prob.frame.truth / scale - 1
+    lam_meas = lin.eigenvalues + lin.normalised @ dz_true
+    t = time.perf_counter()
+    A, b = lin.normalised, lam_meas - lin.eigenvalues
+    dz = np.linalg.lstsq(A, b, rcond=None)[0]
+    t_step = time.perf_counter() - t
+    t_iter = t_lin + t_step
+    ratio = t_iter / t_base
+    s = timers.seconds
+    other = t_lin - (s["factorisation"] + s["Woodbury set-up"] + s["eigsh"]
+                     + s["sensitivities"] + s["assembly"])
+    n_solves = timers.calls["LU solves"]
+    print(f"(a) one update iteration: {t_iter:.1f} s; one base eigen-solve: {t_base:.2f} s; "
+          f"ratio {ratio:.1f} (no reuse would be ~{len(configs)})")
+    print(f"(a) iteration split: assembly K(s),M(s) {s['assembly']:.2f} s; factorisation "
+          f"{s['factorisation']:.2f} s (x{timers.calls['factorisation']}); Woodbury set-up "
+          f"{s['Woodbury set-up']:.2f} s (x{timers.calls['Woodbury set-up']}); eigsh "
+          f"{s['eigsh']:.1f} s (x{timers.calls['eigsh']}, {n_solves} LU solves "
+          f"taking {s['LU solves']:.1f} s); sensitivities {s['sensitivities']:.2f} s; "
+          f"least-squares step {t_step * 1e3:.1f} ms; other {other:.2f} s")
+    one_fact = t_fact / max(n_fact_base, 1)
+    saved = (len(configs) - 1) * one_fact
+    no_reuse = t_iter + saved
+    print(f"(a) with a fresh factorisation per perturbed configuration the iteration would "
+          f"take ~{no_reuse:.0f} s (ratio ~{no_reuse / t_base:.1f}): the Woodbury reuse saves "
+          f"~{saved:.0f} s")
+    assert np.allclose(dz, dz_true, rtol=1e-6, atol=1e-8), "step does not recover the data"
+
+    diag = diagnose_ordering(model, configs, modes, K, M, lu, t_base, t_iter, lin)
+    return {
+        "frame": SIZES[size_key], "n": n, "elements": prob.frame.n_elements,
+        "nnz_K": int(K.nnz), "configurations": len(configs), "modes": len(modes),
+        "parameters": len(model.parameters),
+        "base_solve_s": t_base, "base_factorisation_s": t_fact, "base_lu_solves": n_solves_base,
+        "base_lu_fill": fill, "base_frequencies_hz": base.frequencies_hz.tolist(),
+        "iteration_s": t_iter, "linearise_s": t_lin, "step_s": t_step, "ratio": ratio,
+        "iteration_split": timers.as_dict(), "iteration_other_s": other,
+        "iteration_no_reuse_estimate_s": no_reuse,
+        "diagnostic_symmetric_ordering": diag,
+        "peak_rss_gib": peak_rss_gib(),
+    }
+
+
+def _symmetric_splu(A):
+    return spla.splu(sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                     options={"SymmetricMode": True})
+
+
+def diagnose_ordering(model, configs, modes, K, M, lu, t_base, t_iter, lin) -> dict:
+    """Diagnostic, not package code: the same base solve and iteration with K - sigma M
+    factorised by SuperLU with a symmetric (minimum-degree on A + A^T) ordering and no
+    pivoting, which is safe as K - sigma M is positive definite for sigma < 0. The
+    package's ShiftInvert is replaced in memory for the duration only."""
+    A = sp.csc_matrix(K - default_shift(K, M) * M)
+    t = time.perf_counter()
+    lu2 = _symmetric_splu(A)
+    t_fact2 = time.perf_counter() - t
+    fill, fill2 = int(lu.L.nnz + lu.U.nnz), int(lu2.L.nnz + lu2.U.nnz)
+    rhs = np.random.default_rng(0).standard_normal(A.shape[0])
+    t_solve, t_solve2 = _time_solves(lu.solve, rhs), _time_solves(lu2.solve, rhs)
+    out = {"factorisation_s": t_fact2, "fill": fill2, "solve_s": t_solve2,
+           "default_fill": fill, "default_solve_s": t_solve}
+    print(f"(a) diagnostic: splu(permc_spec='MMD_AT_PLUS_A', diag_pivot_thresh=0, "
+          f"SymmetricMode) factorises in {t_fact2:.2f} s, nnz(L+U) {fill2:,} (package's "
+          f"default COLAMD: {fill:,}), one solve {t_solve2 * 1e3:.2f} ms vs "
+          f"{t_solve * 1e3:.2f} ms")
+
+    original = eig.ShiftInvert
+
+    class SymmetricShiftInvert(original):
+        def __init__(self, K, M, sigma):
+            self.sigma = float(sigma)
+            self._lu = _symmetric_splu(K - self.sigma * M)
+
+    eig.ShiftInvert = SymmetricShiftInvert
+    try:
+        t = time.perf_counter()
+        base2 = solve_elastic(K, M, N_MODES)
+        t_base2 = time.perf_counter() - t
+        t = time.perf_counter()
+        lin2 = linearise(model, configs, modes)
+        np.linalg.lstsq(lin2.normalised, lin2.eigenvalues, rcond=None)
+        t_iter2 = time.perf_counter() - t
+    except Exception as exc:  # the package's internals changed: report, don't fail
+        print(f"(a) diagnostic skipped: {type(exc).__name__}: {exc}")
+        return out
+    finally:
+        eig.ShiftInvert = original
+    dif = float(np.max(np.abs(lin2.eigenvalues / lin.eigenvalues - 1)))
+    dJ = float(np.max(np.abs(lin2.J - lin.J)) / np.max(np.abs(lin.J)))
+    out.update(base_solve_s=t_base2, iteration_s=t_iter2, ratio=t_iter2 / t_base2,
+               eigenvalue_max_rel_diff=dif, J_max_rel_diff=dJ,
+               base_frequencies_hz=base2.frequencies_hz.tolist())
+    print(f"(a) diagnostic, same with that factorisation: one update iteration {t_iter2:.1f} s "
+          f"(package: {t_iter:.1f} s); one base eigen-solve {t_base2:.2f} s (package: "
+          f"{t_base:.2f} s); ratio {t_iter2 / t_base2:.1f}; eigenvalues agree to {dif:.1e}, "
+          f"J to {dJ:.1e}")
+    return out
+
+
+def _time_solves(solve, rhs, repeat=5) -> float:
+    solve(rhs)
+    t = time.perf_counter()
+    for _ in range(repeat):
+        solve(rhs)
+    return (time.perf_counter() - t) / repeat
+
+
+# ----------------------------------------------------------------------------- (b)
+
+
+def bench_b(size_key: str, max_nfev: int | None, reference: bool = False) -> dict:
+    t = time.perf_counter()
+    prob = make_problem(size_key)
+    model, configs, modes, truth = prob.model, prob.configurations, prob.modes, prob.frame.truth
+    nconf = len(configs)
+    print(f"(b) frame {SIZES[size_key]}: {model.n} coordinates, {len(model.parameters)} "
+          f"parameters, {nconf} configurations x {len(modes)} modes = {prob.lam_meas.size} "
+          f"equations; truth simulated in {time.perf_counter() - t:.1f} s; initial parameter "
+          f"error max {param_errors(model.values, truth)['max_rel']:.3f}")
+
+    # ours
+    calls, ours_t = [0], Timers()
+    with counting(upd, "linearise", calls), instrumented(ours_t):
+        t = time.perf_counter()
+        res = update(model, configs, modes, prob.measurements)
+        t_ours = time.perf_counter() - t
+    ours_values = np.array([res.parameters[nm] for nm in model.names])
+    ours_err = param_errors(ours_values, truth)
+    ours_solves = ours_t.calls["eigsh"]
+    print(f"(b) ours: update() {t_ours:.1f} s, {res.nit} iterations, converged "
+          f"{res.converged}, {calls[0]} linearisations = {ours_solves} eigsh calls and "
+          f"{ours_t.calls['factorisation']} factorisations; parameter error vs truth max "
+          f"{ours_err['max_rel']:.1e}, rms {ours_err['rms_rel']:.1e}")
+
+    # baseline: least_squares, 2-point finite differences, normalised parameters
+    scale = model.values
+    evaluated = []  # (evaluation, seconds, x, cost)
+
+    def residual(x):
+        sols = solve_configurations(model, configs, N_MODES, values=x * scale)
+        r = np.concatenate([s.eigenvalues for s in sols]) - prob.lam_meas
+        evaluated.append((len(evaluated) + 1, time.perf_counter() - t, x.copy(),
+                          0.5 * float(r @ r)))
+        return r
+
+    base_t = Timers()
+    with instrumented(base_t):
+        t = time.perf_counter()
+        ls = least_squares(residual, np.ones(len(scale)), jac="2-point", max_nfev=max_nfev)
+        t_base = time.perf_counter() - t
+    n_evals = len(evaluated)
+    base_solves = base_t.calls["eigsh"]
+    # the optimiser's own points, not the finite-difference ones (which differ from the
+    # last optimiser point in a single component)
+    trial, last = [], None
+    for e, sec, x, cost in evaluated:
+        if last is None or np.count_nonzero(x != last) > 1:
+            trial.append((e, sec, cost, param_errors(x * scale, truth)["max_rel"]))
+            last = x
+    # accuracy of its finite-difference Jacobian: against Fox-Kapoor at the final point
+    exact = linearise(model, configs, modes, ls.x * scale).normalised
+    fd_err = np.linalg.norm(ls.jac - exact, axis=0) / np.linalg.norm(exact, axis=0)
+    base_err = param_errors(ls.x * scale, truth)
+    print(f"(b) baseline: scipy least_squares(trf, 2-point, max_nfev={max_nfev}) "
+          f"{t_base:.1f} s, {ls.nfev} residuals at its iterates + {ls.njev} FD Jacobians = "
+          f"{n_evals} residual evaluations = {base_solves} eigsh calls and "
+          f"{base_t.calls['factorisation']} factorisations; status {ls.status} "
+          f"({ls.message}); parameter error vs truth max {base_err['max_rel']:.1e}, "
+          f"rms {base_err['rms_rel']:.1e}")
+    print("(b) baseline iterates (evaluation: cost 0.5|r|^2, max parameter error): "
+          + ", ".join(f"{e}: {c:.2g}, {er:.2g}" for e, _, c, er in trial))
+    print(f"(b) baseline's 2-point Jacobian vs the exact (Fox-Kapoor) one at its final point: "
+          f"column relative error median {np.median(fd_err):.1e}, max {fd_err.max():.1e}; "
+          f"condition number of the exact normalised J {np.linalg.cond(exact):.1e}")
+    print(f"(b) baseline/ours: time {t_base / t_ours:.1f}x, eigen-solves "
+          f"{base_solves / ours_solves:.1f}x, factorisations "
+          f"{base_t.calls['factorisation'] / ours_t.calls['factorisation']:.1f}x"
+          + ("" if ls.status > 0 else " (baseline stopped at its evaluation cap, unconverged)"))
+    ref = _reference(prob, residual, scale) if reference else None
+    return {
+        "reference_exact_jacobian": ref,
+        "frame": SIZES[size_key], "n": model.n, "configurations": nconf, "modes": len(modes),
+        "parameters": len(model.parameters),
+        "initial_error": param_errors(model.values, truth),
+        "ours": {"seconds": t_ours, "iterations": res.nit, "converged": res.converged,
+                 "message": res.message, "linearisations": calls[0],
+                 "eigsh_calls": ours_solves, "split": ours_t.as_dict(), "error": ours_err,
+                 "objective": [h["objective"] for h in res.history]},
+        "baseline": {"seconds": t_base, "nfev": int(ls.nfev), "njev": int(ls.njev or 0),
+                     "residual_evaluations": n_evals, "eigsh_calls": base_solves,
+                     "split": base_t.as_dict(), "status": int(ls.status),
+                     "message": ls.message, "error": base_err, "max_nfev": max_nfev,
+                     "iterates": [{"evaluation": e, "seconds": sec, "cost": c, "max_error": er}
+                                  for e, sec, c, er in trial],
+                     "fd_jacobian_rel_error": {"median": float(np.median(fd_err)),
+                                               "max": float(fd_err.max())},
+                     "condition_J": float(np.linalg.cond(exact))},
+        "time_ratio": t_base / t_ours, "solve_ratio": base_solves / ours_solves,
+        "peak_rss_gib": peak_rss_gib(),
+    }
+
+
+def _reference(prob, residual, scale) -> dict:
+    """least_squares (trf) with the package's exact Jacobian instead of finite differences:
+    separates the effect of the Jacobian's accuracy from that of the optimiser."""
+    model, configs, modes = prob.model, prob.configurations, prob.modes
+    njac = [0]
+
+    def jacobian(x):
+        njac[0] += 1
+        return linearise(model, configs, modes, x * scale).normalised
+
+    t = time.perf_counter()
+    ls = least_squares(residual, np.ones(len(scale)), jac=jacobian, max_nfev=300)
+    sec = time.perf_counter() - t
+    err = param_errors(ls.x * scale, prob.frame.truth)
+    print(f"(b) reference: least_squares(trf) with the exact Fox-Kapoor Jacobian {sec:.1f} s, "
+          f"{ls.nfev} residual evaluations + {njac[0]} Jacobians (linearisations); status "
+          f"{ls.status}; parameter error vs truth max {err['max_rel']:.1e}")
+    return {"seconds": sec, "nfev": int(ls.nfev), "njev": njac[0], "status": int(ls.status),
+            "error": err}
+
+
+# ----------------------------------------------------------------------------- main
+
+
+def run(args) -> int:
+    t0 = time.perf_counter()
+    a_size, b_size, cap = PLAN[args.size]
+    if args.baseline_max_nfev is not None:
+        cap = args.baseline_max_nfev or None
+    meta = {
+        "date": _dt.datetime.now().isoformat(timespec="seconds"),
+        "size": args.size, "cores": os.cpu_count(), "blas_threads": args.blas_threads,
+        "python": platform.python_version(), "numpy": np.__version__,
+        "scipy": scipy.__version__, "machine": platform.machine(),
+    }
+    print(f"eigenupdate benchmark, --size {args.size}, {meta['date']}, {meta['cores']} cores, "
+          f"BLAS threads {args.blas_threads or 'library default'}, Python {meta['python']}, "
+          f"NumPy {meta['numpy']}, SciPy {meta['scipy']}")
+    out = {"meta": meta, "self_check": self_check()}
+    if args.only in (None, "a"):
+        out["a"] = bench_a(a_size)
+    if args.only in (None, "b"):
+        out["b"] = bench_b(b_size, cap, args.reference)
+    out["total_s"] = time.perf_counter() - t0
+    print(f"total {out['total_s']:.0f} s, peak memory {peak_rss_gib():.2f} GiB")
+    if args.json:
+        with open(args.json, "w", encoding="utf-8") as fh:
+            json.dump(out, fh, indent=2, default=_jsonable)
+        print(f"results written to {args.json}")
+    sys.stdout.flush()
+    return 0
+
+
+def _jsonable(x):
+    if isinstance(x, np.generic):
+        return x.item()
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    raise TypeError(type(x))

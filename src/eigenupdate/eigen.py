@@ -84,7 +84,16 @@ class ShiftInvert:
     def __init__(self, K: sp.csr_array, M: sp.csr_array, sigma: float):
         self.sigma = float(sigma)
         try:
-            self._lu = spla.splu(sp.csc_matrix(K - self.sigma * M))
+            # K - sigma M is symmetric (positive definite for sigma < 0): a symmetric fill
+            # ordering with diagonal pivots has ~8x less fill than SuperLU's default COLAMD
+            # and factorises ~15x faster on a 100k-coordinate frame (benchmarks/README.md).
+            # The threshold still lets SuperLU pivot off a tiny diagonal (sigma > 0).
+            self._lu = spla.splu(
+                sp.csc_matrix(K - self.sigma * M),
+                permc_spec="MMD_AT_PLUS_A",
+                diag_pivot_thresh=0.1,
+                options={"SymmetricMode": True},
+            )
         except RuntimeError as exc:  # exactly singular
             raise InputError(f"K - sigma M is singular for sigma = {sigma:g}: {exc}") from None
 

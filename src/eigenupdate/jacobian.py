@@ -75,7 +75,10 @@ def solve_configurations(
                 op = base_op.updated(
                     rows, [a.stiffness for a in c.additions], [a.mass for a in c.additions]
                 )
-            out.append(solve_elastic(K + dk, M + dm, n_modes, operator=op, dense=not sparse))
+            # added masses and grounded springs never create rigid-body modes
+            hint = base_sol.n_rigid if base_sol is not None else None
+            out.append(solve_elastic(K + dk, M + dm, n_modes, operator=op, dense=not sparse,
+                                     n_rigid=hint))
         except InputError as exc:
             raise InputError(str(exc), field=f"configuration {c.name!r}") from None
     return out

@@ -295,12 +295,13 @@ def mass_sweep(
     n = K.shape[0]
     freqs = np.empty((masses.size, n_modes))
     # Large models: factorise K - sigma M once; each added mass is a rank-one Woodbury update.
-    op = base_operator(K, M, n_modes)[0] if n > DENSE_LIMIT else None
+    op, base = base_operator(K, M, n_modes) if n > DENSE_LIMIT else (None, None)
     for i, dm in enumerate(masses):
         Mi = M + dm * _diag_unit(row, n)
         kw = {}
         if op is not None:
             kw["operator"] = op.updated(np.array([row]), np.array([0.0]), np.array([dm]))
+            kw["n_rigid"] = base.n_rigid
         sol = solve_elastic(K, Mi, n_modes, **kw)
         if sol.eigenvalues.size < n_modes:
             raise InputError(

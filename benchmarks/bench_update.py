@@ -28,8 +28,8 @@ THREAD_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 def parse(argv=None) -> argparse.Namespace:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--size", choices=("small", "full"), default="full",
-                   help="full: (a) at 103k coordinates, (b) at 2k (default, ~8 min); "
-                        "small: a quick run (~40 s), (a) at 6k, (b) at 600")
+                   help="full: (a) at 103k coordinates, (b) at 2k (default, ~4 min); "
+                        "small: a quick run (~20 s), (a) at 6k, (b) at 600")
     p.add_argument("--only", choices=("a", "b"), help="run only one of the two benchmarks")
     p.add_argument("--json", metavar="PATH", help="also write the results to this JSON file")
     p.add_argument("--blas-threads", type=int, default=1, metavar="N",

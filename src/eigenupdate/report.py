@@ -97,20 +97,29 @@ def update_doc(r: UpdateResult) -> dict:
     }
 
 
+def _pct(x: float | None) -> str:
+    return "-" if x is None or not math.isfinite(x) else f"{x:+.3f}"
+
+
+def _sig3(x: float | None) -> str:
+    return "-" if x is None or not math.isfinite(x) else f"{x:.3g}"
+
+
 def update_text(r: UpdateResult, initial: dict[str, float], title: str) -> str:
     head = f"{title}: {r.method}, {r.message} after {r.nit} iteration(s)"
     params = table(
         ["parameter", "initial", "updated", "std", "change %"],
-        [[n, initial[n], v, r.std.get(n), 100 * (v - initial[n]) / initial[n] if initial[n]
-          else None] for n, v in r.parameters.items() if n in r.std],
+        [[n, initial[n], v, _sig3(r.std.get(n)),
+          _pct(100 * (v - initial[n]) / initial[n] if initial[n] else None)]
+         for n, v in r.parameters.items() if n in r.std],
     )
     steps = table(
         ["iteration", "objective", "step", "note"],
-        [[i, h["objective"], h["step"], h["note"]] for i, h in enumerate(r.history)],
+        [[i, _sig3(h["objective"]), h["step"], h["note"]] for i, h in enumerate(r.history)],
     )
     freqs = table(
         ["configuration", "mode", "measured Hz", "initial Hz", "updated Hz", "error %"],
-        [[c, k, float(m), float(i), float(u), 100 * (u - m) / m]
+        [[c, k, float(m), float(i), float(u), _pct(100 * (u - m) / m)]
          for (c, k), m, i, u in zip(r.rows, r.measured_hz, r.initial_hz, r.updated_hz,
                                     strict=True)],
     )

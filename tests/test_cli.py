@@ -197,3 +197,123 @@ def test_beam_study_errors(tmp_path, run_cli):
     assert_bad(run_cli, ["check", s], "model.nodes", "strictly increasing")
     s = write(tmp_path, beam.replace("coordinate = 11\nvalue", "coordinate = 19\nvalue"))
     assert_bad(run_cli, ["check", s], "point_mass m_L", "unknown coordinate 19")
+
+
+# --- outputs that cannot be written, and option values (review of the CLI) -------------
+
+
+def test_unwritable_outputs_fail_before_any_work(fig2_dir, run_cli):
+    s, d = fig2_dir / "study.toml", fig2_dir
+    assert_bad(run_cli, ["simulate", s, "-o", d / "nodir" / "x.csv"], "-o", "does not exist")
+    assert_bad(run_cli, ["simulate", s, "-o", d], "-o", "is a directory")
+    assert_bad(run_cli, ["update", s, "--save", d / "nodir" / "r.json"], "--save")
+    assert_bad(run_cli, ["sweep", s, "--coordinate", 1, "--max-mass", 1, "-o", d], "-o")
+    (d / "file").write_text("")
+    assert_bad(run_cli, ["simulate-frf", s, "-o", d / "file", "--input", 1, "--outputs", 2,
+                         "--fmax", 200], "exists and is not a directory")
+    # extract: a bad --uff55 must not leave the CSV written
+    frf = write(d, FIG2 + '\n[measurement.frf]\n"base" = "none.uff"\n', "frf.toml")
+    assert_bad(run_cli, ["extract", frf, "-o", d / "x.csv", "--uff55", d / "no" / "m.uff"],
+               "--uff55")
+    assert not (d / "x.csv").exists()
+
+
+def test_simulate_frf_bad_values_leave_no_directory(fig2_dir, run_cli):
+    s, out = fig2_dir / "study.toml", fig2_dir / "frf_out"
+    for extra in (["--fmax", "inf"], ["--fmax", "-5"], ["--fmax", 200, "--df", 0],
+                  ["--fmax", 200, "--input", 99]):
+        args = ["simulate-frf", s, "-o", out, "--input", 1, "--outputs", 2, "--fmax", 200]
+        code, _, err = run_cli(*args[:-2], *extra)
+        assert code == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+        assert not out.exists()
+
+
+def test_negative_seed_is_a_usage_error(fig2_dir, run_cli):
+    code, _, err = run_cli("simulate", fig2_dir / "study.toml", "-o", fig2_dir / "x.csv",
+                           "--seed", "-1")
+    assert code == 2 and "--seed" in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("flags, fragment", [
+    (["--noise-hz", "nan"], "--noise-hz"),
+    (["--noise-hz", "inf"], "--noise-hz"),
+    (["--std-hz", "0"], "--std-hz"),
+    (["--std-hz", "-1"], "--std-hz"),
+    (["--noise-hz", "100", "--seed", "3"], "negative"),
+])
+def test_simulate_refuses_what_its_reader_would(fig2_dir, run_cli, flags, fragment):
+    out = fig2_dir / "sim.csv"
+    assert_bad(run_cli, ["simulate", fig2_dir / "truth.toml", "-o", out, *flags], fragment)
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("fmax", ["-5", "nan", "inf", "0"])
+def test_frf_bad_fmax(fig2_dir, run_cli, fmax):
+    assert_bad(run_cli, ["frf", fig2_dir / "study.toml", "--input", 1, "--output", 2,
+                         "--fmax", fmax, "-o", fig2_dir / "f.png"], "--fmax")
+
+
+def test_frf_updated_result_is_validated(fig2_dir, run_cli):
+    s = fig2_dir / "study.toml"
+    assert run_cli("update", s, "--save", fig2_dir / "r.json")[0] == 0
+    doc = json.loads((fig2_dir / "r.json").read_text())
+    args = ["frf", s, "--input", 1, "--output", 2, "--updated", fig2_dir / "bad.json",
+            "-o", fig2_dir / "f.png"]
+    for change, fragment in (({"k1": "abc"}, "parameters.k1"), ({"m1": 0.0}, "parameters.m1"),
+                             ({"k2": None}, "no value for ['k2']")):
+        bad = json.loads(json.dumps(doc))
+        for k, v in change.items():
+            if v is None:
+                del bad["parameters"][k]
+            else:
+                bad["parameters"][k] = v
+        (fig2_dir / "bad.json").write_text(json.dumps(bad))
+        assert_bad(run_cli, args, "bad.json", fragment)
+
+
+def test_rank_deficient_plan_is_not_reported_converged(fig2_dir, run_cli):
+    # Fig. 2 with one mode: 4 equations for 10 parameters (plain least squares)
+    s = write(fig2_dir, FIG2.replace("modes = [1, 2, 3]", "modes = [1]"), "one_mode.toml")
+    assert_bad(run_cli, ["update", s], "rank 4 of J for 10 updated parameters")
+
+
+@pytest.mark.parametrize("csv_text, fragment", [
+    ("configuration,mode,frequency_hz,std_hz\nbase,1,1e200,0.1\n", "< 1e12"),
+    ("configuration,mode,frequency_hz,std_hz\nbase,1,42.0,0.1,7\n", "5 fields, expected 4"),
+    ("configuration,mode,frequency_hz,frequency_hz\nbase,1,42.0,43\n", "appear twice"),
+])
+def test_measurement_csv_more_cases(fig2_dir, run_cli, csv_text, fragment):
+    (fig2_dir / "measured.csv").write_text(csv_text)
+    assert_bad(run_cli, ["update", fig2_dir / "study.toml"], "measured.csv", fragment)
+
+
+def test_study_value_cases(tmp_path, run_cli):
+    s = write(tmp_path, FIG2.replace("max_iterations", "tolerance = 1\nmax_iterations"))
+    assert_bad(run_cli, ["check", s], "updating.tolerance", "<= 0.01")
+    s = write(tmp_path, FIG2.replace("coordinate = 1\nmass = 0.35",
+                                     "coordinate = 1\nmass = 0.35\nadd = [{coordinate = 2, "
+                                     "mass = 0.1}]"))
+    assert_bad(run_cli, ["check", s], "add", "not both")
+
+
+def test_matrix_files_with_nan_or_pattern(tmp_path, run_cli):
+    K = sp.csr_array(np.array([[2.0, -1.0], [-1.0, 2.0]]))
+    scipy.io.mmwrite(tmp_path / "K0.mtx", K)
+    scipy.io.mmwrite(tmp_path / "M0.mtx", sp.eye_array(2) * np.nan)
+    (tmp_path / "P.mtx").write_text("%%MatrixMarket matrix coordinate pattern symmetric\n"
+                                    "2 2 2\n1 1\n2 2\n")
+    study = ('[model]\ntype = "matrices"\nK0 = "K0.mtx"\nM0 = "M0.mtx"\n'
+             '[[model.parameter]]\nname = "a"\nvalue = 1.0\nK = "K0.mtx"\n')
+    assert_bad(run_cli, ["frequencies", write(tmp_path, study), "--modes", 1], "M0.mtx",
+               "NaN or infinite")
+    assert_bad(run_cli, ["frequencies", write(tmp_path, study.replace('M0 = "M0.mtx"',
+                                                                      'M0 = "P.mtx"')),
+                         "--modes", 1], "P.mtx", "pattern")
+
+
+def test_beam_nodes_too_close_or_too_far(tmp_path, run_cli):
+    beam = (EXAMPLES / "paper_beam" / "study.toml").read_text()
+    for nodes in ("0.69, 0.69000000000001", "0.69, 1e300"):
+        s = write(tmp_path, beam.replace("0.69, 0.80", nodes).replace(
+            'frequencies = "measured.csv"', 'frequencies = "none.csv"'))
+        assert_bad(run_cli, ["check", s], "model.nodes", "element lengths")

@@ -175,3 +175,16 @@ def test_configuration_without_frf(chain, run_cli, tmp_path):
     text = (chain / "study.toml").read_text().replace("frf/", str(chain / "frf") + "/")
     s.write_text("\n".join(ln for ln in text.splitlines() if not ln.startswith('"0.2 kg at 9"')))
     _bad(run_cli, ["extract", s, "-o", tmp_path / "x.csv"], "'0.2 kg at 9' has no FRF file")
+
+
+@pytest.mark.parametrize("bands", [[[530, 575], [190, 215]], [[190, 215], [190, 215]],
+                                   [[-5, 215], [530, 575]]])
+def test_bands_out_of_order_or_overlapping_are_refused(bands):
+    # band k is elastic mode k: swapped or repeated bands would mislabel the modes
+    from eigenupdate.errors import InputError
+
+    study = load_study(BEAM)
+    c = study.configurations[0]
+    frfs = synthetic_frfs(study.model, c, np.arange(0.5, 700, 0.5), 11, [1], LOSS, noise=0.0)
+    with pytest.raises(InputError, match="ascending and must not overlap"):
+        extract_configuration(frfs, [1, 2], c.name, bands_hz=bands)

@@ -92,6 +92,13 @@ def beam_model(
         raise InputError(
             "node positions must be finite and strictly increasing", field="model.nodes"
         )
+    if lengths.max() > 1e100 or lengths.min() < 1e-6 * lengths.max():
+        # 1/L^3 stiffness terms: a near-zero element buries the rest in round-off
+        raise InputError(
+            f"element lengths {lengths.min():.3g} to {lengths.max():.3g} m: the shortest must "
+            f"be at least 1e-6 of the longest (and none absurdly long)",
+            field="model.nodes",
+        )
     ne = lengths.size
     n_full = 2 * (ne + 1)
     ei = _per_element(EI, ne, "model.EI")

@@ -31,6 +31,50 @@ from eigenupdate.uff import Mode, read_frf_files, read_modes, write_frfs, write_
 from eigenupdate.updating import METHODS, update
 
 
+def _output_file(path: str | None, flag: str) -> None:
+    """Refuse an output file that cannot be written, before any work is done."""
+    if path is None:
+        return
+    p = Path(path)
+    if not str(path) or p.is_dir():
+        raise InputError("is a directory or empty; give a file name", source=str(path),
+                         field=flag)
+    if not p.resolve().parent.is_dir():
+        raise InputError(f"directory {str(p.parent)!r} does not exist", source=str(path),
+                         field=flag)
+
+
+def _output_dir(path: str | None, flag: str) -> None:
+    """Refuse an output directory that is a file or whose parent does not exist."""
+    if path is None:
+        return
+    p = Path(path)
+    if not str(path) or (p.exists() and not p.is_dir()):
+        raise InputError("exists and is not a directory", source=str(path), field=flag)
+    if not p.resolve().parent.is_dir():
+        raise InputError(f"directory {str(p.parent)!r} does not exist", source=str(path),
+                         field=flag)
+
+
+def _finite(value: float | None, flag: str, *, positive: bool = False) -> None:
+    if value is None:
+        return
+    if not np.isfinite(value) or value < 0 or (positive and value == 0):
+        raise InputError(f"{value!r} must be a finite number {'>' if positive else '>='} 0",
+                         field=flag)
+
+
+def _seed(text: str) -> int:
+    """argparse type: a random seed, an integer >= 0."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not an integer") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{value} must be >= 0")
+    return value
+
+
 def _n_modes(study: Study, requested: int | None) -> int:
     if requested is not None:
         if requested < 1:
@@ -58,10 +102,11 @@ def cmd_frequencies(args) -> int:
 
 
 def cmd_simulate(args) -> int:
+    _output_file(args.output, "-o")
+    _finite(args.noise_hz, "--noise-hz")
+    _finite(args.std_hz, "--std-hz", positive=True)
     study = load_study(args.study)
     modes = study.require_modes()
-    if args.noise_hz < 0:
-        raise InputError("--noise-hz must be >= 0")
     std = args.std_hz if args.std_hz is not None else (args.noise_hz or None)
     sols = solve_configurations(study.model, study.configurations, max(modes))
     rng = np.random.default_rng(args.seed)
@@ -71,6 +116,10 @@ def cmd_simulate(args) -> int:
             f = float(s.frequencies_hz[k - 1])
             if args.noise_hz > 0:
                 f += float(rng.normal(0.0, args.noise_hz))
+                if f <= 0:
+                    raise InputError(f"noise of {args.noise_hz:g} Hz made the frequency of "
+                                     f"{c.name!r} mode {k} negative; use less noise",
+                                     field="--noise-hz")
             rows.append(Measurement(c.name, k, f, std))
     write_measurements(args.output, rows)
     print(f"wrote {len(rows)} frequencies of {len(sols)} configurations to {args.output}",
@@ -86,6 +135,7 @@ def cmd_check(args) -> int:
 
 
 def cmd_update(args) -> int:
+    _output_file(args.save, "--save")
     study = load_study(args.study)
     method = args.method or study.method
     res = update(
@@ -139,7 +189,7 @@ def _frf_options(study: Study) -> tuple[dict, float | None]:
             isinstance(x, list) and len(x) == 2 and all(isinstance(v, int | float) for v in x)
             and 0 <= x[0] < x[1] for x in b)
         if not ok:
-            raise InputError(f"{name!r}: bands must be [low, high] pairs in Hz, low < high",
+            raise InputError(f"{name!r}: bands must be [low, high] pairs in Hz, 0 <= low < high",
                              source=src, field=f"{field}.bands_hz")
     if low is not None and not (isinstance(low, int | float) and low >= 0):
         raise InputError("must be a number >= 0", source=src, field=f"{field}.exclude_below_hz")
@@ -147,6 +197,9 @@ def _frf_options(study: Study) -> tuple[dict, float | None]:
 
 
 def cmd_extract(args) -> int:
+    _output_file(args.output, "-o")
+    _output_file(args.uff55, "--uff55")
+    _output_dir(args.plots, "--plots")
     study = load_study(args.study)
     modes = study.require_modes()
     bands, low = _frf_options(study)
@@ -192,17 +245,23 @@ def cmd_extract(args) -> int:
 
 
 def cmd_simulate_frf(args) -> int:
+    _output_dir(args.output, "-o")
+    _finite(args.fmax, "--fmax", positive=True)
+    _finite(args.df, "--df", positive=True)
+    if args.fmax <= args.df or args.fmax / args.df > 1e7:
+        raise InputError(f"need --df < --fmax and at most 1e7 lines, got --df {args.df:g}, "
+                         f"--fmax {args.fmax:g}", field="--fmax")
     study = load_study(args.study)
-    if not (args.df > 0 and args.fmax > args.df):
-        raise InputError("need 0 < --df < --fmax")
     f = np.arange(args.df, args.fmax + 0.5 * args.df, args.df)  # 0 Hz: rigid modes are infinite
     out = Path(args.output)
-    out.mkdir(parents=True, exist_ok=True)
     rng = np.random.default_rng(args.seed)
     lines = ["[measurement.frf]"]
+    sets = []  # everything is computed before the directory is made: no half-done output
     for c in study.configurations:
-        frfs = synthetic_frfs(study.model, c, f, args.input, args.outputs, args.loss_factor,
-                              noise=args.noise, seed=rng)
+        sets.append((c, synthetic_frfs(study.model, c, f, args.input, args.outputs,
+                                       args.loss_factor, noise=args.noise, seed=rng)))
+    out.mkdir(parents=True, exist_ok=True)
+    for c, frfs in sets:
         name = f"{_safe_name(c.name)}.uff"
         write_frfs(out / name, frfs, binary=args.binary)
         lines.append(f'"{c.name}" = "{out.name}/{name}"')
@@ -225,10 +284,23 @@ def _updated_values(study: Study, path: str) -> dict[str, float]:
     if unknown:
         raise InputError(f"parameters {sorted(unknown)} are not in the study's model",
                          source=path, field="parameters")
+    missing = [n for n in study.model.names if n not in values]
+    if missing:
+        raise InputError(f"no value for {missing} (a result of another study?)",
+                         source=path, field="parameters")
+    for p in study.model.parameters:
+        v = values[p.name]
+        ok = isinstance(v, int | float) and not isinstance(v, bool) and np.isfinite(v)
+        if not ok or v < 0 or (v == 0 and p.value > 0):
+            raise InputError(f"{v!r} is not a physical value (initial {p.value:g})",
+                             source=path, field=f"parameters.{p.name}")
     return values
 
 
 def cmd_frf(args) -> int:
+    _output_file(args.o, "-o")
+    _finite(args.fmax, "--fmax", positive=True)
+    _finite(args.loss_factor, "--loss-factor")
     study = load_study(args.study)
     config = _configuration(study, args.configuration)
     kind = study.model_type
@@ -290,9 +362,11 @@ def _configuration(study: Study, name: str | None):
 
 
 def cmd_sweep(args) -> int:
+    _output_file(args.o, "-o")
+    _finite(args.max_mass, "--max-mass", positive=True)
+    if args.modes is not None and args.modes < 1:
+        raise InputError(f"{args.modes} must be >= 1", field="--modes")
     study = load_study(args.study)
-    if not args.max_mass > 0:
-        raise InputError("--max-mass must be > 0")
     n = args.modes or max(study.modes or [3])
     plot_mass_sweep(args.o, study.model, args.coordinate, args.max_mass, n,
                     configuration=_configuration(study, args.configuration),
@@ -320,7 +394,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("-o", "--output", required=True)
     s.add_argument("--noise-hz", type=float, default=0.0, help="Gaussian noise std (Hz)")
     s.add_argument("--std-hz", type=float, help="std_hz column (default: the noise level)")
-    s.add_argument("--seed", type=int)
+    s.add_argument("--seed", type=_seed)
     s.set_defaults(func=cmd_simulate)
 
     s = sub.add_parser("check", help="identifiability of the test plan (condition, rank of J)")
@@ -354,7 +428,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--fmax", type=float, required=True, help="highest frequency (Hz)")
     s.add_argument("--df", type=float, default=0.5, help="frequency resolution (Hz)")
     s.add_argument("--binary", action="store_true", help="write binary UFF 58b")
-    s.add_argument("--seed", type=int)
+    s.add_argument("--seed", type=_seed)
     s.set_defaults(func=cmd_simulate_frf)
 
     s = sub.add_parser("frf", help="plot predicted (and measured) receptance, paper Fig. 7")
@@ -394,6 +468,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into `head` and the like
         sys.stderr.close()
         return 0
+    except OSError as exc:  # a file that cannot be read or written, named by the OS
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"eigenupdate: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -151,6 +151,12 @@ def extract_configuration(
         if len(bands) < n:
             raise InputError(f"{len(bands)} bands given, elastic mode {n} is used",
                              field=f"{where} bands_hz")
+        lo, hi = np.array(bands, dtype=float).T
+        if not (np.all(np.isfinite(lo + hi)) and lo[0] >= 0 and np.all(lo < hi)
+                and np.all(hi[:-1] <= lo[1:])):
+            # band k is mode k: bands out of order or overlapping would mislabel modes
+            raise InputError(f"bands {bands} must be ascending and must not overlap "
+                             f"(band k holds elastic mode k)", field=f"{where} bands_hz")
     per_frf = [_dobson(x, bands, where) for x in frfs]
     checks = [_rational_fraction(x, bands) for x in frfs] if cross_check else []
     out = []

@@ -192,8 +192,8 @@ def _check_axis(freq: np.ndarray, source: str | None, field: str = "frequency_hz
     if (steps <= 0).any():
         bad = int(np.flatnonzero(steps <= 0)[0])
         raise InputError(
-            f"not strictly increasing: {freq[bad + 1]!r} Hz at index {bad + 1} follows "
-            f"{freq[bad]!r} Hz",
+            f"not strictly increasing: {float(freq[bad + 1])!r} Hz at index {bad + 1} follows "
+            f"{float(freq[bad])!r} Hz",
             source=source,
             field=field,
         )
@@ -428,8 +428,9 @@ def read_frf_csv(path: PathLike) -> FRF:
     if (steps <= 0).any():
         k = int(np.flatnonzero(steps <= 0)[0]) + 1
         raise InputError(
-            f"column frequency_hz: {freq[k]!r} Hz is not greater than the previous "
-            f"{freq[k - 1]!r} Hz (line {linenos[k - 1]}); frequencies must be strictly increasing",
+            f"column frequency_hz: {float(freq[k])!r} Hz is not greater than the previous "
+            f"{float(freq[k - 1])!r} Hz (line {linenos[k - 1]}); frequencies must be "
+            f"strictly increasing",
             source=src,
             field=f"line {linenos[k]}",
         )

@@ -24,10 +24,15 @@ def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
         a = scipy.io.mmread(path)
     except (OSError, ValueError, TypeError, IndexError) as exc:
         raise InputError(f"cannot read Matrix Market file: {exc}", source=str(path)) from None
+    if scipy.io.mminfo(path)[4] == "pattern":
+        raise InputError("matrix is a pattern (no values); a real matrix is required",
+                         source=str(path))
     a = sp.csr_array(a)
     if np.iscomplexobj(a.data):
         raise InputError("matrix is complex; a real matrix is required", source=str(path))
     a = a.astype(float)
+    if not np.all(np.isfinite(a.data)):
+        raise InputError("matrix has NaN or infinite entries", source=str(path))
     if a.shape[0] != a.shape[1]:
         raise InputError(f"matrix is not square: shape {a.shape}", source=str(path))
     if n is not None and a.shape[0] != n:

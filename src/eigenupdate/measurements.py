@@ -40,6 +40,9 @@ def read_measurements(path: str | Path) -> dict[tuple[str, int], Measurement]:
     if not lines:
         raise InputError("measurement file is empty", source=src)
     header = [h.strip() for h in next(csv.reader([lines[0][1]]))]
+    twice = sorted({h for h in header if h and header.count(h) > 1})
+    if twice:
+        raise InputError(f"line {lines[0][0]}: column(s) {twice} appear twice", source=src)
     missing = [c for c in COLUMNS[:3] if c not in header]
     if missing:
         raise InputError(
@@ -52,7 +55,7 @@ def read_measurements(path: str | Path) -> dict[tuple[str, int], Measurement]:
         (i for i, _ in lines[1:]), csv.reader(ln for _, ln in lines[1:]), strict=True
     ):
         where = f"line {lineno}"
-        if len(row) < len(header):
+        if len(row) != len(header):
             raise InputError(f"{where}: {len(row)} fields, expected {len(header)}", source=src)
         cfg = row[col["configuration"]].strip()
         mode = _number(row[col["mode"]], int, src, where, "mode")
@@ -63,8 +66,9 @@ def read_measurements(path: str | Path) -> dict[tuple[str, int], Measurement]:
             raise InputError(f"{where}: empty configuration", source=src)
         if mode < 1:
             raise InputError(f"{where}: mode must be >= 1, got {mode}", source=src)
-        if not f > 0:
-            raise InputError(f"{where}: frequency_hz must be > 0, got {f}", source=src)
+        if not 0 < f < 1e12:  # beyond, lambda = (2 pi f)^2 leaves any plausible model
+            raise InputError(f"{where}: frequency_hz must be > 0 and < 1e12, got {f}",
+                             source=src)
         if std is not None and not std > 0:
             raise InputError(f"{where}: std_hz must be > 0, got {std}", source=src)
         if (cfg, mode) in out:

@@ -21,6 +21,8 @@ def _csr(a, n: int) -> sp.csr_array:
     m = sp.csr_array(a, dtype=float)
     if m.shape != (n, n):
         raise InputError(f"matrix has shape {m.shape}, expected {(n, n)}")
+    if not np.all(np.isfinite(m.data)):
+        raise InputError("matrix has NaN or infinite entries (overflow?)")
     return m
 
 

@@ -205,8 +205,8 @@ def load_study(path: str | Path) -> Study:
     if max_it < 1:
         raise up.error("max_iterations", "must be >= 1")
     tol = up.get("tolerance", "float", 1e-8)
-    if tol <= 0:
-        raise up.error("tolerance", "must be > 0")
+    if not 0 < tol <= 1e-2:  # the largest relative parameter change still called converged
+        raise up.error("tolerance", f"{tol!r} must be > 0 and <= 0.01 (a relative step)")
     up.finish()
     top.finish()
     return Study(
@@ -316,6 +316,9 @@ def _matrices(m: _Reader, base: Path) -> ParametricModel:
 
 def _perturbation(r: _Reader) -> Configuration:
     adds = []
+    if "add" in r.data and {"coordinate", "mass", "stiffness"} & set(r.data):
+        raise r.error("add", "give either coordinate with mass/stiffness or add = [...], "
+                             "not both")
     if "add" in r.data:
         for j, t in enumerate(r.get("add", "tables")):
             adds.append(_addition(_Reader(t, f"{r.where}.add[{j + 1}]", r.source)))

@@ -113,6 +113,9 @@ def update(
         raise InputError("max_iterations must be >= 1", field="updating.max_iterations")
     weighted = method != "least-squares"
     upd = model.updated
+    if upd.size == 0:
+        raise InputError("no parameter is updated (every parameter has update = false)",
+                         field="model")
     names = [model.names[j] for j in upd]
     rows = [(c.name, k) for c in configurations for k in sorted(set(modes))]
     f_meas, f_std = select(measurements, rows, weighted, source)
@@ -153,6 +156,16 @@ def update(
     z = z0.copy()
     lin, obj = evaluate(z)
     lin0 = lin
+    rank = np.linalg.matrix_rank(np.vstack([w[:, None] * lin.normalised, np.diag(prior)]))
+    if rank < z.size:
+        # the minimum-norm step would leave the undetermined combinations at their initial
+        # values and call that converged: a silently wrong answer
+        raise InputError(
+            f"the test plan does not determine the parameters: rank {rank} of J for "
+            f"{z.size} updated parameters (see 'eigenupdate check'); add perturbations or "
+            f"modes, hold parameters fixed, or give priors and use the bayesian method",
+            field="perturbation / measurement.modes",
+        )
     history = [snapshot(z, obj, 0.0, "initial")]
     converged, message = False, f"iteration limit ({max_iterations}) reached"
     for it in range(1, max_iterations + 1):

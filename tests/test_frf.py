@@ -84,10 +84,12 @@ def test_per_mode_loss_factors_closed_form_modes():
         lam = lam_unit * k / m
         expected += np.outer(1 / (lam * (1 + 1j * eta) - w(f) ** 2), phi[0] * phi)
     np.testing.assert_allclose(H, expected, rtol=1e-11)
-    # Modes beyond the list take its last value; extra values are ignored.
+    # Modes beyond the list take its last value; more values than modes is a mistake.
     np.testing.assert_allclose(receptance(model, f, 1, 2, loss_factor=[0.01]),
-                               receptance(model, f, 1, 2, loss_factor=[0.01, 0.01, 0.5]),
+                               receptance(model, f, 1, 2, loss_factor=[0.01, 0.01]),
                                rtol=1e-13)
+    with pytest.raises(InputError, match="3 loss factors given but the model has only 2"):
+        receptance(model, f, 1, 2, loss_factor=[0.01, 0.01, 0.5])
 
 
 def test_configuration_with_added_mass_and_spring():
@@ -234,6 +236,7 @@ def test_output_shapes():
         ({"frequency_hz": [np.nan]}, "frequency_hz"),
         ({"loss_factor": -0.01}, "loss_factor"),
         ({"loss_factor": [0.01, 0.02], "method": "direct"}, "loss_factor"),
+        ({"loss_factor": [0.01] * 17}, "loss_factor"),  # 16 elastic modes
         ({"method": "qr"}, "method"),
         ({"n_modes": 3, "method": "direct"}, "n_modes"),
         ({"n_modes": 0}, "n_modes"),

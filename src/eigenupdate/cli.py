@@ -78,7 +78,7 @@ def _seed(text: str) -> int:
 def _n_modes(study: Study, requested: int | None) -> int:
     if requested is not None:
         if requested < 1:
-            raise InputError("--modes must be >= 1")
+            raise InputError(f"{requested} must be >= 1", field="--modes")
         return requested
     return max(study.require_modes())
 
@@ -375,8 +375,15 @@ def cmd_sweep(args) -> int:
     return 0
 
 
+class _Parser(argparse.ArgumentParser):
+    """Usage errors in one line, like every other bad input (exit status 2)."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = _Parser(
         prog="eigenupdate",
         description="Update FE model parameters from natural frequencies of the bare and "
                     "mass/stiffness-perturbed structure.",
@@ -458,12 +465,24 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _located(exc: InputError, args) -> str:
+    """The message, prefixed by the study file when the library could not name a file.
+
+    Errors found deep in the numerics (too few elastic modes, an indefinite mass matrix)
+    come from the study's model all the same; options (``--x``) name themselves.
+    """
+    study = getattr(args, "study", None)
+    if exc.source is None and study and not (exc.field or "").startswith("-"):
+        return f"{study}: {exc}"
+    return str(exc)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
     except InputError as exc:
-        print(f"eigenupdate: error: {exc}", file=sys.stderr)
+        print(f"eigenupdate: error: {_located(exc, args)}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # output piped into `head` and the like
         sys.stderr.close()

@@ -228,7 +228,8 @@ def receptance(
     loss_factor : float or sequence of float
         Hysteretic loss factor ``eta >= 0``: one for the whole structure, or one per
         elastic mode in ascending order (modes beyond the list take the last value;
-        rigid-body modes are undamped). A list needs modal superposition.
+        rigid-body modes are undamped). A list needs modal superposition; on a dense
+        model, more values than elastic modes is an error.
     method : {"auto", "direct", "modal"}
         ``"direct"`` solves ``(K (1 + i eta) - w**2 M) x = f`` at every frequency
         (scalar loss factor only); ``"modal"`` sums modes. ``"auto"`` is direct for
@@ -431,6 +432,9 @@ def _modal(K, M, freq, eta, in_rows, out_rows, n_modes, static_correction) -> np
         op = _operator(K, M)
         lam, phi, rigid = _sparse_modes(K, M, op, n_modes, 2 * np.pi * float(freq.max()))
     el_all = np.flatnonzero(~rigid)
+    if op is None and eta.size > max(el_all.size, 1):  # all modes known: a surplus is a mistake
+        raise InputError(f"{eta.size} loss factors given but the model has only {el_all.size} "
+                         "elastic modes", field="loss_factor")
     el = el_all
     if n_modes is not None:
         if n_modes > el_all.size:

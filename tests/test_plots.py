@@ -161,10 +161,26 @@ def test_fitted_curve_formula_and_residuals():
                                   2 * f)
 
 
+def test_extraction_fit_titles_name_the_modes(tmp_path):
+    # An FRF that does not show mode 2 plots modes 1 and 3: the panels must say so.
+    f = np.arange(50.0, 400.0, 0.5)
+    h = sdof_frf(f, 100.0, 0.02, 2.0) + sdof_frf(f, 300.0, 0.01, 5.0)
+    fits = [SimpleNamespace(frequency_hz=fr, loss_factor=eta, modal_constant=a,
+                            band_hz=(fr - 15.0, fr + 15.0))
+            for fr, eta, a in ((100.0, 0.02, 2.0), (300.0, 0.01, 5.0))]
+    plot_extraction_fit(tmp_path / "fits.svg", f, h, fits, mode_numbers=[1, 3])
+    text = (tmp_path / "fits.svg").read_text()
+    assert "mode 1:" in text and "mode 3:" in text and "mode 2:" not in text
+
+
 def test_extraction_fit_errors(tmp_path):
     f = np.linspace(80.0, 120.0, 20)
     with pytest.raises(InputError):
         plot_extraction_fit(tmp_path / "x.png", f, sdof_frf(f), [])
     with pytest.raises(InputError):
         plot_extraction_fit(tmp_path / "x.png", f, sdof_frf(f)[:5], [])
+    fit = SimpleNamespace(frequency_hz=100.0, loss_factor=0.01, modal_constant=2.0,
+                          band_hz=(90.0, 110.0))
+    with pytest.raises(InputError, match="2 mode numbers for 1 fits"):
+        plot_extraction_fit(tmp_path / "x.png", f, sdof_frf(f), [fit], mode_numbers=[1, 2])
     assert list(tmp_path.iterdir()) == []

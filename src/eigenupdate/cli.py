@@ -224,10 +224,12 @@ def cmd_extract(args) -> int:
         results += ex
         if args.plots:
             for j, x in enumerate(frfs):
-                fits = [m.fits[j] for m in ex if m.fits[j] is not None]
-                if fits:
+                shown = [m for m in ex if m.fits[j] is not None]
+                if shown:
                     out = Path(args.plots) / f"extract_{_safe_name(c.name)}_{j + 1}.png"
-                    plot_extraction_fit(out, x.frequency_hz, x.receptance, fits,
+                    plot_extraction_fit(out, x.frequency_hz, x.receptance,
+                                        [m.fits[j] for m in shown],
+                                        mode_numbers=[m.mode for m in shown],
                                         title=f"{c.name}: {dof_label(x.response)}/"
                                               f"{dof_label(x.reference)}")
     write_text(args.output, extraction_csv(results))

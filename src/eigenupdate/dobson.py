@@ -75,7 +75,7 @@ __all__ = ["ModalFit", "dobson_fit", "dobson_fit_modes"]
 #: A peak must stand this much above both band edges to count as a resonance, as a
 #: ratio and in standard deviations of the noise on the FRF.
 _MIN_PEAK_TO_EDGE = 1.2
-_MIN_PEAK_RISE_IN_STD = 4.0
+MIN_PEAK_RISE_IN_STD = 4.0
 
 
 @dataclass(frozen=True)
@@ -244,7 +244,7 @@ def _check_peak(a_band: np.ndarray, noise: float, band: tuple[float, float],
     edge = max(mag[0], mag[-1])
     rise = mag[k] - edge
     if k in (0, mag.size - 1) or rise < max((_MIN_PEAK_TO_EDGE - 1.0) * edge,
-                                            _MIN_PEAK_RISE_IN_STD * noise):
+                                            MIN_PEAK_RISE_IN_STD * noise):
         raise InputError(
             f"band ({band[0]:g}, {band[1]:g}) Hz has no resonance peak inside it "
             "(|receptance| does not rise clearly above its values at the band edges)",

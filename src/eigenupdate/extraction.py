@@ -21,11 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from eigenupdate.dobson import dobson_fit, dobson_fit_modes
+from eigenupdate.dobson import MIN_PEAK_RISE_IN_STD, dobson_fit, dobson_fit_modes
 from eigenupdate.errors import InputError
 from eigenupdate.frf_data import FRF, check_same_axis
 from eigenupdate.modal_fit import ModalFit
-from eigenupdate.peaks import propose_bands
+from eigenupdate.peaks import estimate_noise_std, propose_bands
 from eigenupdate.rational_fraction import rational_fraction_fit
 
 
@@ -171,7 +171,7 @@ def extract_configuration(
                              f"(elastic mode {k})")
         f, s = combine([ft.frequency_hz for ft in good], [ft.frequency_std_hz for ft in good])
         eta, eta_s = combine([ft.loss_factor for ft in good], [ft.loss_factor_std for ft in good])
-        ck = [c[k - 1] for c in checks if c is not None]
+        ck = [c[k - 1] for c in checks if c is not None and c[k - 1] is not None]
         cf, cs = combine([c.frequency_hz for c in ck], [c.frequency_std_hz for c in ck]) \
             if ck else (None, None)
         out.append(ExtractedMode(configuration, k, f, s, eta, eta_s, bands[k - 1], fits, cf, cs))
@@ -199,12 +199,31 @@ def _dobson(frf: FRF, bands, where: str) -> list[ModalFit | None]:
     return fits
 
 
-def _rational_fraction(frf: FRF, bands) -> list[ModalFit] | None:
+def _rational_fraction(frf: FRF, bands) -> list[ModalFit | None] | None:
+    """Global fit with one pole per band, each pole assigned to the band it falls in.
+
+    Where a mode hardly shows in this FRF (a response point near its node), its pole
+    goes to fit noise somewhere else: a pole counts for mode k only if it lies in band
+    k and its resonance rises above the noise as Dobson's peaks must (else None).
+    """
     f, h = _finite(frf)
     try:
-        return rational_fraction_fit(f, h, (bands[0][0], bands[-1][1]), len(bands))
+        fits = rational_fraction_fit(f, h, (bands[0][0], bands[-1][1]), len(bands))
     except InputError:
         return None
+    noise = estimate_noise_std(h)
+    out: list[ModalFit | None] = []
+    for lo, hi in bands:
+        inside = [ft for ft in fits if lo <= ft.frequency_hz <= hi
+                  and _peak(ft) >= MIN_PEAK_RISE_IN_STD * noise]
+        out.append(max(inside, key=_peak) if inside else None)
+    return out
+
+
+def _peak(fit: ModalFit) -> float:
+    """|receptance| of the fitted mode alone at its natural frequency."""
+    wr2 = (2.0 * np.pi * fit.frequency_hz) ** 2
+    return abs(fit.modal_constant) / (wr2 * max(fit.loss_factor, np.finfo(float).tiny))
 
 
 EXTRACTION_COLUMNS = (

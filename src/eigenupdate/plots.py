@@ -450,6 +450,7 @@ def plot_extraction_fit(
     fits: Sequence[Any],
     *,
     title: str = "Modal extraction",
+    mode_numbers: Sequence[int] | None = None,
     estimate_residual: bool = True,
     n_curve: int = 400,
 ) -> Path:
@@ -468,6 +469,9 @@ def plot_extraction_fit(
         complex constant, or a function of frequency in Hz) is added to the curve.
     title : str
         Figure title.
+    mode_numbers : sequence of int, optional
+        Elastic mode number of each fit, for the panel titles (default 1, 2, ...; give
+        them when a mode this FRF does not show is left out).
     estimate_residual : bool
         For a fit without ``residual``: add the constant that best matches the data in
         the band (mean of measured minus fitted mode), labelled as a display estimate.
@@ -511,6 +515,10 @@ def plot_extraction_fit(
     fits = list(fits)
     if not fits:
         raise InputError("no fitted modes to plot", field="fits")
+    numbers = list(range(1, len(fits) + 1) if mode_numbers is None else mode_numbers)
+    if len(numbers) != len(fits):
+        raise InputError(f"{len(numbers)} mode numbers for {len(fits)} fits",
+                         field="mode_numbers")
     fig = _new_figure(10.0, 3.3 * len(fits) + 0.6)
     axes = np.atleast_2d(fig.subplots(len(fits), 2, width_ratios=[1.6, 1.0], squeeze=False))
     for r, (fit, (ax_m, ax_n)) in enumerate(zip(fits, axes, strict=True)):
@@ -539,7 +547,7 @@ def plot_extraction_fit(
         ax_m.set_ylabel("|H| (m/N)")
         A = complex(fit.modal_constant)
         ax_m.set_title(
-            f"mode {r + 1}: $f_r$ = {float(fit.frequency_hz):.2f} Hz, "
+            f"mode {numbers[r]}: $f_r$ = {float(fit.frequency_hz):.2f} Hz, "
             f"$\\eta$ = {float(fit.loss_factor):.4f}, A = {A.real:.4g}{A.imag:+.3g}j "
             r"m/N (rad/s)$^2$",
             fontsize="medium",

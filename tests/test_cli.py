@@ -81,6 +81,16 @@ def test_unreadable_toml_names_line(tmp_path, run_cli):
     assert "line 6" in msg
 
 
+def test_study_with_byte_order_mark_and_crlf(fig2_dir, run_cli):
+    s = fig2_dir / "study.toml"
+    s.write_bytes(b"\xef\xbb\xbf" + FIG2.replace("\n", "\r\n").encode())
+    code, out, err = run_cli("check", s, "--json")
+    assert code == 0, err
+    assert json.loads(out)["rank"] == 10
+    s.write_bytes(b"\xff\xfe" + FIG2.encode("utf-16-le"))
+    assert_bad(run_cli, ["check", s], "study.toml", "not UTF-8")
+
+
 def test_missing_study_file(tmp_path, run_cli):
     assert_bad(run_cli, ["check", tmp_path / "nope.toml"], "nope.toml", "cannot read")
 
@@ -200,6 +210,17 @@ def test_beam_study_errors(tmp_path, run_cli):
     assert_bad(run_cli, ["check", s], "model.nodes", "strictly increasing")
     s = write(tmp_path, beam.replace("coordinate = 11\nvalue", "coordinate = 19\nvalue"))
     assert_bad(run_cli, ["check", s], "point_mass m_L", "unknown coordinate 19")
+    clamped = beam.replace("[model]\n", "[model]\nrestrained = [1, 2]\n", 1)
+    s = write(tmp_path, clamped)
+    assert_bad(run_cli, ["check", s], "perturbation '0.2 kg at 1'", "coordinate 1 is restrained",
+               "3-18")
+    s = write(tmp_path, clamped.replace("restrained = [1, 2]", "restrained = [1, 1]"))
+    assert_bad(run_cli, ["check", s], "model.restrained", "repeated")
+
+
+def test_spring_to_a_coordinate_without_mass(tmp_path, run_cli):
+    s = write(tmp_path, FIG2.replace("coordinates = [2, 4]", "coordinates = [2, 5]"))
+    assert_bad(run_cli, ["check", s], "model.spring[5].coordinates", "[5] have no mass")
 
 
 # --- outputs that cannot be written, and option values (review of the CLI) -------------

@@ -177,7 +177,11 @@ def test_configuration_without_frf(chain, run_cli, tmp_path):
     s = tmp_path / "study.toml"
     text = (chain / "study.toml").read_text().replace("frf/", str(chain / "frf") + "/")
     s.write_text("\n".join(ln for ln in text.splitlines() if not ln.startswith('"0.2 kg at 9"')))
-    _bad(run_cli, ["extract", s, "-o", tmp_path / "x.csv"], "'0.2 kg at 9' has no FRF file")
+    code, out, err = run_cli("extract", s, "-o", tmp_path / "x.csv", "--plots", tmp_path / "p")
+    assert code == 2
+    # found before any work: one line, nothing written
+    assert err.count("\n") == 1 and "no FRF file for configuration(s) ['0.2 kg at 9']" in err
+    assert not (tmp_path / "x.csv").exists() and not (tmp_path / "p").exists()
 
 
 @pytest.mark.parametrize("bands", [[[530, 575], [190, 215]], [[190, 215], [190, 215]],

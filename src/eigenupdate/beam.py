@@ -109,7 +109,10 @@ def beam_model(
         if np.any(arr <= 0):
             raise InputError("must be > 0 for every element", field=name)
 
-    restrained = sorted(set(int(c) for c in restrained))
+    restrained = [int(c) for c in restrained]
+    if len(set(restrained)) != len(restrained):
+        raise InputError(f"coordinates repeated in {restrained}", field="model.restrained")
+    restrained = sorted(restrained)
     for c in restrained:
         if not 1 <= c <= n_full:
             raise InputError(f"unknown coordinate {c} (1..{n_full})", field="model.restrained")

@@ -203,15 +203,14 @@ def cmd_extract(args) -> int:
     study = load_study(args.study)
     modes = study.require_modes()
     bands, low = _frf_options(study)
-    if args.plots:
-        Path(args.plots).mkdir(parents=True, exist_ok=True)
-    results = []
+    missing = [c.name for c in study.configurations if not study.frf.get(c.name)]
+    if missing:
+        raise InputError(f"no FRF file for configuration(s) {missing}", source=str(study.path),
+                         field="measurement.frf")
+    done = []  # everything is extracted before anything is written
     n = len(study.configurations)
     for i, c in enumerate(study.configurations, 1):
-        files = study.frf.get(c.name)
-        if not files:
-            raise InputError(f"configuration {c.name!r} has no FRF file", source=str(study.path),
-                             field="measurement.frf")
+        files = study.frf[c.name]
         frfs = read_frf_files(files)
         _progress(f"[{i}/{n}] {c.name}: {len(frfs)} FRF(s) from {len(files)} file(s)")
         ex = extract_configuration(frfs, modes, c.name, bands_hz=bands.get(c.name),
@@ -221,8 +220,11 @@ def cmd_extract(args) -> int:
             if d is not None and d > 4:
                 _progress(f"  warning: {c.name} mode {m.mode}: Dobson {m.frequency_hz:.4f} Hz and "
                           f"rational fraction {m.check_hz:.4f} Hz differ by {d:.1f} std")
-        results += ex
-        if args.plots:
+        done.append((c, frfs, ex))
+    results = [m for _, _, ex in done for m in ex]
+    if args.plots:
+        Path(args.plots).mkdir(parents=True, exist_ok=True)
+        for c, frfs, ex in done:
             for j, x in enumerate(frfs):
                 shown = [m for m in ex if m.fits[j] is not None]
                 if shown:
@@ -232,6 +234,7 @@ def cmd_extract(args) -> int:
                                         mode_numbers=[m.mode for m in shown],
                                         title=f"{c.name}: {dof_label(x.response)}/"
                                               f"{dof_label(x.reference)}")
+        _progress(f"wrote the fit plots to {args.plots}")
     write_text(args.output, extraction_csv(results))
     if args.uff55:
         write_modes(args.uff55, [
@@ -372,7 +375,7 @@ def cmd_sweep(args) -> int:
     n = args.modes or max(study.modes or [3])
     plot_mass_sweep(args.o, study.model, args.coordinate, args.max_mass, n,
                     configuration=_configuration(study, args.configuration),
-                    title=f"{study.title}: mass added at coordinate {args.coordinate}")
+                    title=study.title)
     _progress(f"wrote {args.o}")
     return 0
 

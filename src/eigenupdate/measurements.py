@@ -27,8 +27,13 @@ class Measurement:
     std_hz: float | None = None
 
 
-def read_measurements(path: str | Path) -> dict[tuple[str, int], Measurement]:
-    """Read a measurement CSV into {(configuration, mode): Measurement}."""
+def read_measurements(
+    path: str | Path, configurations: Iterable[str] | None = None
+) -> dict[tuple[str, int], Measurement]:
+    """Read a measurement CSV into {(configuration, mode): Measurement}.
+
+    ``configurations``, if given, are the names a row may use (others are an error).
+    """
     path = Path(path)
     src = str(path)
     try:
@@ -50,6 +55,7 @@ def read_measurements(path: str | Path) -> dict[tuple[str, int], Measurement]:
             source=src,
         )
     col = {name: header.index(name) for name in COLUMNS if name in header}
+    known = None if configurations is None else set(configurations)
     out: dict[tuple[str, int], Measurement] = {}
     for lineno, row in zip(
         (i for i, _ in lines[1:]), csv.reader(ln for _, ln in lines[1:]), strict=True
@@ -58,6 +64,9 @@ def read_measurements(path: str | Path) -> dict[tuple[str, int], Measurement]:
         if len(row) != len(header):
             raise InputError(f"{where}: {len(row)} fields, expected {len(header)}", source=src)
         cfg = row[col["configuration"]].strip()
+        if known is not None and cfg not in known:
+            raise InputError(f"{where}: configuration {cfg!r} is not in the study "
+                             f"(known: {sorted(known)})", source=src)
         mode = _number(row[col["mode"]], int, src, where, "mode")
         f = _number(row[col["frequency_hz"]], float, src, where, "frequency_hz")
         std_txt = row[col["std_hz"]].strip() if "std_hz" in col else ""
@@ -81,7 +90,8 @@ def _number(text: str, kind, src: str, where: str, name: str):
     try:
         v = kind(text.strip())
     except ValueError:
-        raise InputError(f"{where}: {name} {text.strip()!r} is not a number", source=src) from None
+        what = "an integer" if kind is int else "a number"
+        raise InputError(f"{where}: {name} {text.strip()!r} is not {what}", source=src) from None
     if not math.isfinite(v):
         raise InputError(f"{where}: {name} is not finite", source=src)
     return v

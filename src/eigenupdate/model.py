@@ -91,10 +91,12 @@ class ParametricModel:
         """Row of a user coordinate number; InputError if the model has no such coordinate."""
         rows = np.flatnonzero(self.coordinates == coordinate)
         if rows.size == 0:
-            raise InputError(
-                f"unknown coordinate {coordinate} (the model has coordinates "
-                f"{_ranges(self.coordinates)})"
-            )
+            # numbered rows 1..n minus the restrained ones: a gap is a restrained coordinate
+            what = ("coordinate {} is restrained"
+                    if 1 <= coordinate <= self.coordinates.max(initial=0)
+                    else "unknown coordinate {}")
+            raise InputError(what.format(coordinate) + " (the model has coordinates "
+                             f"{_ranges(self.coordinates)})")
         return int(rows[0])
 
     def stiffness(self, values: Sequence[float] | None = None) -> sp.csr_array:

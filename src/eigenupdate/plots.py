@@ -344,7 +344,7 @@ def plot_mass_sweep(
     n_points : int
         Number of added-mass values from 0 to ``max_mass``.
     title : str, optional
-        Figure title (default names the coordinate).
+        Written before the default title, which names what is added where.
 
     Returns
     -------
@@ -419,7 +419,8 @@ def plot_mass_sweep(
     ax_f.legend(loc="best", fontsize="small")
     ax_r.legend(loc="best", fontsize="small")
     config = f" ({configuration.name})" if configuration is not None else ""
-    fig.suptitle(title or f"Effect of {what} at coordinate {coordinate}{config}")
+    heading = f"Effect of {what} at coordinate {coordinate}{config}"
+    fig.suptitle(f"{title}: {heading}" if title else heading)
     _save(fig, path)
     return sweep
 

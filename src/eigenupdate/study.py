@@ -49,16 +49,7 @@ class Study:
             raise InputError(
                 "no measurement file given", source=str(self.path), field="measurement.frequencies"
             )
-        data = read_measurements(self.frequencies)
-        known = {c.name for c in self.configurations}
-        for cfg, _ in data:
-            if cfg not in known:
-                raise InputError(
-                    f"configuration {cfg!r} is not in the study (known: {sorted(known)})",
-                    source=str(self.frequencies),
-                    field="configuration",
-                )
-        return data
+        return read_measurements(self.frequencies, [c.name for c in self.configurations])
 
     def require_modes(self) -> list[int]:
         if not self.modes:
@@ -144,8 +135,8 @@ def load_study(path: str | Path) -> Study:
     path = Path(path)
     src = str(path)
     try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
+        # utf-8-sig: editors on Windows start the file with a byte-order mark
+        data = tomllib.loads(path.read_bytes().decode("utf-8-sig"))
     except OSError as exc:
         raise InputError(f"cannot read study file: {exc.strerror or exc}", source=src) from None
     except tomllib.TOMLDecodeError as exc:
@@ -225,8 +216,12 @@ def load_study(path: str | Path) -> Study:
     )
 
 
-def _parameter(r: _Reader, default_value: Any = ...) -> Parameter:
+def _parameter(r: _Reader, seen: dict[str, str], default_value: Any = ...) -> Parameter:
+    """A parameter table; ``seen`` maps the names read so far to where they were."""
     name = r.get("name", "str")
+    if name in seen:
+        raise r.error("name", f"duplicate parameter name {name!r} (also {seen[name]})")
+    seen[name] = r._f("name")
     value = r.get("value", "float", default_value)
     std = r.get("std", "float", None)
     update = r.get("update", "bool", True)
@@ -243,10 +238,10 @@ def _positive(r: _Reader, p: Parameter) -> None:
 
 
 def _spring_mass(m: _Reader, _base: Path) -> ParametricModel:
-    masses, springs = [], []
+    masses, springs, seen = [], [], {}
     for i, t in enumerate(m.get("mass", "tables", [])):
         r = _Reader(t, f"model.mass[{i + 1}]", m.source)
-        p = _parameter(r)
+        p = _parameter(r, seen)
         _positive(r, p)
         c = r.get("coordinate", "int")
         if c < 1:
@@ -255,13 +250,17 @@ def _spring_mass(m: _Reader, _base: Path) -> ParametricModel:
         masses.append(Mass(p, c))
     for i, t in enumerate(m.get("spring", "tables", [])):
         r = _Reader(t, f"model.spring[{i + 1}]", m.source)
-        p = _parameter(r)
+        p = _parameter(r, seen)
         _positive(r, p)
         cs = r.get("coordinates", "list")
         if len(cs) != 2 or not all(isinstance(c, int) and c >= 0 for c in cs) or cs[0] == cs[1]:
             raise r.error(
                 "coordinates", f"must be two different coordinates (0 = ground), got {cs}"
             )
+        stray = sorted(set(cs) - {0} - {x.coordinate for x in masses})
+        if stray:
+            raise r.error("coordinates", f"coordinate(s) {stray} have no mass (every "
+                          "coordinate of a spring-mass model needs one)")
         r.finish()
         springs.append(Spring(p, (cs[0], cs[1])))
     n = max([x.coordinate for x in masses] + [c for s in springs for c in s.coordinates], default=0)
@@ -278,9 +277,11 @@ def _beam(m: _Reader, _base: Path) -> ParametricModel:
     if not isinstance(nodes, list):
         raise m.error("nodes", "must be a list of node positions (m)")
     pms = []
+    seen = {f"{b}{e}": "an element parameter of the beam"
+            for b in ("EI", "rhoA") for e in range(1, len(nodes))}
     for i, t in enumerate(m.get("point_mass", "tables", [])):
         r = _Reader(t, f"model.point_mass[{i + 1}]", m.source)
-        p = _parameter(r)
+        p = _parameter(r, seen)
         pms.append((p, r.get("coordinate", "int")))
         r.finish()
     restrained = m.get("restrained", "list", [])
@@ -302,10 +303,10 @@ def _beam(m: _Reader, _base: Path) -> ParametricModel:
 def _matrices(m: _Reader, base: Path) -> ParametricModel:
     k0 = base / m.get("K0", "str")
     m0 = base / m.get("M0", "str")
-    params = []
+    params, seen = [], {}
     for i, t in enumerate(m.get("parameter", "tables")):
         r = _Reader(t, f"model.parameter[{i + 1}]", m.source)
-        p = _parameter(r)
+        p = _parameter(r, seen)
         kf, mf = r.get("K", "str", None), r.get("M", "str", None)
         if kf is None and mf is None:
             raise r.error("K", "a parameter needs a K and/or an M file")

@@ -226,6 +226,12 @@ def test_spring_to_a_coordinate_without_mass(tmp_path, run_cli):
 # --- outputs that cannot be written, and option values (review of the CLI) -------------
 
 
+def test_simulate_frf_repeated_outputs(fig2_dir, run_cli):
+    assert_bad(run_cli, ["simulate-frf", fig2_dir / "study.toml", "-o", fig2_dir / "frf",
+                         "--input", 1, "--outputs", 2, 2, "--fmax", 200], "--outputs", "repeated")
+    assert not (fig2_dir / "frf").exists()
+
+
 def test_unwritable_outputs_fail_before_any_work(fig2_dir, run_cli):
     s, d = fig2_dir / "study.toml", fig2_dir
     assert_bad(run_cli, ["simulate", s, "-o", d / "nodir" / "x.csv"], "-o", "does not exist")

@@ -256,6 +256,8 @@ def cmd_simulate_frf(args) -> int:
     if args.fmax <= args.df or args.fmax / args.df > 1e7:
         raise InputError(f"need --df < --fmax and at most 1e7 lines, got --df {args.df:g}, "
                          f"--fmax {args.fmax:g}", field="--fmax")
+    if len(set(args.outputs)) != len(args.outputs):
+        raise InputError(f"coordinates repeated in {args.outputs}", field="--outputs")
     study = load_study(args.study)
     f = np.arange(args.df, args.fmax + 0.5 * args.df, args.df)  # 0 Hz: rigid modes are infinite
     out = Path(args.output)

@@ -48,6 +48,16 @@ def element_mass(length: float) -> np.ndarray:
     )
 
 
+def element_parameter_names(n_elements: int) -> tuple[list[str], list[str]]:
+    """Names of the elements' EI and mass-per-length parameters.
+
+    >>> element_parameter_names(2)
+    (['EI1', 'EI2'], ['rhoA1', 'rhoA2'])
+    """
+    n = range(1, n_elements + 1)
+    return [f"EI{e}" for e in n], [f"rhoA{e}" for e in n]
+
+
 def beam_model(
     nodes: Sequence[float],
     EI: float | Sequence[float],
@@ -129,12 +139,13 @@ def beam_model(
         return sp.csr_array(reduce @ full @ reduce.T)
 
     params, kt, mt = [], [], []
+    ei_names, rho_names = element_parameter_names(ne)
     for e in range(ne):
-        params.append(Parameter(f"EI{e + 1}", ei[e], _std(ei_std, e), update_EI))
+        params.append(Parameter(ei_names[e], ei[e], _std(ei_std, e), update_EI))
         kt.append(element_term(e, element_stiffness(lengths[e])))
         mt.append(None)
     for e in range(ne):
-        params.append(Parameter(f"rhoA{e + 1}", rho[e], _std(rho_std, e), update_mass_per_length))
+        params.append(Parameter(rho_names[e], rho[e], _std(rho_std, e), update_mass_per_length))
         kt.append(None)
         mt.append(element_term(e, element_mass(lengths[e])))
     for p, c in point_masses:

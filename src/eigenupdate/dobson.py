@@ -67,7 +67,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.modal_fit import MIN_BAND_POINTS, ModalFit, select_band, validate_frf
+from eigenupdate.modal_fit import (
+    MIN_BAND_POINTS,
+    ModalFit,
+    mode_receptance,
+    select_band,
+    validate_frf,
+)
 from eigenupdate.peaks import estimate_noise_std
 
 __all__ = ["ModalFit", "dobson_fit", "dobson_fit_modes"]
@@ -210,7 +216,7 @@ def dobson_fit_modes(
             for band in bands_hz]
     x = (2.0 * np.pi * freq) ** 2
     for _ in range(max_iterations if len(fits) > 1 else 0):
-        parts = [_modal_part(fit, x) for fit in fits]
+        parts = [mode_receptance(fit, x) for fit in fits]
         total = np.sum(parts, axis=0)
         new = [dobson_fit(freq, rec - (total - own), band, min_fraction=min_fraction,
                           source=source)
@@ -228,12 +234,6 @@ def _settled(old: ModalFit, new: ModalFit) -> bool:
     de = abs(new.loss_factor - old.loss_factor)
     return (df <= max(1e-3 * new.frequency_std_hz, 1e-13 * new.frequency_hz)
             and de <= max(1e-3 * new.loss_factor_std, 1e-13 * abs(new.loss_factor)))
-
-
-def _modal_part(fit: ModalFit, x: np.ndarray) -> np.ndarray:
-    """Receptance of one fitted mode at ``x = w**2``."""
-    wr2 = (2.0 * np.pi * fit.frequency_hz) ** 2
-    return fit.modal_constant / (wr2 * (1.0 + 1j * fit.loss_factor) - x)
 
 
 def _check_peak(a_band: np.ndarray, noise: float, band: tuple[float, float],

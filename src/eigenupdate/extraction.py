@@ -24,7 +24,7 @@ import numpy as np
 from eigenupdate.dobson import MIN_PEAK_RISE_IN_STD, dobson_fit, dobson_fit_modes
 from eigenupdate.errors import InputError
 from eigenupdate.frf_data import FRF, check_same_axis
-from eigenupdate.modal_fit import ModalFit
+from eigenupdate.modal_fit import ModalFit, mode_receptance
 from eigenupdate.peaks import estimate_noise_std, propose_bands
 from eigenupdate.rational_fraction import rational_fraction_fit
 
@@ -222,8 +222,7 @@ def _rational_fraction(frf: FRF, bands) -> list[ModalFit | None] | None:
 
 def _peak(fit: ModalFit) -> float:
     """|receptance| of the fitted mode alone at its natural frequency."""
-    wr2 = (2.0 * np.pi * fit.frequency_hz) ** 2
-    return abs(fit.modal_constant) / (wr2 * max(fit.loss_factor, np.finfo(float).tiny))
+    return abs(mode_receptance(fit, (2.0 * np.pi * fit.frequency_hz) ** 2))
 
 
 EXTRACTION_COLUMNS = (

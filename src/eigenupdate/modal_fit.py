@@ -51,6 +51,22 @@ class ModalFit:
     method: str
 
 
+def mode_receptance(fit, x: np.ndarray | float) -> np.ndarray | complex:
+    """Receptance of one fitted mode alone at ``x = w**2`` (rad/s)**2.
+
+    ``fit`` is a :class:`ModalFit` or any object with ``frequency_hz``, ``loss_factor``
+    and ``modal_constant``. At resonance its magnitude is the peak height
+    ``|A_r| / (eta_r w_r**2)``:
+
+    >>> fit = ModalFit(100.0, 0.02, 2.0 + 0j, 0.0, 0.0, (90.0, 110.0), "dobson")
+    >>> wr2 = (2 * np.pi * 100.0) ** 2
+    >>> print(f"{abs(mode_receptance(fit, wr2)):.4e} = {2.0 / (0.02 * wr2):.4e}")
+    2.5330e-04 = 2.5330e-04
+    """
+    wr2 = (2.0 * np.pi * fit.frequency_hz) ** 2
+    return fit.modal_constant / (wr2 * (1.0 + 1j * fit.loss_factor) - x)
+
+
 def validate_frf(
     freq_hz: np.ndarray, receptance: np.ndarray, source: str | None = None
 ) -> tuple[np.ndarray, np.ndarray]:

@@ -91,12 +91,11 @@ class ParametricModel:
         """Row of a user coordinate number; InputError if the model has no such coordinate."""
         rows = np.flatnonzero(self.coordinates == coordinate)
         if rows.size == 0:
-            # numbered rows 1..n minus the restrained ones: a gap is a restrained coordinate
-            what = ("coordinate {} is restrained"
-                    if 1 <= coordinate <= self.coordinates.max(initial=0)
-                    else "unknown coordinate {}")
-            raise InputError(what.format(coordinate) + " (the model has coordinates "
-                             f"{_ranges(self.coordinates)})")
+            # rows are 1..n minus the restrained coordinates: a gap is a restrained one
+            gap = 1 <= coordinate <= self.coordinates.max(initial=0)
+            what = f"coordinate {coordinate} is restrained" if gap else \
+                f"unknown coordinate {coordinate}"
+            raise InputError(f"{what} (the model has coordinates {_ranges(self.coordinates)})")
         return int(rows[0])
 
     def stiffness(self, values: Sequence[float] | None = None) -> sp.csr_array:

@@ -32,6 +32,7 @@ from eigenupdate.configurations import Configuration
 from eigenupdate.eigen import DENSE_LIMIT, base_operator, solve_elastic
 from eigenupdate.errors import InputError
 from eigenupdate.frf import configuration_matrices, infer_model_kind
+from eigenupdate.modal_fit import mode_receptance
 from eigenupdate.model import ParametricModel
 
 __all__ = [
@@ -429,10 +430,8 @@ def plot_mass_sweep(
 
 
 def _fit_curve(fit: Any, f: np.ndarray) -> np.ndarray:
-    """A / (w_r**2 - w**2 + i eta w_r**2) of one fitted mode at frequencies f (Hz)."""
-    wr2 = (2 * np.pi * float(fit.frequency_hz)) ** 2
-    w2 = (2 * np.pi * f) ** 2
-    return complex(fit.modal_constant) / (wr2 - w2 + 1j * float(fit.loss_factor) * wr2)
+    """One fitted mode alone at frequencies f (Hz)."""
+    return mode_receptance(fit, (2 * np.pi * f) ** 2)
 
 
 def _residual(fit: Any, f: np.ndarray) -> np.ndarray | None:

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from eigenupdate.beam import beam_model
+from eigenupdate.beam import beam_model, element_parameter_names
 from eigenupdate.configurations import BASE, Addition, Configuration
 from eigenupdate.errors import InputError
 from eigenupdate.matrix_market import matrix_model
@@ -263,7 +263,7 @@ def _spring_mass(m: _Reader, _base: Path) -> ParametricModel:
                           "coordinate of a spring-mass model needs one)")
         r.finish()
         springs.append(Spring(p, (cs[0], cs[1])))
-    n = max([x.coordinate for x in masses] + [c for s in springs for c in s.coordinates], default=0)
+    n = max([x.coordinate for x in masses], default=0)  # springs only join these
     massless = sorted(set(range(1, n + 1)) - {x.coordinate for x in masses})
     if massless:
         raise m.error("mass", f"coordinate(s) {massless} have no mass")
@@ -277,8 +277,8 @@ def _beam(m: _Reader, _base: Path) -> ParametricModel:
     if not isinstance(nodes, list):
         raise m.error("nodes", "must be a list of node positions (m)")
     pms = []
-    seen = {f"{b}{e}": "an element parameter of the beam"
-            for b in ("EI", "rhoA") for e in range(1, len(nodes))}
+    seen = {name: "an element parameter of the beam"
+            for names in element_parameter_names(len(nodes) - 1) for name in names}
     for i, t in enumerate(m.get("point_mass", "tables", [])):
         r = _Reader(t, f"model.point_mass[{i + 1}]", m.source)
         p = _parameter(r, seen)

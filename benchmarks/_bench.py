@@ -30,15 +30,15 @@ from frame import (
 )
 from scipy.optimize import least_squares
 
-import eigenupdate.eigen as eig
-import eigenupdate.jacobian as jac
-import eigenupdate.updating as upd
-from eigenupdate.configurations import BASE, Configuration, mass_at
-from eigenupdate.eigen import default_shift, solve_elastic
-from eigenupdate.jacobian import linearise, solve_configurations
-from eigenupdate.measurements import Measurement
-from eigenupdate.model import ParametricModel
-from eigenupdate.updating import update
+import eigenupdate.identify.updating as upd
+import eigenupdate.solve.eigen as eig
+import eigenupdate.solve.jacobian as jac
+from eigenupdate.identify.updating import update
+from eigenupdate.io.measurements import Measurement
+from eigenupdate.model.configurations import BASE, Configuration, mass_at
+from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve.eigen import default_shift, solve_elastic
+from eigenupdate.solve.jacobian import linearise, solve_configurations
 
 N_MODES = 10
 N_PERTURBATIONS = 20

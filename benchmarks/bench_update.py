@@ -3,7 +3,7 @@
 (a) one update iteration (linearise over the bare structure + 20 mass perturbations at
     10 modes, plus the least-squares step) against one eigen-solve of the bare structure,
     at about 100k coordinates;
-(b) the whole update (:func:`eigenupdate.updating.update`) against
+(b) the whole update (:func:`eigenupdate.identify.updating.update`) against
     ``scipy.optimize.least_squares`` with a finite-difference Jacobian, at a size where
     the baseline finishes in minutes.
 

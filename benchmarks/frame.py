@@ -10,7 +10,7 @@ Element matrices (local x along the member, local z the "vertical" principal axi
 axial EA/L, torsion GJ/L with G = E / (2 (1 + nu)), bending in the local x-y plane
 (EI_z) and the local x-z plane (EI_y); consistent mass rho A for translations and
 rho (I_y + I_z) for torsion (rotary inertia of bending neglected, as in the planar
-:mod:`eigenupdate.beam`). Stiffness is linear in E and mass linear in rho, so each
+:mod:`eigenupdate.model.beam`). Stiffness is linear in E and mass linear in rho, so each
 group's E (Pa) and rho (kg/m^3) are parameters: K = sum_g E_g K_g, M = sum_g rho_g M_g,
 with K_g, M_g the group's matrices for E = 1, rho = 1.
 
@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from eigenupdate.model import ParametricModel
-from eigenupdate.parameters import Parameter
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.parametric import ParametricModel
 
 E_STEEL = 210e9
 RHO_STEEL = 7850.0

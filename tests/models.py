@@ -2,9 +2,9 @@
 
 import numpy as np
 
-from eigenupdate.beam import beam_model
-from eigenupdate.parameters import Parameter
-from eigenupdate.spring_mass import Mass, Spring, spring_mass_model
+from eigenupdate.model.beam import beam_model
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
 
 FIG2_SPRINGS = [(0, 1), (1, 2), (2, 3), (0, 3), (2, 4), (0, 4)]
 

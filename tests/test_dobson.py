@@ -1,4 +1,4 @@
-"""Tests of Dobson's inverse-receptance line fit (eigenupdate.dobson)."""
+"""Tests of Dobson's inverse-receptance line fit (eigenupdate.measure.dobson)."""
 
 from __future__ import annotations
 
@@ -15,10 +15,10 @@ from _synth import (
     receptance,
 )
 
-import eigenupdate.dobson
-from eigenupdate.dobson import ModalFit, dobson_fit, dobson_fit_modes
+import eigenupdate.measure.dobson
 from eigenupdate.errors import InputError
-from eigenupdate.peaks import propose_bands
+from eigenupdate.measure.dobson import ModalFit, dobson_fit, dobson_fit_modes
+from eigenupdate.measure.peaks import propose_bands
 
 BEAM_BANDS = [(185.0, 215.0), (535.0, 565.0), (1065.0, 1085.0)]
 
@@ -115,7 +115,7 @@ def test_undersampled_light_damping_is_still_honest():
 
 
 def test_docstring_examples():
-    result = doctest.testmod(eigenupdate.dobson)
+    result = doctest.testmod(eigenupdate.measure.dobson)
     assert result.attempted >= 4
     assert result.failed == 0
 

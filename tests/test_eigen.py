@@ -5,11 +5,11 @@ import pytest
 import scipy.sparse as sp
 from models import paper_beam
 
-from eigenupdate.beam import beam_model
-from eigenupdate.configurations import Configuration, mass_at
-from eigenupdate.eigen import ShiftInvert, default_shift, solve_elastic
 from eigenupdate.errors import InputError
-from eigenupdate.jacobian import solve_configurations
+from eigenupdate.model.beam import beam_model
+from eigenupdate.model.configurations import Configuration, mass_at
+from eigenupdate.solve.eigen import ShiftInvert, default_shift, solve_elastic
+from eigenupdate.solve.jacobian import solve_configurations
 
 EI, RHOA, L = 70e9 * 0.05 * 0.025**3 / 12, 2700 * 0.05 * 0.025, 0.8
 

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 from conftest import EXAMPLES
 
-from eigenupdate.extraction import extract_configuration
-from eigenupdate.jacobian import solve_configurations
-from eigenupdate.study import load_study
-from eigenupdate.synthetic import synthetic_frfs
-from eigenupdate.uff import read_modes
+from eigenupdate.io.study import load_study
+from eigenupdate.io.uff import read_modes
+from eigenupdate.measure.extraction import extract_configuration
+from eigenupdate.measure.synthetic import synthetic_frfs
+from eigenupdate.solve.jacobian import solve_configurations
 
 BEAM = EXAMPLES / "paper_beam" / "study.toml"
 LOSS = [0.02, 0.008, 0.002]  # modes 1, 2, 3: loss factors from 0.002 to 0.02
@@ -159,8 +159,8 @@ def test_band_without_peak(chain, run_cli, tmp_path):
 
 
 def test_mismatched_frequency_axes(chain, run_cli, tmp_path):
-    from eigenupdate.frf_data import FRF
-    from eigenupdate.uff import read_frfs, write_frfs
+    from eigenupdate.io.uff import read_frfs, write_frfs
+    from eigenupdate.measure.frf import FRF
 
     frf = read_frfs(chain / "frf" / "base.uff")[0]
     other = FRF(frf.frequency_hz[::2], frf.receptance[::2], frf.response, frf.reference)

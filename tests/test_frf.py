@@ -5,19 +5,19 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from eigenupdate.beam import beam_model
-from eigenupdate.configurations import Addition, Configuration, mass_at
-from eigenupdate.eigen import solve_elastic
 from eigenupdate.errors import InputError
-from eigenupdate.frf import (
+from eigenupdate.model.beam import beam_model
+from eigenupdate.model.configurations import Addition, Configuration, mass_at
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+from eigenupdate.solve.eigen import solve_elastic
+from eigenupdate.solve.response import (
     configuration_matrices,
     coordinate_from_uff,
     infer_model_kind,
     receptance,
     uff_point,
 )
-from eigenupdate.parameters import Parameter
-from eigenupdate.spring_mass import Mass, Spring, spring_mass_model
 
 NODES = [0, 0.09, 0.19, 0.29, 0.39, 0.49, 0.59, 0.69, 0.80]
 

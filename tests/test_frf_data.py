@@ -1,4 +1,4 @@
-"""Tests for eigenupdate.frf_data: the FRF type, unit conversion, CSV files."""
+"""Tests for eigenupdate.measure.frf: the FRF type, unit conversion, CSV files."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from eigenupdate.errors import InputError
-from eigenupdate.frf_data import (
+from eigenupdate.measure.frf import (
     FRF,
     atomic_write,
     check_same_axis,

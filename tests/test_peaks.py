@@ -1,4 +1,4 @@
-"""Tests of the automatic peak picking (eigenupdate.peaks)."""
+"""Tests of the automatic peak picking (eigenupdate.measure.peaks)."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from _synth import BEAM_IN_RANGE, BEAM_RIGID_BODY, Mode, beam_frf, receptance
 
-import eigenupdate.peaks
+import eigenupdate.measure.peaks
 from eigenupdate.errors import InputError
-from eigenupdate.peaks import estimate_noise_std, propose_bands
+from eigenupdate.measure.peaks import estimate_noise_std, propose_bands
 
 
 # Seed 40 has a noise spike with 6 dB prominence in the anti-resonance near 110 Hz.
@@ -115,6 +115,6 @@ def test_bad_input_raises():
 
 
 def test_docstring_examples():
-    result = doctest.testmod(eigenupdate.peaks)
+    result = doctest.testmod(eigenupdate.measure.peaks)
     assert result.attempted >= 4
     assert result.failed == 0

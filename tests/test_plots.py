@@ -7,21 +7,21 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from eigenupdate.beam import beam_model
-from eigenupdate.configurations import mass_at
-from eigenupdate.eigen import solve_elastic
 from eigenupdate.errors import InputError
-from eigenupdate.frf import configuration_matrices, receptance
-from eigenupdate.frf_data import FRF
-from eigenupdate.parameters import Parameter
-from eigenupdate.plots import (
+from eigenupdate.measure.frf import FRF
+from eigenupdate.model.beam import beam_model
+from eigenupdate.model.configurations import mass_at
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+from eigenupdate.plot.plots import (
     MassSweep,
     mass_sweep,
     plot_extraction_fit,
     plot_frf_comparison,
     plot_mass_sweep,
 )
-from eigenupdate.spring_mass import Mass, Spring, spring_mass_model
+from eigenupdate.solve.eigen import solve_elastic
+from eigenupdate.solve.response import configuration_matrices, receptance
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 NODES = [0, 0.09, 0.19, 0.29, 0.39, 0.49, 0.59, 0.69, 0.80]
@@ -130,7 +130,7 @@ def test_mass_sweep_without_reference_mass_uses_kg():
 
 
 def test_extraction_fit_plot(tmp_path):
-    from eigenupdate.dobson import dobson_fit
+    from eigenupdate.measure.dobson import dobson_fit
 
     f = np.arange(50.0, 400.0, 0.5)
     h = sdof_frf(f, 100.0, 0.02, 2.0) + sdof_frf(f, 300.0, 0.01, 5.0)
@@ -148,7 +148,7 @@ def test_extraction_fit_plot(tmp_path):
 
 
 def test_fitted_curve_formula_and_residuals():
-    from eigenupdate.plots import _fit_curve, _residual
+    from eigenupdate.plot.plots import _fit_curve, _residual
 
     fit = SimpleNamespace(frequency_hz=100.0, loss_factor=0.02, modal_constant=2.0 - 1j)
     f = np.array([50.0, 100.0])

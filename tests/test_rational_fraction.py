@@ -1,4 +1,4 @@
-"""Tests of the global rational-fraction fit (eigenupdate.rational_fraction)."""
+"""Tests of the global rational-fraction fit (eigenupdate.measure.rational_fraction)."""
 
 from __future__ import annotations
 
@@ -15,11 +15,11 @@ from _synth import (
     receptance,
 )
 
-import eigenupdate.rational_fraction
-from eigenupdate.dobson import dobson_fit_modes
+import eigenupdate.measure.rational_fraction
 from eigenupdate.errors import InputError
-from eigenupdate.peaks import propose_bands
-from eigenupdate.rational_fraction import rational_fraction_fit
+from eigenupdate.measure.dobson import dobson_fit_modes
+from eigenupdate.measure.peaks import propose_bands
+from eigenupdate.measure.rational_fraction import rational_fraction_fit
 
 BEAM_BAND = (20.0, 1600.0)
 
@@ -100,7 +100,7 @@ def test_residual_terms_matter():
 
 
 def test_docstring_examples():
-    result = doctest.testmod(eigenupdate.rational_fraction)
+    result = doctest.testmod(eigenupdate.measure.rational_fraction)
     assert result.attempted >= 4
     assert result.failed == 0
 

@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 from models import fig2, paper_beam, random_network
 
-from eigenupdate.configurations import Addition, Configuration, mass_at
-from eigenupdate.eigen import solve_elastic
-from eigenupdate.jacobian import linearise, solve_configurations
-from eigenupdate.sensitivity import RepeatedEigenvalueError, eigenvalue_derivatives
+from eigenupdate.model.configurations import Addition, Configuration, mass_at
+from eigenupdate.solve.eigen import solve_elastic
+from eigenupdate.solve.jacobian import linearise, solve_configurations
+from eigenupdate.solve.sensitivity import RepeatedEigenvalueError, eigenvalue_derivatives
 
 
 def finite_difference_J(model, configs, modes, rel=1e-3, dense=None):

@@ -5,14 +5,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from eigenupdate.beam import beam_model
-from eigenupdate.configurations import mass_at
 from eigenupdate.errors import InputError
-from eigenupdate.frf import receptance
-from eigenupdate.frf_data import FRF
-from eigenupdate.parameters import Parameter
-from eigenupdate.spring_mass import Mass, Spring, spring_mass_model
-from eigenupdate.synthetic import noise_reference, synthetic_frfs
+from eigenupdate.measure.frf import FRF
+from eigenupdate.measure.synthetic import noise_reference, synthetic_frfs
+from eigenupdate.model.beam import beam_model
+from eigenupdate.model.configurations import mass_at
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+from eigenupdate.solve.response import receptance
 
 NODES = [0, 0.09, 0.19, 0.29, 0.39, 0.49, 0.59, 0.69, 0.80]
 BEAM = beam_model(NODES, 4557.0, 3.4, point_masses=[(Parameter("m_L", 0.076), 11)])

@@ -1,4 +1,4 @@
-"""Tests for eigenupdate.uff: datasets 58/58b (FRFs) and 55 (normal modes) via pyuff."""
+"""Tests for eigenupdate.io.uff: datasets 58/58b (FRFs) and 55 (normal modes) via pyuff."""
 
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from eigenupdate.errors import InputError
-from eigenupdate.frf_data import FRF, check_same_axis, to_receptance
-from eigenupdate.uff import Mode, read_frfs, read_modes, write_frfs, write_modes
+from eigenupdate.io.uff import Mode, read_frfs, read_modes, write_frfs, write_modes
+from eigenupdate.measure.frf import FRF, check_same_axis, to_receptance
 
 # Analytic viscously damped SDOF: m x'' + c x' + k x = F.
 M, K, C = 1.5, 6.0e4, 9.0

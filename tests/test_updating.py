@@ -7,12 +7,12 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from models import fig2, random_network
 
-from eigenupdate.configurations import Configuration, mass_at
 from eigenupdate.errors import InputError
-from eigenupdate.identifiability import check
-from eigenupdate.jacobian import solve_configurations
-from eigenupdate.measurements import Measurement
-from eigenupdate.updating import update
+from eigenupdate.identify.identifiability import check
+from eigenupdate.identify.updating import update
+from eigenupdate.io.measurements import Measurement
+from eigenupdate.model.configurations import Configuration, mass_at
+from eigenupdate.solve.jacobian import solve_configurations
 
 
 def simulate(model, configs, modes, noise_hz=0.0, std_hz=None, rng=None):

@@ -15,20 +15,20 @@ from pathlib import Path
 
 import numpy as np
 
-from eigenupdate import report
-from eigenupdate.atomic import write_text
 from eigenupdate.errors import InputError
-from eigenupdate.extraction import extract_configuration, extraction_csv
-from eigenupdate.frf import receptance, uff_point
-from eigenupdate.frf_data import dof_label
-from eigenupdate.identifiability import check
-from eigenupdate.jacobian import solve_configurations
-from eigenupdate.measurements import Measurement, write_measurements
-from eigenupdate.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
-from eigenupdate.study import Study, load_study
-from eigenupdate.synthetic import synthetic_frfs
-from eigenupdate.uff import Mode, read_frf_files, read_modes, write_frfs, write_modes
-from eigenupdate.updating import METHODS, update
+from eigenupdate.identify.identifiability import check
+from eigenupdate.identify.updating import METHODS, update
+from eigenupdate.io.atomic import write_text
+from eigenupdate.io.measurements import Measurement, write_measurements
+from eigenupdate.io.study import Study, load_study
+from eigenupdate.io.uff import Mode, read_frf_files, read_modes, write_frfs, write_modes
+from eigenupdate.measure.extraction import extract_configuration, extraction_csv
+from eigenupdate.measure.frf import dof_label
+from eigenupdate.measure.synthetic import synthetic_frfs
+from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
+from eigenupdate.report import text as report
+from eigenupdate.solve.jacobian import solve_configurations
+from eigenupdate.solve.response import receptance, uff_point
 
 
 def _output_file(path: str | None, flag: str) -> None:

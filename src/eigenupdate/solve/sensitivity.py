@@ -17,8 +17,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from eigenupdate.eigen import EigenSolution
 from eigenupdate.errors import InputError
+from eigenupdate.solve.eigen import EigenSolution
 
 REPEATED_RTOL = 1e-6
 """Eigenvalues closer than this (relative) count as repeated."""
@@ -63,7 +63,7 @@ def eigenvalue_derivatives(
     One mass m on one spring k: lambda = k/m, so d lambda/dk = 1/m and d lambda/dm = -k/m^2.
 
     >>> import numpy as np
-    >>> from eigenupdate.eigen import solve_elastic
+    >>> from eigenupdate.solve.eigen import solve_elastic
     >>> k, m = 800.0, 2.0
     >>> sol = solve_elastic(np.array([[k]]), np.array([[m]]), 1)
     >>> eigenvalue_derivatives(sol, [1], [np.ones((1, 1)), None], [None, np.ones((1, 1))])

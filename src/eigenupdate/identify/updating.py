@@ -28,11 +28,11 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import lsq_linear
 
-from eigenupdate.configurations import Configuration
 from eigenupdate.errors import InputError
-from eigenupdate.jacobian import Linearisation, linearise
-from eigenupdate.measurements import Measurement, eigenvalue_std, select, to_eigenvalue
-from eigenupdate.model import ParametricModel
+from eigenupdate.io.measurements import Measurement, eigenvalue_std, select, to_eigenvalue
+from eigenupdate.model.configurations import Configuration
+from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve.jacobian import Linearisation, linearise
 
 METHODS = ("least-squares", "weighted-least-squares", "bayesian")
 MAX_HALVINGS = 30

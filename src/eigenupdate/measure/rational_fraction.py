@@ -1,6 +1,6 @@
 """Global multi-mode fit of a receptance FRF: a rational fraction in ``x = w**2``.
 
-A cross-check for the band-by-band :mod:`eigenupdate.dobson` fits.  With hysteretic
+A cross-check for the band-by-band :mod:`eigenupdate.measure.dobson` fits.  With hysteretic
 damping every mode is a simple pole in ``x = w**2``::
 
     alpha(x) = sum_r A_r / (P_r - x) + R0 + R1 x - A0 / x,     P_r = w_r**2 (1 + i eta_r)
@@ -25,7 +25,7 @@ spare pole lands outside the band or is undamped (an :class:`InputError`).  A mo
 above the band is only approximated by ``R0 + R1 x``: for the beam-like test case (a
 mode 11 % above the band edge) the in-band frequencies are biased by < 2e-6 relative,
 but the bias grows as the mode gets closer; end the band well below such a mode.
-Unlike :mod:`eigenupdate.dobson` it separates modes closer than their bandwidth.
+Unlike :mod:`eigenupdate.measure.dobson` it separates modes closer than their bandwidth.
 """
 
 from __future__ import annotations
@@ -37,8 +37,8 @@ from scipy.optimize import least_squares
 from scipy.signal import find_peaks
 
 from eigenupdate.errors import InputError
-from eigenupdate.modal_fit import ModalFit, select_band
-from eigenupdate.peaks import estimate_noise_std
+from eigenupdate.measure.modal_fit import ModalFit, select_band
+from eigenupdate.measure.peaks import estimate_noise_std
 
 __all__ = ["rational_fraction_fit"]
 

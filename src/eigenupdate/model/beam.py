@@ -15,8 +15,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from eigenupdate.errors import InputError
-from eigenupdate.model import ParametricModel
-from eigenupdate.parameters import Parameter
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.parametric import ParametricModel
 
 
 def element_stiffness(length: float) -> np.ndarray:

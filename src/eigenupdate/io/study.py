@@ -13,15 +13,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from eigenupdate.beam import beam_model, element_parameter_names
-from eigenupdate.configurations import BASE, Addition, Configuration
 from eigenupdate.errors import InputError
-from eigenupdate.matrix_market import matrix_model
-from eigenupdate.measurements import Measurement, read_measurements
-from eigenupdate.model import ParametricModel
-from eigenupdate.parameters import Parameter
-from eigenupdate.spring_mass import Mass, Spring, spring_mass_model
-from eigenupdate.updating import METHODS
+from eigenupdate.identify.updating import METHODS
+from eigenupdate.io.matrix_market import matrix_model
+from eigenupdate.io.measurements import Measurement, read_measurements
+from eigenupdate.model.beam import beam_model, element_parameter_names
+from eigenupdate.model.configurations import BASE, Addition, Configuration
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
 
 MODEL_TYPES = ("spring-mass", "beam", "matrices")
 

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from eigenupdate.atomic import write_text
 from eigenupdate.errors import InputError
+from eigenupdate.io.atomic import write_text
 
 COLUMNS = ("configuration", "mode", "frequency_hz", "std_hz")
 

@@ -11,8 +11,8 @@ import scipy.io
 import scipy.sparse as sp
 
 from eigenupdate.errors import InputError
-from eigenupdate.model import ParametricModel
-from eigenupdate.parameters import Parameter
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.parametric import ParametricModel
 
 SYMMETRY_RTOL = 1e-10
 

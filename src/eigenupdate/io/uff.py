@@ -1,7 +1,7 @@
 """Universal file (UFF) input/output: FRFs (dataset 58 / 58b) and normal modes (dataset 55).
 
 Parsing and formatting are done by `pyuff <https://github.com/ladisk/pyuff>`_; this module
-maps its dataset dictionaries to :class:`~eigenupdate.frf_data.FRF` and :class:`Mode`,
+maps its dataset dictionaries to :class:`~eigenupdate.measure.frf.FRF` and :class:`Mode`,
 validates them and turns every failure on bad input into an
 :class:`~eigenupdate.errors.InputError` naming the file and the field.
 
@@ -90,9 +90,9 @@ import numpy as np
 import pyuff
 from numpy.typing import ArrayLike
 
-from eigenupdate.atomic import atomic_write
 from eigenupdate.errors import InputError
-from eigenupdate.frf_data import (
+from eigenupdate.io.atomic import atomic_write
+from eigenupdate.measure.frf import (
     FRF,
     FRF_KINDS,
     dof_label,
@@ -899,9 +899,9 @@ def read_modes(path: PathLike) -> list[Mode]:
 
 
 def read_frf_files(paths: Sequence[PathLike]) -> list[FRF]:
-    """FRFs of several files: ``.csv`` files by :func:`eigenupdate.frf_data.read_frf_csv`
+    """FRFs of several files: ``.csv`` files by :func:`eigenupdate.measure.frf.read_frf_csv`
     (one receptance each), anything else as a universal file (:func:`read_frfs`)."""
-    from eigenupdate.frf_data import read_frf_csv
+    from eigenupdate.measure.frf import read_frf_csv
 
     out: list[FRF] = []
     for p in paths:

@@ -13,11 +13,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from eigenupdate.configurations import Configuration
-from eigenupdate.eigen import DENSE_LIMIT, EigenSolution, base_operator, solve_elastic
 from eigenupdate.errors import InputError
-from eigenupdate.model import ParametricModel
-from eigenupdate.sensitivity import eigenvalue_derivatives
+from eigenupdate.model.configurations import Configuration
+from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve.eigen import DENSE_LIMIT, EigenSolution, base_operator, solve_elastic
+from eigenupdate.solve.sensitivity import eigenvalue_derivatives
 
 
 @dataclass(frozen=True)
@@ -54,7 +54,7 @@ def solve_configurations(
     """Elastic eigen-solutions of every configuration at parameter ``values``.
 
     On the sparse path K - sigma M is factorised once for the bare structure and each
-    perturbed configuration reuses it (see :class:`eigenupdate.eigen.ShiftInvert`).
+    perturbed configuration reuses it (see :class:`eigenupdate.solve.eigen.ShiftInvert`).
     """
     K, M = model.stiffness(values), model.mass(values)
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
@@ -96,9 +96,9 @@ def linearise(
     Examples
     --------
     >>> import numpy as np
-    >>> from eigenupdate.parameters import Parameter
-    >>> from eigenupdate.spring_mass import Mass, Spring, spring_mass_model
-    >>> from eigenupdate.configurations import Configuration, mass_at
+    >>> from eigenupdate.model.parameters import Parameter
+    >>> from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+    >>> from eigenupdate.model.configurations import Configuration, mass_at
     >>> model = spring_mass_model([Mass(Parameter("m", 2.0), 1)],
     ...                           [Spring(Parameter("k", 800.0), (0, 1))])
     >>> lin = linearise(model, [Configuration("base"), mass_at(1, 2.0)], [1])

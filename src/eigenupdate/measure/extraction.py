@@ -21,12 +21,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from eigenupdate.dobson import MIN_PEAK_RISE_IN_STD, dobson_fit, dobson_fit_modes
 from eigenupdate.errors import InputError
-from eigenupdate.frf_data import FRF, check_same_axis
-from eigenupdate.modal_fit import ModalFit, mode_receptance
-from eigenupdate.peaks import estimate_noise_std, propose_bands
-from eigenupdate.rational_fraction import rational_fraction_fit
+from eigenupdate.measure.dobson import MIN_PEAK_RISE_IN_STD, dobson_fit, dobson_fit_modes
+from eigenupdate.measure.frf import FRF, check_same_axis
+from eigenupdate.measure.modal_fit import ModalFit, mode_receptance
+from eigenupdate.measure.peaks import estimate_noise_std, propose_bands
+from eigenupdate.measure.rational_fraction import rational_fraction_fit
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,6 @@
 """The result type shared by the modal-extraction methods, and their input checks.
 
-Both :mod:`eigenupdate.dobson` and :mod:`eigenupdate.rational_fraction` return
+Both :mod:`eigenupdate.measure.dobson` and :mod:`eigenupdate.measure.rational_fraction` return
 :class:`ModalFit` objects, so their results can be compared one to one.
 """
 

@@ -14,7 +14,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from eigenupdate.errors import InputError
-from eigenupdate.parameters import Parameter, check_unique
+from eigenupdate.model.parameters import Parameter, check_unique
 
 
 def _csr(a, n: int) -> sp.csr_array:

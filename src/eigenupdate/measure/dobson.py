@@ -54,7 +54,7 @@ neighbouring modes from the data and refits until the estimates settle, which on
 noise-free data converges to the exact values down to a separation of about 1.5
 half-power bandwidths.  Closer modes do not show separate peaks, cannot be given
 separate bands and need a multi-mode fit such as
-:func:`eigenupdate.rational_fraction.rational_fraction_fit`.  Non-constant residuals
+:func:`eigenupdate.measure.rational_fraction.rational_fraction_fit`.  Non-constant residuals
 that are not modes in the bands (rigid-body ``1/w**2`` terms, modes outside the
 measured range) are only reduced by using the points close to resonance.
 """
@@ -67,14 +67,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.modal_fit import (
+from eigenupdate.measure.modal_fit import (
     MIN_BAND_POINTS,
     ModalFit,
     mode_receptance,
     select_band,
     validate_frf,
 )
-from eigenupdate.peaks import estimate_noise_std
+from eigenupdate.measure.peaks import estimate_noise_std
 
 __all__ = ["ModalFit", "dobson_fit", "dobson_fit_modes"]
 
@@ -184,7 +184,7 @@ def dobson_fit_modes(
     freq_hz, receptance : ndarray
         Frequency axis (Hz, strictly increasing) and complex receptance (m/N).
     bands_hz : sequence of (float, float)
-        One band per mode, e.g. from :func:`eigenupdate.peaks.propose_bands`.
+        One band per mode, e.g. from :func:`eigenupdate.measure.peaks.propose_bands`.
     min_fraction : float, optional
         See :func:`dobson_fit`.
     max_iterations : int, optional

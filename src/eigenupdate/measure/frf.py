@@ -37,8 +37,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from eigenupdate.atomic import atomic_write
 from eigenupdate.errors import InputError
+from eigenupdate.io.atomic import atomic_write
 
 __all__ = [
     "CSV_COLUMNS",

@@ -9,8 +9,8 @@ from dataclasses import dataclass
 import scipy.sparse as sp
 
 from eigenupdate.errors import InputError
-from eigenupdate.model import ParametricModel
-from eigenupdate.parameters import Parameter
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.parametric import ParametricModel
 
 
 @dataclass(frozen=True)

@@ -27,13 +27,13 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
 
-from eigenupdate.atomic import atomic_write
-from eigenupdate.configurations import Configuration
-from eigenupdate.eigen import DENSE_LIMIT, base_operator, solve_elastic
 from eigenupdate.errors import InputError
-from eigenupdate.frf import configuration_matrices, infer_model_kind
-from eigenupdate.modal_fit import mode_receptance
-from eigenupdate.model import ParametricModel
+from eigenupdate.io.atomic import atomic_write
+from eigenupdate.measure.modal_fit import mode_receptance
+from eigenupdate.model.configurations import Configuration
+from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve.eigen import DENSE_LIMIT, base_operator, solve_elastic
+from eigenupdate.solve.response import configuration_matrices, infer_model_kind
 
 __all__ = [
     "FORMATS",
@@ -55,7 +55,7 @@ _STYLE = {
     "initial": {"color": "tab:blue", "lw": 1.2, "ls": "--"},
     "updated": {"color": "tab:red", "lw": 1.4, "ls": "-"},
 }
-_PEAK_BAND_FRACTION = 0.05  # as eigenupdate.synthetic: ignore the rigid-body rise at 0 Hz
+_PEAK_BAND_FRACTION = 0.05  # as eigenupdate.measure.synthetic: ignore the rigid-body rise at 0 Hz
 
 
 # ------------------------------------------------------------------------- utilities
@@ -130,7 +130,7 @@ def plot_frf_comparison(
     measured, initial, updated : optional
         Each curve is a complex array on ``frequency_hz``, a ``(frequency_hz, values)``
         tuple, or an object with ``frequency_hz`` and ``receptance`` attributes (an
-        :class:`~eigenupdate.frf_data.FRF`), so the measured data can have its own
+        :class:`~eigenupdate.measure.frf.FRF`), so the measured data can have its own
         axis. Values are receptance in m/N; NaN points (0 Hz) are skipped.
     title : str
         Figure title, e.g. ``"response at coordinate 1, force at 11"``.
@@ -273,8 +273,8 @@ def mass_sweep(
     --------
     A 2 kg mass on an 800 N/m spring: f = sqrt(k / (m + dm)) / (2 pi).
 
-    >>> from eigenupdate.spring_mass import Mass, Spring, spring_mass_model
-    >>> from eigenupdate.parameters import Parameter
+    >>> from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+    >>> from eigenupdate.model.parameters import Parameter
     >>> sdof = spring_mass_model([Mass(Parameter("m", 2.0), 1)],
     ...                          [Spring(Parameter("k", 800.0), (0, 1))])
     >>> sweep = mass_sweep(sdof, 1, 2.0, 1, n_points=3)
@@ -335,7 +335,7 @@ def plot_mass_sweep(
     path : str or path-like
         Output ``.png``, ``.svg`` or ``.pdf``; replaced atomically.
     model, configuration, values :
-        The structure (see :func:`eigenupdate.frf.configuration_matrices`).
+        The structure (see :func:`eigenupdate.solve.response.configuration_matrices`).
     coordinate : int
         Coordinate the mass is added at.
     max_mass : float
@@ -373,7 +373,7 @@ def plot_mass_sweep(
     514.1 Hz with 0.2 kg there):
 
     >>> import tempfile, os
-    >>> from eigenupdate.beam import beam_model
+    >>> from eigenupdate.model.beam import beam_model
     >>> beam = beam_model([0, 0.09, 0.19, 0.29, 0.39, 0.49, 0.59, 0.69, 0.80], 4557.0, 3.4)
     >>> with tempfile.TemporaryDirectory() as tmp:
     ...     sweep = plot_mass_sweep(os.path.join(tmp, "sweep.svg"), beam, 1, 0.4, 2)
@@ -465,7 +465,7 @@ def plot_extraction_fit(
     fits : sequence
         One object per mode with ``frequency_hz``, ``loss_factor``, ``modal_constant``
         (complex, m/N (rad/s)^2) and ``band_hz`` = (low, high) attributes, e.g.
-        :class:`eigenupdate.modal_fit.ModalFit`. An optional ``residual`` attribute (a
+        :class:`eigenupdate.measure.modal_fit.ModalFit`. An optional ``residual`` attribute (a
         complex constant, or a function of frequency in Hz) is added to the curve.
     title : str
         Figure title.

@@ -12,9 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from eigenupdate.configurations import Configuration
-from eigenupdate.jacobian import linearise
-from eigenupdate.model import ParametricModel
+from eigenupdate.model.configurations import Configuration
+from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve.jacobian import linearise
 
 
 @dataclass(frozen=True)
@@ -58,9 +58,9 @@ def check(
     One mass on one spring, mass and stiffness unknown: the bare structure alone gives
     rank 1 (only k/m is seen); adding a known mass separates them.
 
-    >>> from eigenupdate.parameters import Parameter
-    >>> from eigenupdate.spring_mass import Mass, Spring, spring_mass_model
-    >>> from eigenupdate.configurations import Configuration, mass_at
+    >>> from eigenupdate.model.parameters import Parameter
+    >>> from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+    >>> from eigenupdate.model.configurations import Configuration, mass_at
     >>> model = spring_mass_model([Mass(Parameter("m", 2.0), 1)],
     ...                           [Spring(Parameter("k", 800.0), (0, 1))])
     >>> check(model, [Configuration("base")], [1]).rank

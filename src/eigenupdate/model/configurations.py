@@ -10,7 +10,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from eigenupdate.errors import InputError
-from eigenupdate.model import ParametricModel
+from eigenupdate.model.parametric import ParametricModel
 
 BASE = "base"
 

@@ -18,7 +18,7 @@ import numpy as np
 from scipy.signal import find_peaks, peak_prominences
 
 from eigenupdate.errors import InputError
-from eigenupdate.modal_fit import validate_frf
+from eigenupdate.measure.modal_fit import validate_frf
 
 __all__ = ["propose_bands", "estimate_noise_std"]
 

@@ -7,8 +7,8 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
-from eigenupdate.identifiability import IdentifiabilityReport
-from eigenupdate.updating import UpdateResult
+from eigenupdate.identify.identifiability import IdentifiabilityReport
+from eigenupdate.identify.updating import UpdateResult
 
 
 def table(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:

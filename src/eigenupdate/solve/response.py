@@ -1,6 +1,6 @@
 """Receptance FRFs predicted by a model, with hysteretic (structural) damping.
 
-Conventions (the same as :mod:`eigenupdate.frf_data`): harmonic time dependence
+Conventions (the same as :mod:`eigenupdate.measure.frf`): harmonic time dependence
 ``exp(+i w t)``, ``w = 2 pi f``, receptance = displacement / force in m/N (rad/N,
 m/(N m), rad/(N m) for rotational coordinates).
 
@@ -20,13 +20,13 @@ Two ways to compute the receptance matrix ``H(w)`` of a configuration with stiff
   truncated modal sum leaves out the (residual) flexibility of the higher modes.
 
 At ``w = 0`` a structure with rigid-body modes has no static receptance: the result is
-NaN there (not inf, so it can still be stored in an :class:`~eigenupdate.frf_data.FRF`).
+NaN there (not inf, so it can still be stored in an :class:`~eigenupdate.measure.frf.FRF`).
 Start the frequency axis above 0 Hz to avoid it.
 
 Coordinates and universal-file points
 -------------------------------------
 Model coordinates are the user's 1-based numbers (:meth:`ParametricModel.index`).
-Universal files (and :class:`~eigenupdate.frf_data.FRF`) name a point by
+Universal files (and :class:`~eigenupdate.measure.frf.FRF`) name a point by
 ``(node, direction)`` with the dataset-58 direction codes. :func:`uff_point` and
 :func:`coordinate_from_uff` map between the two:
 
@@ -51,10 +51,10 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike
 
-from eigenupdate.configurations import Configuration
-from eigenupdate.eigen import DENSE_LIMIT, ShiftInvert, all_modes, base_operator, lowest_modes
 from eigenupdate.errors import InputError
-from eigenupdate.model import ParametricModel
+from eigenupdate.model.configurations import Configuration
+from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve.eigen import DENSE_LIMIT, ShiftInvert, all_modes, base_operator, lowest_modes
 
 __all__ = [
     "METHODS",
@@ -88,7 +88,7 @@ def infer_model_kind(model: ParametricModel) -> str:
 
     Examples
     --------
-    >>> from eigenupdate.beam import beam_model
+    >>> from eigenupdate.model.beam import beam_model
     >>> infer_model_kind(beam_model([0.0, 0.4, 0.8], 4557.0, 3.4))
     'beam'
     """
@@ -179,8 +179,8 @@ def configuration_matrices(
 
     Examples
     --------
-    >>> from eigenupdate.beam import beam_model
-    >>> from eigenupdate.configurations import mass_at
+    >>> from eigenupdate.model.beam import beam_model
+    >>> from eigenupdate.model.configurations import mass_at
     >>> model = beam_model([0.0, 0.4, 0.8], 4557.0, 3.4)
     >>> K, M = configuration_matrices(model, mass_at(1, 0.2))
     >>> print(f"{M[0, 0]:.4f} kg = {model.mass()[0, 0]:.4f} kg + 0.2 kg")
@@ -275,8 +275,8 @@ def receptance(
     ``H = 1 / (k (1 + i eta) - w**2 m) = 1 / (600 + 16 i)``.
 
     >>> import numpy as np
-    >>> from eigenupdate.spring_mass import Mass, Spring, spring_mass_model
-    >>> from eigenupdate.parameters import Parameter
+    >>> from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+    >>> from eigenupdate.model.parameters import Parameter
     >>> sdof = spring_mass_model([Mass(Parameter("m", 2.0), 1)],
     ...                          [Spring(Parameter("k", 800.0), (0, 1))])
     >>> H = receptance(sdof, [10 / (2 * np.pi)], 1, 1, loss_factor=0.02)
@@ -287,8 +287,8 @@ def receptance(
     at the first elastic natural frequency (203.707 Hz), where the responses are in
     quadrature with the force:
 
-    >>> from eigenupdate.beam import beam_model
-    >>> from eigenupdate.parameters import Parameter
+    >>> from eigenupdate.model.beam import beam_model
+    >>> from eigenupdate.model.parameters import Parameter
     >>> beam = beam_model([0, 0.09, 0.19, 0.29, 0.39, 0.49, 0.59, 0.69, 0.80], 4557.0, 3.4,
     ...                   point_masses=[(Parameter("m_L", 0.0), 11)])
     >>> H = receptance(beam, [100.0, 203.707], 11, [1, 15], loss_factor=0.01)

@@ -1,8 +1,8 @@
 """Synthetic "measured" FRFs: model receptances with complex Gaussian noise.
 
 Used to exercise the modal-extraction and updating chain without a test rig: predict
-the receptance of a configuration with :func:`eigenupdate.frf.receptance`, add noise,
-and label every FRF with universal-file points (:func:`eigenupdate.frf.uff_point`).
+the receptance of a configuration with :func:`eigenupdate.solve.response.receptance`, add noise,
+and label every FRF with universal-file points (:func:`eigenupdate.solve.response.uff_point`).
 """
 
 from __future__ import annotations
@@ -12,16 +12,16 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from eigenupdate.configurations import Configuration
 from eigenupdate.errors import InputError
-from eigenupdate.frf import (
+from eigenupdate.measure.frf import FRF
+from eigenupdate.model.configurations import Configuration
+from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve.response import (
     coordinate_from_uff,
     infer_model_kind,
     receptance,
     uff_point,
 )
-from eigenupdate.frf_data import FRF
-from eigenupdate.model import ParametricModel
 
 __all__ = [
     "PEAK_BAND_FRACTION",
@@ -88,7 +88,7 @@ def synthetic_frfs(
         Response coordinates, one FRF each.
     loss_factors : float or sequence of float
         Hysteretic loss factor, one for all modes or one per elastic mode
-        (see :func:`eigenupdate.frf.receptance`).
+        (see :func:`eigenupdate.solve.response.receptance`).
     noise : float
         Standard deviation of the noise, ``sqrt(E |n|**2)``, as a fraction of each
         FRF's own largest peak ``max |H|`` above 5 % of the band
@@ -98,7 +98,7 @@ def synthetic_frfs(
         Random seed (reproducible noise) or a NumPy Generator.
     model_kind : {"beam", "spring-mass", "matrices"}, optional
         How coordinates map to universal-file ``(node, direction)`` labels; guessed by
-        :func:`eigenupdate.frf.infer_model_kind` if None.
+        :func:`eigenupdate.solve.response.infer_model_kind` if None.
 
     Returns
     -------
@@ -111,7 +111,7 @@ def synthetic_frfs(
     The paper's beam driven at coordinate 11 (node 6, +Z), responses at the two ends:
 
     >>> import numpy as np
-    >>> from eigenupdate.beam import beam_model
+    >>> from eigenupdate.model.beam import beam_model
     >>> beam = beam_model([0, 0.09, 0.19, 0.29, 0.39, 0.49, 0.59, 0.69, 0.80], 4557.0, 3.4)
     >>> f = np.arange(2.0, 1600.0 + 1.0, 2.0)
     >>> frfs = synthetic_frfs(beam, None, f, 11, [1, 17], 0.01, noise=0.0)

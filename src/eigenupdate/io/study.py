@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from eigenupdate.design.spec import CRITERIA, DesignSpec
 from eigenupdate.errors import InputError
 from eigenupdate.identify.updating import METHODS
 from eigenupdate.io.matrix_market import matrix_model
@@ -42,6 +43,7 @@ class Study:
     tolerance: float = 1e-8
     frf: dict[str, list[Path]] = field(default_factory=dict)
     frf_options: dict[str, Any] = field(default_factory=dict)
+    design: DesignSpec | None = None
 
     def measurements(self) -> dict[tuple[str, int], Measurement]:
         """Read the measurement CSV; configuration names must be those of the study."""
@@ -199,6 +201,9 @@ def load_study(path: str | Path) -> Study:
     if not 0 < tol <= 1e-2:  # the largest relative parameter change still called converged
         raise up.error("tolerance", f"{tol!r} must be > 0 and <= 0.01 (a relative step)")
     up.finish()
+    design = None
+    if "design" in top.data:
+        design = _design(_Reader(top.get("design", "table"), "design", src), model, modes)
     top.finish()
     return Study(
         path=path,
@@ -213,6 +218,7 @@ def load_study(path: str | Path) -> Study:
         tolerance=tol,
         frf=frf,
         frf_options=frf_options,
+        design=design,
     )
 
 
@@ -369,3 +375,93 @@ def _frf_files(table: dict, names: list[str], base: Path, src: str) -> dict[str,
             )
         out[key] = [base / f for f in files]
     return out
+
+
+def _design(r: _Reader, model: ParametricModel, study_modes: list[int]) -> DesignSpec:
+    """The [design] table of ``eigenupdate design`` (see :class:`DesignSpec`)."""
+    coords = r.data.get("coordinates")
+    if coords == "translational":
+        r.used.add("coordinates")
+        if model.kind not in ("beam", "spring-mass"):
+            raise r.error("coordinates", "'translational' needs a beam or spring-mass model; "
+                                         "list the coordinates")
+        step = 2 if model.kind == "beam" else 1  # beam: odd coordinates are translations
+        coords = [int(c) for c in model.coordinates if (c - 1) % step == 0]
+    else:
+        coords = r.get("coordinates", "list")
+        if not coords or not all(isinstance(c, int) and not isinstance(c, bool) for c in coords):
+            raise r.error("coordinates", f"must be a list of coordinates or 'translational', "
+                                         f"got {coords!r}")
+        if len(set(coords)) != len(coords):
+            raise r.error("coordinates", f"repeated coordinate in {coords}")
+        for c in coords:
+            try:
+                model.index(c)
+            except InputError as exc:
+                raise r.error("coordinates", str(exc)) from None
+
+    def positive_list(key: str, default: Any = ...) -> tuple[float, ...]:
+        v = r.floats(key, default)
+        v = [] if v is None else (v if isinstance(v, list) else [v])
+        if any(x <= 0 or not math.isfinite(x) for x in v):
+            raise r.error(key, f"must be finite numbers > 0, got {v}")
+        return tuple(v)
+
+    masses = positive_list("masses", None)
+    springs = positive_list("stiffnesses", None)
+    if not masses and not springs:
+        raise r.error("masses", "is required (or stiffnesses = [...], N/m)")
+    n_conf = r.get("configurations", "int")
+    additions = r.get("additions", "int", 1)
+    if n_conf < 1 or additions < 1:
+        raise r.error("configurations", "configurations and additions must be >= 1")
+    modes = r.get("modes", "list", None)
+    fmax = r.get("max_frequency_hz", "float", None)
+    if modes is not None and fmax is not None:
+        raise r.error("modes", "give modes or max_frequency_hz, not both")
+    if modes is None and fmax is None:
+        modes = study_modes
+        if not modes:
+            raise r.error("modes", "is required (or max_frequency_hz, or measurement.modes)")
+    if modes is not None:
+        if not modes or any(isinstance(k, bool) or not isinstance(k, int) or k < 1 for k in modes):
+            raise r.error("modes", f"must be elastic mode numbers >= 1, got {modes}")
+        if len(set(modes)) != len(modes):
+            raise r.error("modes", f"repeated mode number in {modes}")
+        modes = tuple(sorted(modes))
+    elif fmax <= 0:
+        raise r.error("max_frequency_hz", f"must be > 0, got {fmax}")
+    std_hz = positive_list("frequency_std_hz", None) or None
+    rel = r.get("frequency_std_relative", "float", None)
+    if (std_hz is None) == (rel is None):
+        raise r.error("frequency_std_hz", "give frequency_std_hz (Hz, one value or one per mode) "
+                                          "or frequency_std_relative, exactly one")
+    if rel is not None and not 0 < rel < 1:
+        raise r.error("frequency_std_relative", f"must be between 0 and 1, got {rel}")
+    if std_hz is not None and len(std_hz) > 1 and (modes is None or len(std_hz) != len(modes)):
+        raise r.error("frequency_std_hz", f"{len(std_hz)} values: give one, or one per mode of "
+                                          f"design.modes")
+    criterion = r.data.get("criterion", "A")
+    r.used.add("criterion")
+    if isinstance(criterion, list):
+        updated = [model.names[j] for j in model.updated]
+        bad = [c for c in criterion if c not in updated]
+        if not criterion or bad:
+            raise r.error("criterion", f"unknown or fixed parameter(s) {bad}; updated "
+                                       f"parameters are {updated}")
+        criterion = tuple(criterion)
+    elif criterion not in CRITERIA:
+        raise r.error("criterion", f"must be one of {list(CRITERIA)} or a list of parameter "
+                                   f"names, got {criterion!r}")
+    shift = r.get("min_shift_in_std", "float", 3.0)
+    gap = r.get("min_relative_gap", "float", 0.02)
+    limit = r.get("max_added_mass", "float", None)
+    if shift < 0 or not 0 <= gap < 1 or (limit is not None and limit <= 0):
+        raise r.error("min_shift_in_std", "min_shift_in_std >= 0, 0 <= min_relative_gap < 1 and "
+                                          "max_added_mass > 0 are required")
+    r.finish()
+    return DesignSpec(
+        coordinates=tuple(coords), masses=masses, stiffnesses=springs, configurations=n_conf,
+        additions=additions, modes=modes, max_frequency_hz=fmax, frequency_std_hz=std_hz,
+        frequency_std_relative=rel, criterion=criterion, min_shift_in_std=shift,
+        min_relative_gap=gap, max_added_mass=limit)

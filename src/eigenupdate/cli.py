@@ -15,6 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+from eigenupdate.design.plan import design_plan
+from eigenupdate.design.plan_io import plan_study_text
+from eigenupdate.design.plan_report import design_doc, design_text
 from eigenupdate.errors import InputError
 from eigenupdate.identify.identifiability import check
 from eigenupdate.identify.updating import METHODS, update
@@ -151,6 +154,22 @@ def cmd_update(args) -> int:
     if not res.converged:
         print(f"eigenupdate: not converged: {res.message}", file=sys.stderr)
         return 1
+    return 0
+
+
+def cmd_design(args) -> int:
+    _output_file(args.output, "-o")
+    study = load_study(args.study)
+    if study.design is None:
+        raise InputError("the study has no [design] table", source=str(study.path),
+                         field="design")
+    res = design_plan(study.model, study.design, study.method, study.configurations[1:])
+    write_text(args.output, plan_study_text(study.path, res.configurations, res.modes,
+                                            args.output))
+    initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
+    print(report.dumps(design_doc(res, initial)) if args.json
+          else design_text(res, initial, study.title))
+    _progress(f"wrote the plan to {args.output}")
     return 0
 
 
@@ -422,6 +441,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
     s.set_defaults(func=cmd_update)
+
+    s = sub.add_parser("design", help="choose the added masses from the study's [design] table")
+    s.add_argument("study")
+    s.add_argument("-o", "--output", required=True, metavar="PLAN.toml",
+                   help="the plan as a study file")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_design)
 
     s = sub.add_parser("extract", help="natural frequencies from the study's measured FRFs")
     s.add_argument("study")

@@ -19,7 +19,7 @@ import numpy as np
 from eigenupdate.design.covariance import INFO_RTOL
 from eigenupdate.design.criteria import criterion_value
 
-RIDGE = 1e-9
+RIDGE = 1e-6
 """Relative ridge that ranks plans which do not yet determine every parameter."""
 
 EXHAUSTIVE_LIMIT = 100_000

@@ -10,11 +10,15 @@ import argparse
 import json
 import re
 import sys
+import time
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
+from eigenupdate.design.executor import SCHEDULER_ENV, executor_for
+from eigenupdate.design.montecarlo import montecarlo, study_setup
+from eigenupdate.design.montecarlo_io import write_montecarlo
 from eigenupdate.design.plan import design_plan
 from eigenupdate.design.plan_io import plan_study_text
 from eigenupdate.design.plan_report import design_doc, design_text
@@ -171,6 +175,43 @@ def cmd_design(args) -> int:
           else design_text(res, initial, study.title))
     _progress(f"wrote the plan to {args.output}")
     return 0
+
+
+def cmd_montecarlo(args) -> int:
+    _output_dir(args.output, "-o")
+    if args.trials < 1:
+        raise InputError(f"{args.trials} must be >= 1", field="--trials")
+    study = load_study(args.study)
+    setup = study_setup(study, args.truth)
+    bar = _progress_bar if sys.stderr.isatty() else None
+    start = time.perf_counter()
+    with executor_for(args.scheduler, args.in_process, args.workers) as ex:
+        res = montecarlo(setup, args.trials, args.seed, ex, bar)
+        where = repr(ex)
+    wall = time.perf_counter() - start
+    doc = {**res.summary(), "executor": where, "wall_time_s": wall}
+    if args.output:
+        write_montecarlo(res, args.output, study.title)
+        write_text(Path(args.output) / "summary.json", report.dumps(doc) + "\n")
+    if args.json:
+        print(report.dumps(doc))
+    else:
+        print(f"{study.title}: {doc['trials']} virtual tests ({doc['converged']} converged, "
+              f"{doc['refused_fraction']:.1%} refused), seed entropy {doc['seed_entropy']}")
+        print(report.table(
+            ["parameter", "bias", "empirical std", "predicted std", "emp/pred", "coverage 2 std"],
+            [[n, p["bias"], p["empirical_std"], p["predicted_std"],
+              p["ratio_empirical_to_predicted"], p["coverage_2std"]]
+             for n, p in doc["parameters"].items()]))
+    _progress(f"{args.trials} trials in {wall:.1f} s ({where})"
+              + (f"; wrote {args.output}" if args.output else ""))
+    return 0
+
+
+def _progress_bar(done: int, total: int) -> None:
+    n = 30 * done // total
+    end = "\n" if done == total else ""
+    print(f"\r[{'#' * n}{'.' * (30 - n)}] {done}/{total}", end=end, file=sys.stderr, flush=True)
 
 
 def _progress(msg: str) -> None:
@@ -448,6 +489,21 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the plan as a study file")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_design)
+
+    s = sub.add_parser("montecarlo", help="virtual tests of the study's plan: bias, std, coverage")
+    s.add_argument("study")
+    s.add_argument("--trials", type=int, required=True)
+    s.add_argument("--truth", metavar="STUDY", help="study whose model holds the true values "
+                   "(default: draw them from the priors)")
+    s.add_argument("--seed", type=_seed)
+    s.add_argument("-o", "--output", metavar="DIR", help="write trials.csv, summary.json, plots")
+    s.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help=f"existing Dask scheduler (or ${SCHEDULER_ENV}); default: a local "
+                        f"cluster, one worker process per core")
+    s.add_argument("--workers", type=int, help="worker processes of the local cluster")
+    s.add_argument("--in-process", action="store_true", help="no Dask: run here, one by one")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_montecarlo)
 
     s = sub.add_parser("extract", help="natural frequencies from the study's measured FRFs")
     s.add_argument("study")

@@ -152,6 +152,7 @@ DESIGN = ("\n[design]\ncoordinates = {c}\nmasses = {m}\nconfigurations = 3\nmode
     ("[1, 2]", "[-1.0]", '"A"', ["design.masses"]),
     ("[1, 2]", "[1e-5]", '"A"', ["design", "masses too small"]),
     ("[1, 2, 3, 4]", "[1000.0]", '"A"', ["design", "mode order", "masses too large"]),
+    ("[1, 2, 3, 4]", "[0.35]", '"A"', ["design.configurations", "determines the 10"]),
 ])
 def test_refusals(tmp_path, run_cli, coords, masses, crit, fragments):
     p = _study(tmp_path, FIG2, DESIGN.format(c=coords, m=masses, k=crit))
@@ -183,7 +184,7 @@ def test_missing_design_table(tmp_path, run_cli):
 def test_modes_from_upper_frequency():
     s = load_study(FIG2)
     from dataclasses import replace
-    spec = replace(s.design, modes=None, max_frequency_hz=80.0, configurations=2)
+    spec = replace(s.design, modes=None, max_frequency_hz=110.0, configurations=3)
     r = design_plan(s.model, spec, s.method)
     f = solve_configurations(s.model, [Configuration(BASE)], 4)[0].frequencies_hz
-    assert r.modes == [k + 1 for k in range(4) if f[k] <= 80.0]
+    assert r.modes == [k + 1 for k in range(4) if f[k] <= 110.0] == [1, 2, 3]

@@ -174,6 +174,12 @@ def design_plan(model: ParametricModel, spec: DesignSpec, method: str,
     blocks = [block(s) for s in screened]
     scorer = PlanScorer(blocks, block(bare), prior, method, spec.criterion, names)
     chosen, swaps = greedy_exchange(scorer, ok, spec.configurations)
+    if not np.isfinite(scorer.score(chosen)):
+        raise InputError(
+            f"no plan of {spec.configurations} configuration(s) found that determines the "
+            f"{len(names)} parameters with modes {modes} (see 'eigenupdate check'); allow more "
+            f"configurations, additions or modes, or give priors and use the bayesian method",
+            field="design.configurations")
 
     def summary(label: str, plan_blocks, configs) -> PlanSummary:
         J = np.vstack([block(bare)[0], *(b[0] for b in plan_blocks)])

@@ -74,7 +74,10 @@ def test_singular_plan_scores_inf():
     assert np.all(np.isinf(cov))
 
 
-@pytest.mark.parametrize("path, method", [(FIG2, "weighted-least-squares"), (BEAM, "bayesian")])
+@pytest.mark.parametrize("path, method", [
+    (FIG2, "weighted-least-squares"),
+    pytest.param(BEAM, "bayesian", marks=pytest.mark.slow),
+])
 def test_predicted_std_is_the_updaters_posterior_std(path, method):
     # A second code path: `update` on error-free data of the initial model stops at once and
     # reports its posterior std from the normal equations; the planner's SVD must agree.

@@ -181,6 +181,8 @@ def cmd_montecarlo(args) -> int:
     _output_dir(args.output, "-o")
     if args.trials < 1:
         raise InputError(f"{args.trials} must be >= 1", field="--trials")
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"{args.workers} must be >= 1", field="--workers")
     study = load_study(args.study)
     setup = study_setup(study, args.truth)
     bar = _progress_bar if sys.stderr.isatty() else None

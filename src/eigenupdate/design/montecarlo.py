@@ -46,20 +46,20 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
     model = setup.model
     upd = model.updated
     truth = setup.truth.copy() if setup.truth is not None else _draw(model, rng)
-    sols = solve_configurations(model, setup.configurations, max(setup.modes), truth)
-    meas = {}
-    for c, sol in zip(setup.configurations, sols, strict=True):
-        for k in setup.modes:
-            std = setup.std_hz[(c.name, k)]
-            meas[(c.name, k)] = Measurement(
-                c.name, k, float(sol.frequencies_hz[k - 1] + rng.normal(0.0, std)), std)
     out = {"truth": truth[upd], "estimate": np.full(upd.size, np.nan),
            "std": np.full(upd.size, np.nan), "converged": False, "refused": False, "nit": 0,
            "message": ""}
     try:
+        sols = solve_configurations(model, setup.configurations, max(setup.modes), truth)
+        meas = {}
+        for c, sol in zip(setup.configurations, sols, strict=True):
+            for k in setup.modes:
+                std = setup.std_hz[(c.name, k)]
+                meas[(c.name, k)] = Measurement(
+                    c.name, k, float(sol.frequencies_hz[k - 1] + rng.normal(0.0, std)), std)
         res = update(model, setup.configurations, setup.modes, meas, method=setup.method,
                      max_iterations=setup.max_iterations, xtol=setup.tolerance)
-    except InputError as exc:  # e.g. a simulated frequency lost a mode: the update refuses
+    except InputError as exc:  # a drawn truth or its noisy frequencies the update refuses
         out.update(refused=True, message=str(exc))
         return out
     names = [model.names[j] for j in upd]
@@ -192,6 +192,8 @@ def montecarlo(setup: TrialSetup, trials: int, seed: int | None = None, executor
     """
     if trials < 1:
         raise InputError(f"{trials} must be >= 1", field="--trials")
+    if setup.truth is None:
+        _draw(setup.model, np.random.default_rng(0))  # refuses a parameter without a prior
     root = np.random.SeedSequence(seed)
     names = [setup.model.names[j] for j in setup.model.updated]
     pred = predicted_std(setup)

@@ -191,3 +191,12 @@ def test_modes_from_upper_frequency():
     r = design_plan(s.model, spec, s.method)
     f = solve_configurations(s.model, [Configuration(BASE)], 4)[0].frequencies_hz
     assert r.modes == [k + 1 for k in range(4) if f[k] <= 110.0] == [1, 2, 3]
+
+
+@pytest.mark.slow
+def test_screening_on_a_local_cluster_gives_the_same_plan(tmp_path, run_cli):
+    a = run_cli("design", BEAM, "-o", tmp_path / "a.toml", "--json")
+    b = run_cli("design", BEAM, "-o", tmp_path / "b.toml", "--json", "--workers", 2)
+    assert a[0] == b[0] == 0, b[2]
+    assert json.loads(a[1]) == json.loads(b[1])  # every figure identical
+    assert (tmp_path / "a.toml").read_bytes() == (tmp_path / "b.toml").read_bytes()

@@ -167,7 +167,17 @@ def cmd_design(args) -> int:
     if study.design is None:
         raise InputError("the study has no [design] table", source=str(study.path),
                          field="design")
-    res = design_plan(study.model, study.design, study.method, study.configurations[1:])
+    ex = None
+    if args.scheduler or args.workers:
+        if args.workers is not None and args.workers < 1:
+            raise InputError(f"{args.workers} must be >= 1", field="--workers")
+        ex = executor_for(args.scheduler, n_workers=args.workers)
+    try:
+        res = design_plan(study.model, study.design, study.method, study.configurations[1:],
+                          executor=ex)
+    finally:
+        if ex is not None:
+            ex.close()
     write_text(args.output, plan_study_text(study.path, res.configurations, res.modes,
                                             args.output))
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
@@ -489,6 +499,10 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("study")
     s.add_argument("-o", "--output", required=True, metavar="PLAN.toml",
                    help="the plan as a study file")
+    s.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="screen the candidates on this Dask scheduler (default: in this process)")
+    s.add_argument("--workers", type=int,
+                   help="screen the candidates on a local Dask cluster of this many processes")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_design)
 

@@ -12,7 +12,7 @@ import numpy as np
 
 from eigenupdate.design.covariance import posterior_covariance
 from eigenupdate.design.criteria import criterion_value
-from eigenupdate.design.screen import Screened, screen_candidates
+from eigenupdate.design.screen import Screened, screen_candidates, screen_on
 from eigenupdate.design.search import PlanScorer, exhaustive, greedy_exchange
 from eigenupdate.design.spec import DesignSpec
 from eigenupdate.errors import InputError
@@ -133,7 +133,7 @@ def frequency_std(spec: DesignSpec, f_hz: np.ndarray) -> np.ndarray:
 
 
 def design_plan(model: ParametricModel, spec: DesignSpec, method: str,
-                study_plan: Sequence[Configuration] = ()) -> DesignResult:
+                study_plan: Sequence[Configuration] = (), executor=None) -> DesignResult:
     """Choose ``spec.configurations`` perturbations that minimise the criterion.
 
     Parameters
@@ -142,6 +142,8 @@ def design_plan(model: ParametricModel, spec: DesignSpec, method: str,
     spec : candidates, constraints, noise and criterion.
     method : the updating method the plan will be used with (decides the covariance).
     study_plan : the study's own perturbations, scored for comparison (may be empty).
+    executor : screen the candidates on it (:mod:`eigenupdate.design.executor`); default:
+        one direct call in this process.
     """
     modes = measured_modes(model, spec)
     idx = np.asarray(modes) - 1
@@ -156,7 +158,10 @@ def design_plan(model: ParametricModel, spec: DesignSpec, method: str,
     if not cands:
         raise InputError("no candidate configuration (max_added_mass below every mass?)",
                          field="design")
-    bare, screened = screen_candidates(model, [*cands, *study_plan], modes)
+    if executor is None:
+        bare, screened = screen_candidates(model, [*cands, *study_plan], modes)
+    else:
+        bare, screened = screen_on(executor, model, [*cands, *study_plan], modes)
     screened, own = screened[:len(cands)], screened[len(cands):]
 
     def block(s: Screened) -> tuple[np.ndarray, np.ndarray]:

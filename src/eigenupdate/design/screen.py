@@ -78,3 +78,24 @@ def screen_candidates(
         kept = all(int(np.argmax(mac[:, k - 1])) == k - 1 for k in modes)
         out.append(Screened(sol.eigenvalues, sol.next_eigenvalue, J, kept))
     return out[0], out[1:]
+
+
+SCREEN_CHUNK = 16
+"""Candidates per task when screening runs on an executor."""
+
+
+def _screen_chunk(chunk: Sequence[Configuration], shared: tuple) -> list[Screened]:
+    model, modes = shared
+    return screen_candidates(model, chunk, modes)[1]
+
+
+def screen_on(executor, model: ParametricModel, candidates: Sequence[Configuration],
+              modes: Sequence[int]) -> tuple[Screened, list[Screened]]:
+    """:func:`screen_candidates` with the candidates split into tasks on ``executor`` (see
+    :mod:`eigenupdate.design.executor`); each candidate is solved alone, so the results are
+    those of a single call."""
+    chunks = [list(candidates[i:i + SCREEN_CHUNK])
+              for i in range(0, len(candidates), SCREEN_CHUNK)]
+    bare, _ = screen_candidates(model, [], modes)
+    parts = executor.map(_screen_chunk, (model, list(modes)), chunks)
+    return bare, [s for part in parts for s in part]

@@ -178,10 +178,13 @@ def test_restrained_candidate_is_refused(tmp_path, run_cli):
     assert code == 2 and "coordinate 1 is restrained" in err and "design.coordinates" in err
 
 
-def test_missing_design_table(tmp_path, run_cli):
+def test_missing_design_table_and_overwriting_the_study(tmp_path, run_cli):
     p = _study(tmp_path, FIG2, "")
     code, _, err = run_cli("design", p, "-o", tmp_path / "plan.toml")
     assert code == 2 and "no [design] table" in err
+    before = p.read_bytes()
+    code, _, err = run_cli("design", p, "-o", p)
+    assert code == 2 and "overwrite the input study" in err and p.read_bytes() == before
 
 
 def test_modes_from_upper_frequency():

@@ -59,6 +59,7 @@ def test_truth_file_and_noise_from_the_design_table(tmp_path, run_cli):
                              "--truth", FIG2 / "truth.toml", "--in-process", "--json",
                              "-o", tmp_path / "mc")
     assert code == 0, err
+    assert "\r" not in err  # the progress bar is for terminals only
     doc = json.loads(out)
     assert doc["converged"] == 4
     truth = {"m1": 10.0, "k1": 1.0e6}

@@ -163,6 +163,8 @@ def cmd_update(args) -> int:
 
 def cmd_design(args) -> int:
     _output_file(args.output, "-o")
+    if Path(args.output).resolve() == Path(args.study).resolve():
+        raise InputError("would overwrite the input study; give another file", field="-o")
     study = load_study(args.study)
     if study.design is None:
         raise InputError("the study has no [design] table", source=str(study.path),

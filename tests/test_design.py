@@ -7,6 +7,8 @@ import math
 import numpy as np
 import pytest
 from conftest import EXAMPLES
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from eigenupdate.design.covariance import posterior_covariance
 from eigenupdate.design.plan import design_plan
@@ -203,3 +205,20 @@ def test_screening_on_a_local_cluster_gives_the_same_plan(tmp_path, run_cli):
     assert a[0] == b[0] == 0, b[2]
     assert json.loads(a[1]) == json.loads(b[1])  # every figure identical
     assert (tmp_path / "a.toml").read_bytes() == (tmp_path / "b.toml").read_bytes()
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(3, 7), size=st.integers(1, 3),
+       crit=st.sampled_from(["A", "D", "E"]))
+def test_search_is_a_local_optimum_never_better_than_exhaustive(seed, n, size, crit):
+    rng = np.random.default_rng(seed)
+    blocks = [(rng.normal(size=(2, 3)), rng.uniform(0.5, 2, 2)) for _ in range(n)]
+    s = PlanScorer(blocks, (rng.normal(size=(2, 3)), np.ones(2)), np.ones(3), "bayesian", crit,
+                   list("abc"))
+    plan, _ = greedy_exchange(s, list(range(n)), size)
+    _, best = exhaustive(s, list(range(n)), size)
+    value = s.score(plan)
+    assert best <= value + 1e-12 * abs(value)
+    for i in range(size):
+        for c in set(range(n)) - set(plan):
+            assert s.score([*plan[:i], c, *plan[i + 1:]]) >= value - 1e-12 * abs(value)

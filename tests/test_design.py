@@ -222,3 +222,18 @@ def test_search_is_a_local_optimum_never_better_than_exhaustive(seed, n, size, c
     for i in range(size):
         for c in set(range(n)) - set(plan):
             assert s.score([*plan[:i], c, *plan[i + 1:]]) >= value - 1e-12 * abs(value)
+
+
+def test_several_additions_per_configuration(tmp_path):
+    from dataclasses import replace
+
+    from eigenupdate.design.plan_io import plan_study_text
+    s = load_study(FIG2)
+    spec = replace(s.design, additions=2, configurations=2, max_added_mass=2.5)
+    r = design_plan(s.model, spec, s.method)
+    assert len(r.candidates) == 12 + 6 * (9 - 3)  # pairs above 2.5 kg (2+1, 1+2, 2+2) dropped
+    plans = {p.label: p for p in r.plans}
+    assert plans["designed"].criterion <= 1.01 * plans["exhaustive optimum"].criterion
+    out = tmp_path / "plan.toml"
+    out.write_text(plan_study_text(FIG2, r.configurations, r.modes, out))
+    assert load_study(out).configurations[1:] == r.configurations

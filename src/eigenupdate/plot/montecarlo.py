@@ -19,14 +19,16 @@ def plot_std_comparison(path: str | os.PathLike[str], names: Sequence[str],
     fig = _new_figure(max(6.0, 0.35 * len(names) + 2), 3.6)
     ax = fig.add_subplot()
     x = np.arange(len(names))
-    ax.bar(x, np.asarray(empirical) / np.asarray(predicted), color="tab:blue",
-           label="empirical / predicted std")
+    ratio = np.asarray(empirical) / np.asarray(predicted)
+    ax.bar(x, ratio, color="tab:blue", label="empirical / predicted std")
     ax.axhline(1.0, color="k", lw=1)
     for band in (0.85, 1.15):
         ax.axhline(band, color="0.5", lw=0.8, ls="--")
+    top = np.nanmax(ratio, initial=1.0)
+    ax.set_ylim(0, max(1.4, 1.1 * top) if np.isfinite(top) else 1.4)
     ax.set_xticks(x, names, rotation=60, ha="right")
     ax.set_ylabel("empirical / predicted std")
-    ax.legend(loc="upper right")
+    ax.legend(loc="upper right", title="dashed: +-15 %")
     ax.set_title(title)
     return _save(fig, path)
 

@@ -10,12 +10,13 @@ import argparse
 import json
 import re
 import sys
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import EigenupdateWarning, InputError, NumericalError
 from eigenupdate.identify.identifiability import check
 from eigenupdate.identify.updating import METHODS, update
 from eigenupdate.io.atomic import write_text
@@ -215,11 +216,6 @@ def cmd_extract(args) -> int:
         _progress(f"[{i}/{n}] {c.name}: {len(frfs)} FRF(s) from {len(files)} file(s)")
         ex = extract_configuration(frfs, modes, c.name, bands_hz=bands.get(c.name),
                                    exclude_below_hz=low)
-        for m in ex:
-            d = m.disagreement
-            if d is not None and d > 4:
-                _progress(f"  warning: {c.name} mode {m.mode}: Dobson {m.frequency_hz:.4f} Hz and "
-                          f"rational fraction {m.check_hz:.4f} Hz differ by {d:.1f} std")
         done.append((c, frfs, ex))
     results = [m for _, _, ex in done for m in ex]
     if args.plots:
@@ -472,7 +468,7 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _located(exc: InputError, args) -> str:
+def _located(exc: InputError | NumericalError, args) -> str:
     """The message, prefixed by the study file when the library could not name a file.
 
     Errors found deep in the numerics (too few elastic modes, an indefinite mass matrix)
@@ -484,13 +480,21 @@ def _located(exc: InputError, args) -> str:
     return str(exc)
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    print(f"eigenupdate: warning: {message}", file=sys.stderr, flush=True)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return args.func(args)
-    except InputError as exc:
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", EigenupdateWarning)
+            warnings.showwarning = _show_warning  # one line, no source location
+            return args.func(args)
+    except (InputError, NumericalError) as exc:
+        # exit 2: bad input, singular matrix, repeated eigenvalue; 1: not converged
         print(f"eigenupdate: error: {_located(exc, args)}", file=sys.stderr)
-        return 2
+        return exc.exit_status
     except BrokenPipeError:  # output piped into `head` and the like
         sys.stderr.close()
         return 0

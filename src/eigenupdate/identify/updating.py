@@ -182,10 +182,7 @@ def update(
             break
         alpha = 1.0
         while True:
-            try:
-                trial, trial_obj = evaluate(z + alpha * dz)
-            except InputError:  # e.g. the trial model has lost a mode
-                trial, trial_obj = None, np.inf
+            trial, trial_obj = evaluate(z + alpha * dz)
             if trial_obj < obj:
                 break
             alpha *= 0.5

@@ -70,13 +70,14 @@ from eigenupdate.errors import InputError
 from eigenupdate.measure.modal_fit import (
     MIN_BAND_POINTS,
     ModalFit,
+    NoResonance,
     mode_receptance,
     select_band,
     validate_frf,
 )
 from eigenupdate.measure.peaks import estimate_noise_std
 
-__all__ = ["ModalFit", "dobson_fit", "dobson_fit_modes"]
+__all__ = ["ModalFit", "dobson_fit", "dobson_fit_bands", "dobson_fit_modes"]
 
 #: A peak must stand this much above both band edges to count as a resonance, as a
 #: ratio and in standard deviations of the noise on the FRF.
@@ -145,10 +146,22 @@ def dobson_fit(
     if not 0.0 < min_fraction < 1.0:
         raise InputError(f"min_fraction must lie in (0, 1), got {min_fraction}",
                          source=source, field="min_fraction")
+    fit = _fit_band(freq_hz, receptance, band_hz, min_fraction, source)
+    if isinstance(fit, NoResonance):
+        raise InputError(fit.message, source=source, field="band_hz")
+    return fit
+
+
+def _fit_band(freq_hz, receptance, band_hz, min_fraction: float,
+              source: str | None) -> ModalFit | NoResonance:
+    """:func:`dobson_fit`, returning a status where the band holds no usable resonance."""
     f_band, a_band = select_band(freq_hz, receptance, band_hz, source)
     band = (float(band_hz[0]), float(band_hz[1]))
     rec = np.asarray(receptance, dtype=complex)
-    _check_peak(a_band, estimate_noise_std(rec[np.isfinite(rec)]), band, source)
+    if not _has_peak(a_band, estimate_noise_std(rec[np.isfinite(rec)])):
+        return NoResonance(band, f"band ({band[0]:g}, {band[1]:g}) Hz has no resonance peak "
+                                 "inside it (|receptance| does not rise clearly above its "
+                                 "values at the band edges)")
     x = (2.0 * np.pi * f_band) ** 2
 
     # First pass on the points around the measured peak, second pass on the points
@@ -158,7 +171,7 @@ def dobson_fit(
     est, x_c, x_h = _fit_points(x[used], a_band[used])
     used = _model_points(x, est, x_c, x_h, min_fraction)
     est, x_c, x_h = _fit_points(x[used], a_band[used])
-    return _to_modal_fit(est, x[used], a_band[used], x_c, x_h, band, source)
+    return _to_modal_fit(est, x[used], a_band[used], x_c, x_h, band)
 
 
 def dobson_fit_modes(
@@ -208,24 +221,72 @@ def dobson_fit_modes(
     >>> print([f"{fit.frequency_hz:.4f}" for fit in fits])
     ['100.0000', '105.0000']
     """
+    fits, failed = _fit_all(freq_hz, receptance, bands_hz, min_fraction, max_iterations,
+                            source)
+    if failed is not None:
+        raise InputError(failed.message, source=source, field="band_hz")
+    return fits
+
+
+def dobson_fit_bands(
+    freq_hz: np.ndarray,
+    receptance: np.ndarray,
+    bands_hz: Sequence[tuple[float, float]],
+    *,
+    min_fraction: float = 0.2,
+    max_iterations: int = 50,
+    source: str | None = None,
+) -> list[ModalFit | None]:
+    """:func:`dobson_fit_modes` for an FRF that may not show every mode: None for a band
+    without a usable resonance.
+
+    The neighbouring modes are subtracted only when every band fits; otherwise each band
+    is fitted on its own (the subtraction needs every mode's contribution).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = np.arange(50.0, 200.0, 0.25)
+    >>> alpha = 2.0 / ((2 * np.pi * 100.0) ** 2 * (1 + 0.01j) - (2 * np.pi * f) ** 2)
+    >>> fits = dobson_fit_bands(f, alpha, [(95.0, 105.0), (150.0, 160.0)])
+    >>> print(f"{fits[0].frequency_hz:.4f}", fits[1])
+    100.0000 None
+    """
+    fits, _ = _fit_all(freq_hz, receptance, bands_hz, min_fraction, max_iterations, source)
+    return [fit if isinstance(fit, ModalFit) else None for fit in fits]
+
+
+def _fit_all(freq_hz, receptance, bands_hz, min_fraction: float, max_iterations: int,
+             source: str | None) -> tuple[list, NoResonance | None]:
+    """Subtract-and-refit; on the first band without a resonance, the first-pass fits
+    (band by band on the raw data) and that band's status."""
     if max_iterations < 0:
         raise InputError(f"max_iterations must be >= 0, got {max_iterations}",
                          source=source, field="max_iterations")
     freq, rec = validate_frf(freq_hz, receptance, source)
-    fits = [dobson_fit(freq, rec, band, min_fraction=min_fraction, source=source)
-            for band in bands_hz]
+    first = [_fit_band(freq, rec, band, min_fraction, source) for band in bands_hz]
+    failed = _first_failure(first)
+    if failed is not None:
+        return first, failed
+    fits = first
     x = (2.0 * np.pi * freq) ** 2
     for _ in range(max_iterations if len(fits) > 1 else 0):
         parts = [mode_receptance(fit, x) for fit in fits]
         total = np.sum(parts, axis=0)
-        new = [dobson_fit(freq, rec - (total - own), band, min_fraction=min_fraction,
-                          source=source)
+        new = [_fit_band(freq, rec - (total - own), band, min_fraction, source)
                for band, own in zip(bands_hz, parts, strict=True)]
+        failed = _first_failure(new)
+        if failed is not None:
+            return first, failed
         settled = all(_settled(old, fit) for old, fit in zip(fits, new, strict=True))
         fits = new
         if settled:
             break
-    return fits
+    return fits, None
+
+
+def _first_failure(fits: list) -> NoResonance | None:
+    return next((fit for fit in fits if isinstance(fit, NoResonance)), None)
 
 
 def _settled(old: ModalFit, new: ModalFit) -> bool:
@@ -236,20 +297,14 @@ def _settled(old: ModalFit, new: ModalFit) -> bool:
             and de <= max(1e-3 * new.loss_factor_std, 1e-13 * abs(new.loss_factor)))
 
 
-def _check_peak(a_band: np.ndarray, noise: float, band: tuple[float, float],
-                source: str | None) -> None:
-    """Raise unless ``|alpha|`` has an interior maximum clearly above the band edges."""
+def _has_peak(a_band: np.ndarray, noise: float) -> bool:
+    """True if ``|alpha|`` has an interior maximum clearly above the band edges."""
     mag = np.abs(a_band)
     k = int(np.argmax(mag))
     edge = max(mag[0], mag[-1])
     rise = mag[k] - edge
-    if k in (0, mag.size - 1) or rise < max((_MIN_PEAK_TO_EDGE - 1.0) * edge,
-                                            MIN_PEAK_RISE_IN_STD * noise):
-        raise InputError(
-            f"band ({band[0]:g}, {band[1]:g}) Hz has no resonance peak inside it "
-            "(|receptance| does not rise clearly above its values at the band edges)",
-            source=source, field="band_hz",
-        )
+    return not (k in (0, mag.size - 1) or rise < max((_MIN_PEAK_TO_EDGE - 1.0) * edge,
+                                                    MIN_PEAK_RISE_IN_STD * noise))
 
 
 def _points_around(k: int, keep: np.ndarray) -> np.ndarray:
@@ -342,7 +397,7 @@ def _dobson(u: np.ndarray, alpha: np.ndarray, prior: _Estimate | None) -> _Estim
 
 
 def _to_modal_fit(est: _Estimate, x: np.ndarray, alpha: np.ndarray, x_c: float, x_h: float,
-                  band: tuple[float, float], source: str | None) -> ModalFit:
+                  band: tuple[float, float]) -> ModalFit | NoResonance:
     """Convert a scaled estimate to physical units and attach standard deviations."""
     u = (x - x_c) / x_h
     modal = est.amp / (est.pole - u)
@@ -357,11 +412,9 @@ def _to_modal_fit(est: _Estimate, x: np.ndarray, alpha: np.ndarray, x_c: float, 
     pole = x_c + x_h * est.pole
     wr2 = pole.real
     if wr2 <= 0.0:
-        raise InputError(
-            f"band ({band[0]:g}, {band[1]:g}) Hz: fit gave a non-positive natural "
-            "frequency squared; the band does not hold a usable resonance",
-            source=source, field="band_hz",
-        )
+        return NoResonance(band, f"band ({band[0]:g}, {band[1]:g}) Hz: fit gave a "
+                                 "non-positive natural frequency squared; the band does not "
+                                 "hold a usable resonance")
     wr = np.sqrt(wr2)
     eta = pole.imag / wr2
     freq_std = np.sqrt(pole_var) / (2.0 * wr) / (2.0 * np.pi)

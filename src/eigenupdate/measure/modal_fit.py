@@ -51,6 +51,19 @@ class ModalFit:
     method: str
 
 
+@dataclass(frozen=True)
+class NoResonance:
+    """Status of a fit that found no usable resonance in a band (not an error: an FRF
+    whose response point is near a node of the mode shows none). ``message`` says why.
+
+    >>> NoResonance((90.0, 110.0), "band (90, 110) Hz has no resonance peak").band_hz
+    (90.0, 110.0)
+    """
+
+    band_hz: tuple[float, float]
+    message: str
+
+
 def mode_receptance(fit, x: np.ndarray | float) -> np.ndarray | complex:
     """Receptance of one fitted mode alone at ``x = w**2`` (rad/s)**2.
 

@@ -51,7 +51,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, SingularMatrixError
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.eigen import DENSE_LIMIT, ShiftInvert, all_modes, base_operator, lowest_modes
@@ -404,8 +404,8 @@ def _solve_one(A: np.ndarray, B: np.ndarray, f: float) -> np.ndarray:
         raise _resonance_error(f) from None
 
 
-def _resonance_error(f: float) -> InputError:
-    return InputError(
+def _resonance_error(f: float) -> SingularMatrixError:
+    return SingularMatrixError(
         f"{f:g} Hz is an undamped natural frequency (singular dynamic stiffness); "
         "use a loss factor > 0 or move the frequency",
         field="frequency_hz",

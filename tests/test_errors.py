@@ -1,0 +1,81 @@
+"""The error family: bad input vs numerical trouble, exit statuses, warnings, and the
+statuses that replaced exceptions as control flow."""
+
+import warnings
+
+import numpy as np
+import pytest
+from _synth import Mode, receptance
+
+from eigenupdate.errors import (
+    EigenupdateWarning,
+    InputError,
+    NotConvergedError,
+    NumericalError,
+    RepeatedEigenvalueError,
+    SingularMatrixError,
+)
+from eigenupdate.measure import extraction
+from eigenupdate.measure.dobson import dobson_fit_bands
+from eigenupdate.measure.frf import FRF
+
+TWIN = """title = "two identical uncoupled oscillators"
+[model]
+type = "spring-mass"
+[[model.mass]]
+name = "m1"
+coordinate = 1
+value = 1.0
+[[model.mass]]
+name = "m2"
+coordinate = 2
+value = 1.0
+[[model.spring]]
+name = "k1"
+coordinates = [0, 1]
+value = 100.0
+[[model.spring]]
+name = "k2"
+coordinates = [0, 2]
+value = 100.0
+[measurement]
+modes = [1, 2]
+"""
+
+
+def test_numerical_errors_are_not_input_errors():
+    for cls in (SingularMatrixError, RepeatedEigenvalueError, NotConvergedError):
+        assert issubclass(cls, NumericalError) and not issubclass(cls, InputError)
+    assert RepeatedEigenvalueError("x").exit_status == 2
+    assert NotConvergedError("x").exit_status == 1
+    assert str(SingularMatrixError("singular", source="a.toml", field="model")) == \
+        "a.toml: model: singular"
+
+
+def test_repeated_eigenvalue_is_one_line_exit_2(tmp_path, run_cli):
+    study = tmp_path / "twin.toml"
+    study.write_text(TWIN)
+    code, out, err = run_cli("check", study)
+    assert code == 2 and "Traceback" not in err
+    assert len(err.strip().splitlines()) == 1
+    assert "twin.toml" in err and "modes 1 and 2 have a repeated eigenvalue" in err
+
+
+def test_band_without_peak_is_a_status_not_an_error():
+    f = np.arange(50.0, 200.0, 0.25)
+    h = receptance(f, [Mode(100.0, 0.01)])
+    fits = dobson_fit_bands(f, h, [(95.0, 105.0), (150.0, 160.0)])
+    assert fits[1] is None and abs(fits[0].frequency_hz - 100.0) < 1e-9
+
+
+def test_disagreeing_estimates_warn(monkeypatch):
+    f = np.arange(1.0, 400.0, 0.25)
+    h = receptance(f, [Mode(100.0, 0.01), Mode(250.0, 0.01)], noise=1e-3, seed=1)
+    frf = FRF(f, h)
+    monkeypatch.setattr(extraction, "DISAGREEMENT_WARNING", -1.0)  # every mode warns
+    with pytest.warns(EigenupdateWarning, match=r"base mode 2: Dobson 249\.99"):
+        extraction.extract_configuration([frf], [1, 2], "base")
+    monkeypatch.undo()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", EigenupdateWarning)
+        extraction.extract_configuration([frf], [1, 2], "base")

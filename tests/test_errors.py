@@ -73,8 +73,10 @@ def test_disagreeing_estimates_warn(monkeypatch):
     h = receptance(f, [Mode(100.0, 0.01), Mode(250.0, 0.01)], noise=1e-3, seed=1)
     frf = FRF(f, h)
     monkeypatch.setattr(extraction, "DISAGREEMENT_WARNING", -1.0)  # every mode warns
-    with pytest.warns(EigenupdateWarning, match=r"base mode 2: Dobson 249\.99"):
+    with pytest.warns(EigenupdateWarning) as record:
         extraction.extract_configuration([frf], [1, 2], "base")
+    got = [str(r.message)[:21] for r in record]
+    assert got == ["base mode 1: Dobson 1", "base mode 2: Dobson 2"]
     monkeypatch.undo()
     with warnings.catch_warnings():
         warnings.simplefilter("error", EigenupdateWarning)

@@ -6,6 +6,9 @@ import numpy as np
 import pytest
 from conftest import EXAMPLES
 
+from eigenupdate.identify.identifiability import check
+from eigenupdate.io.study import load_study
+
 BEAM = EXAMPLES / "paper_beam" / "study.toml"
 
 # Paper Table 6, updated column: EI (N m^2) and mass per length (kg/m) per element, m_L (kg).
@@ -66,13 +69,23 @@ def test_highest_updated_frequency_used(result):
     assert base2["updated_hz"] == pytest.approx(545.6, abs=0.05)
 
 
-def test_condition_of_plan(run_cli):
+def test_condition_of_plan():
+    # Section 7: cond(J^T J) = 3.82e9, of the plan's own (unweighted) J.
+    study = load_study(BEAM)
+    plan = check(study.model, study.configurations, study.modes)
+    assert plan.rank == 17 and plan.equations == 20 and plan.weighting == "none"
+    assert plan.condition_JTJ == pytest.approx(3.82e9, rel=0.05)
+    assert np.isclose(plan.condition_J ** 2, plan.condition_JTJ, rtol=1e-12)
+
+
+def test_check_command_weights_as_the_estimator(run_cli):
+    code, out, _ = run_cli("check", BEAM, "--json", "--method", "least-squares")
+    assert code == 0 and json.loads(out)["condition_JTJ"] == pytest.approx(3.82e9, rel=0.05)
+    # the study's Bayesian estimator: measured std and priors; the priors regularise
     code, out, _ = run_cli("check", BEAM, "--json")
     doc = json.loads(out)
-    assert code == 0 and doc["rank"] == 17 and doc["equations"] == 20
-    # Section 7: cond(J^T J) = 3.82e9.
-    assert doc["condition_JTJ"] == pytest.approx(3.82e9, rel=0.05)
-    assert np.isclose(doc["condition_J"] ** 2, doc["condition_JTJ"], rtol=1e-3)
+    assert code == 0 and doc["rank"] == 17 and doc["weighting"] == "measurement std and prior std"
+    assert doc["condition_JTJ"] < 1e4
 
 
 def test_posterior_std_below_prior(result):

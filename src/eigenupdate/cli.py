@@ -17,8 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from eigenupdate.errors import EigenupdateWarning, InputError, NumericalError
-from eigenupdate.identify.identifiability import check
-from eigenupdate.identify.updating import METHODS, update
+from eigenupdate.identify.weights import ESTIMATORS
 from eigenupdate.io.atomic import write_text
 from eigenupdate.io.measurements import Measurement, write_measurements
 from eigenupdate.io.study import Study, load_study
@@ -30,6 +29,7 @@ from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plo
 from eigenupdate.report import text as report
 from eigenupdate.solve.jacobian import solve_configurations
 from eigenupdate.solve.response import receptance, uff_point
+from eigenupdate.workflow import check_study, update_study
 
 
 def _output_file(path: str | None, flag: str) -> None:
@@ -130,21 +130,16 @@ def cmd_simulate(args) -> int:
 
 def cmd_check(args) -> int:
     study = load_study(args.study)
-    r = check(study.model, study.configurations, study.require_modes())
-    print(report.dumps(report.check_doc(r)) if args.json else report.check_text(r, study.title))
+    r = check_study(study, args.method)
+    print(report.dumps(r.to_dict()) if args.json else report.check_text(r, study.title))
     return 0
 
 
 def cmd_update(args) -> int:
     _output_file(args.save, "--save")
     study = load_study(args.study)
-    method = args.method or study.method
-    res = update(
-        study.model, study.configurations, study.require_modes(), study.measurements(),
-        method=method, max_iterations=study.max_iterations, xtol=study.tolerance,
-        source=str(study.frequencies),
-    )
-    doc = report.update_doc(res)
+    res = update_study(study, args.method)
+    doc = res.to_dict()
     if args.save:
         write_text(args.save, report.dumps({"study": str(study.path), **doc}) + "\n")
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
@@ -409,12 +404,15 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("check", help="identifiability of the test plan (condition, rank of J)")
     s.add_argument("study")
+    s.add_argument("--method", choices=ESTIMATORS,
+                   help="weight J as this estimator does (default: the study's; "
+                        "least-squares: the plan's own J, as the paper)")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_check)
 
     s = sub.add_parser("update", help="update the parameters from the measured frequencies")
     s.add_argument("study")
-    s.add_argument("--method", choices=METHODS)
+    s.add_argument("--method", choices=ESTIMATORS)
     s.add_argument("--json", action="store_true")
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
     s.set_defaults(func=cmd_update)

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import Any
 
 from eigenupdate.errors import InputError
-from eigenupdate.identify.updating import METHODS
+from eigenupdate.identify.weights import ESTIMATORS
 from eigenupdate.io.matrix_market import matrix_model
 from eigenupdate.io.measurements import Measurement, read_measurements
 from eigenupdate.model.beam import beam_model, element_parameter_names
@@ -190,8 +190,8 @@ def load_study(path: str | Path) -> Study:
 
     up = _Reader(top.get("updating", "table", {}), "updating", src)
     method = up.get("method", "str", "least-squares")
-    if method not in METHODS:
-        raise up.error("method", f"unknown method {method!r}; expected one of {list(METHODS)}")
+    if method not in ESTIMATORS:
+        raise up.error("method", f"unknown method {method!r}; expected one of {list(ESTIMATORS)}")
     max_it = up.get("max_iterations", "int", 20)
     if max_it < 1:
         raise up.error("max_iterations", "must be >= 1")

@@ -23,12 +23,11 @@ from eigenupdate.io.measurements import Measurement, write_measurements
 from eigenupdate.io.study import Study, load_study
 from eigenupdate.io.uff import Mode, read_frf_files, read_modes, write_frfs, write_modes
 from eigenupdate.measure.extraction import extract_configuration, extraction_csv
-from eigenupdate.measure.frf import dof_label
 from eigenupdate.measure.synthetic import synthetic_frfs
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import text as report
 from eigenupdate.solve.jacobian import solve_configurations
-from eigenupdate.solve.response import receptance, uff_point
+from eigenupdate.solve.response import receptance
 from eigenupdate.workflow import check_study, update_study
 
 
@@ -214,6 +213,7 @@ def cmd_extract(args) -> int:
         done.append((c, frfs, ex))
     results = [m for _, _, ex in done for m in ex]
     if args.plots:
+        label = study.model.coordinate_table.point_label
         Path(args.plots).mkdir(parents=True, exist_ok=True)
         for c, frfs, ex in done:
             for j, x in enumerate(frfs):
@@ -223,8 +223,8 @@ def cmd_extract(args) -> int:
                     plot_extraction_fit(out, x.frequency_hz, x.receptance,
                                         [m.fits[j] for m in shown],
                                         mode_numbers=[m.mode for m in shown],
-                                        title=f"{c.name}: {dof_label(x.response)}/"
-                                              f"{dof_label(x.reference)}")
+                                        title=f"{c.name}: {label(x.response)} / "
+                                              f"{label(x.reference)}")
         _progress(f"wrote the fit plots to {args.plots}")
     write_text(args.output, extraction_csv(results))
     if args.uff55:
@@ -301,18 +301,20 @@ def cmd_frf(args) -> int:
     _finite(args.loss_factor, "--loss-factor")
     study = load_study(args.study)
     config = _configuration(study, args.configuration)
-    kind = study.model_type
+    table = study.model.coordinate_table
     measured = None
     if args.measured:
         frfs = read_frf_files([args.measured])
-        want = (uff_point(kind, args.output), uff_point(kind, args.input))
+        want = (table[args.output].uff_point, table[args.input].uff_point)
         match = [x for x in frfs if (x.response, x.reference) == want]
         if not match and len(frfs) == 1 and frfs[0].response == (0, 0):
             match = frfs  # a CSV FRF carries no points: take it as the one asked for
         if not match:
-            have = ", ".join(f"{dof_label(x.response)}/{dof_label(x.reference)}" for x in frfs)
-            raise InputError(f"no FRF for response {dof_label(want[0])}, reference "
-                             f"{dof_label(want[1])} (file has {have})", source=args.measured)
+            have = "; ".join(f"{table.point_label(x.response)} / {table.point_label(x.reference)}"
+                             for x in frfs)
+            raise InputError(f"no FRF for response {table.label(args.output)}, reference "
+                             f"{table.label(args.input)} (file has {have})",
+                             source=args.measured)
         measured = match[0]
         f = measured.frequency_hz
     else:

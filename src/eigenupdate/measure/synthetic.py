@@ -2,7 +2,7 @@
 
 Used to exercise the modal-extraction and updating chain without a test rig: predict
 the receptance of a configuration with :func:`eigenupdate.solve.response.receptance`, add noise,
-and label every FRF with universal-file points (:func:`eigenupdate.solve.response.uff_point`).
+and label every FRF with the universal-file points of the model's coordinate table.
 """
 
 from __future__ import annotations
@@ -16,20 +16,9 @@ from eigenupdate.errors import InputError
 from eigenupdate.measure.frf import FRF
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
-from eigenupdate.solve.response import (
-    coordinate_from_uff,
-    infer_model_kind,
-    receptance,
-    uff_point,
-)
+from eigenupdate.solve.response import receptance
 
-__all__ = [
-    "PEAK_BAND_FRACTION",
-    "coordinate_from_uff",
-    "noise_reference",
-    "synthetic_frfs",
-    "uff_point",
-]
+__all__ = ["PEAK_BAND_FRACTION", "noise_reference", "synthetic_frfs"]
 
 #: The noise reference peak is taken above this fraction of the highest frequency.
 PEAK_BAND_FRACTION = 0.05
@@ -62,14 +51,13 @@ def synthetic_frfs(
     model: ParametricModel,
     configuration: Configuration | None,
     frequency_hz: ArrayLike,
-    input: int,
+    excitation: int,
     outputs: int | Sequence[int],
     loss_factors: float | Sequence[float],
     noise: float = 0.01,
     seed: int | np.random.Generator | None = None,
     *,
     values: Sequence[float] | Mapping[str, float] | None = None,
-    model_kind: str | None = None,
 ) -> list[FRF]:
     """Receptance FRFs of a configuration with added complex Gaussian noise.
 
@@ -82,7 +70,7 @@ def synthetic_frfs(
     frequency_hz : array_like
         Strictly increasing frequency axis in Hz, ``>= 0``. At 0 Hz a free structure
         has no receptance: that line is NaN (the FRF type allows it).
-    input : int
+    excitation : int
         Coordinate of the force.
     outputs : int or sequence of int
         Response coordinates, one FRF each.
@@ -96,15 +84,13 @@ def synthetic_frfs(
         standard deviation ``noise * peak / sqrt(2)``, the same at every frequency.
     seed : int, Generator or None
         Random seed (reproducible noise) or a NumPy Generator.
-    model_kind : {"beam", "spring-mass", "matrices"}, optional
-        How coordinates map to universal-file ``(node, direction)`` labels; guessed by
-        :func:`eigenupdate.solve.response.infer_model_kind` if None.
 
     Returns
     -------
     list of FRF
         One per output, in order; ``response`` and ``reference`` are the UFF points
-        of the output and input coordinates, ``source`` says where it came from.
+        of the output and excitation coordinates (``model.coordinate_table``),
+        ``source`` says where it came from.
 
     Examples
     --------
@@ -125,11 +111,11 @@ def synthetic_frfs(
     freq = np.asarray(frequency_hz, dtype=float)
     if not (np.isfinite(noise) and noise >= 0):
         raise InputError(f"noise must be a finite fraction >= 0, got {noise!r}", field="noise")
-    kind = infer_model_kind(model) if model_kind is None else model_kind
     outs = [outputs] if np.ndim(outputs) == 0 else list(outputs)
-    reference = uff_point(kind, input)
-    points = [uff_point(kind, c) for c in outs]
-    H = receptance(model, freq, input, outs, configuration=configuration, values=values,
+    table = model.coordinate_table
+    reference = table[excitation].uff_point
+    points = [table[c].uff_point for c in outs]
+    H = receptance(model, freq, excitation, outs, configuration=configuration, values=values,
                    loss_factor=loss_factors)
     H = H.reshape(freq.size, len(outs))
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
@@ -140,5 +126,5 @@ def synthetic_frfs(
         if noise > 0:
             scale = noise * noise_reference(freq, h) / np.sqrt(2.0)
             h = h + scale * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size))
-        out.append(FRF(freq, h, point, reference, source=f"synthetic {name}: {c}/{input}"))
+        out.append(FRF(freq, h, point, reference, source=f"synthetic {name}: {c}/{excitation}"))
     return out

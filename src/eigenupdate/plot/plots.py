@@ -33,7 +33,7 @@ from eigenupdate.measure.modal_fit import mode_receptance
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.eigen import DENSE_LIMIT, base_operator, solve_elastic
-from eigenupdate.solve.response import configuration_matrices, infer_model_kind
+from eigenupdate.solve.response import configuration_matrices
 
 __all__ = [
     "FORMATS",
@@ -386,7 +386,7 @@ def plot_mass_sweep(
     _format(path)
     sweep = mass_sweep(model, coordinate, max_mass, n_modes, configuration, n_points,
                        values=values)
-    rotational = infer_model_kind(model) == "beam" and coordinate % 2 == 0
+    rotational = model.coordinate_table[coordinate].rotation
     what = "added rotary inertia" if rotational else "added mass"
     unit = "kg m$^2$" if rotational else "kg"
     if sweep.percent is not None:

@@ -42,6 +42,19 @@ class Study:
     tolerance: float = 1e-8
     frf: dict[str, list[Path]] = field(default_factory=dict)
     frf_options: dict[str, Any] = field(default_factory=dict)
+    bands_hz: dict[str, list[list[float]]] = field(default_factory=dict)
+    """[measurement.frf_options] bands_hz by configuration (validated; empty: automatic)."""
+    exclude_below_hz: float | None = None
+
+    def configuration(self, name: str | None = None) -> Configuration:
+        """The configuration called ``name``; the bare structure if None."""
+        if name is None:
+            return self.configurations[0]
+        for c in self.configurations:
+            if c.name == name:
+                return c
+        raise InputError(f"no configuration {name!r} (have "
+                         f"{[c.name for c in self.configurations]})", source=str(self.path))
 
     def measurements(self) -> dict[tuple[str, int], Measurement]:
         """Read the measurement CSV; configuration names must be those of the study."""
@@ -213,7 +226,41 @@ def load_study(path: str | Path) -> Study:
         tolerance=tol,
         frf=frf,
         frf_options=frf_options,
+        **_frf_settings(frf_options, names, src),
     )
+
+
+def _frf_settings(options: dict, names: list[str], src: str) -> dict[str, Any]:
+    """[measurement.frf_options]: bands_hz (list, or table by configuration), exclude_below_hz."""
+    opts = dict(options)
+    field_ = "measurement.frf_options"
+    bands = opts.pop("bands_hz", None)
+    low = opts.pop("exclude_below_hz", None)
+    if opts:
+        raise InputError(f"unknown key(s) {sorted(opts)}", source=src, field=field_)
+    if bands is None:
+        table = {}
+    elif isinstance(bands, list):
+        table = {n: bands for n in names}
+    elif isinstance(bands, dict):
+        unknown = set(bands) - set(names)
+        if unknown:
+            raise InputError(f"unknown configuration(s) {sorted(unknown)}", source=src,
+                             field=f"{field_}.bands_hz")
+        table = bands
+    else:
+        raise InputError("must be a list of [low, high] pairs or a table of them", source=src,
+                         field=f"{field_}.bands_hz")
+    for name, b in table.items():
+        ok = isinstance(b, list) and all(
+            isinstance(x, list) and len(x) == 2 and all(isinstance(v, int | float) for v in x)
+            and 0 <= x[0] < x[1] for x in b)
+        if not ok:
+            raise InputError(f"{name!r}: bands must be [low, high] pairs in Hz, 0 <= low < high",
+                             source=src, field=f"{field_}.bands_hz")
+    if low is not None and not (isinstance(low, int | float) and low >= 0):
+        raise InputError("must be a number >= 0", source=src, field=f"{field_}.exclude_below_hz")
+    return {"bands_hz": table, "exclude_below_hz": low}
 
 
 def _parameter(r: _Reader, seen: dict[str, str], default_value: Any = ...) -> Parameter:

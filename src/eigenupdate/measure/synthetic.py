@@ -13,12 +13,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from eigenupdate.errors import InputError
+from eigenupdate.io.measurements import Measurement
 from eigenupdate.measure.frf import FRF
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve.jacobian import solve_configurations
 from eigenupdate.solve.response import receptance
 
-__all__ = ["PEAK_BAND_FRACTION", "noise_reference", "synthetic_frfs"]
+__all__ = ["PEAK_BAND_FRACTION", "noise_reference", "simulate_measurements", "synthetic_frfs"]
 
 #: The noise reference peak is taken above this fraction of the highest frequency.
 PEAK_BAND_FRACTION = 0.05
@@ -128,3 +130,52 @@ def synthetic_frfs(
             h = h + scale * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size))
         out.append(FRF(freq, h, point, reference, source=f"synthetic {name}: {c}/{excitation}"))
     return out
+
+
+def simulate_measurements(
+    model: ParametricModel,
+    configurations: Sequence[Configuration],
+    modes: Sequence[int],
+    *,
+    noise_hz: float = 0.0,
+    std_hz: float | None = None,
+    seed: int | np.random.Generator | None = None,
+) -> list[Measurement]:
+    """The natural frequencies the model (taken as the truth) gives, with Gaussian noise.
+
+    Parameters
+    ----------
+    noise_hz : standard deviation (Hz) of the noise added to every frequency.
+    std_hz : the std recorded with each frequency; default the noise level (None if 0).
+    seed : random seed or Generator.
+
+    Examples
+    --------
+    >>> from eigenupdate.model.parameters import Parameter
+    >>> from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+    >>> from eigenupdate.model.configurations import Configuration, mass_at
+    >>> model = spring_mass_model([Mass(Parameter("m", 2.0), 1)],
+    ...                           [Spring(Parameter("k", 800.0), (0, 1))])
+    >>> rows = simulate_measurements(model, [Configuration("base"), mass_at(1, 2.0)], [1])
+    >>> [(m.configuration, round(m.frequency_hz, 6)) for m in rows]   # sqrt(k/m) / 2 pi
+    [('base', 3.183099), ('2 kg at 1', 2.250791)]
+    """
+    if not (np.isfinite(noise_hz) and noise_hz >= 0):
+        raise InputError(f"{noise_hz!r} must be a finite number >= 0", field="--noise-hz")
+    if std_hz is not None and not (np.isfinite(std_hz) and std_hz > 0):
+        raise InputError(f"{std_hz!r} must be a finite number > 0", field="--std-hz")
+    std = std_hz if std_hz is not None else (noise_hz or None)
+    sols = solve_configurations(model, configurations, max(modes))
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    rows = []
+    for c, s in zip(configurations, sols, strict=True):
+        for k in modes:
+            f = float(s.frequencies_hz[k - 1])
+            if noise_hz > 0:
+                f += float(rng.normal(0.0, noise_hz))
+                if f <= 0:
+                    raise InputError(f"noise of {noise_hz:g} Hz made the frequency of "
+                                     f"{c.name!r} mode {k} negative; use less noise",
+                                     field="--noise-hz")
+            rows.append(Measurement(c.name, k, f, std))
+    return rows

@@ -1,4 +1,4 @@
-"""Tests for eigenupdate.measure.frf: the FRF type, unit conversion, CSV files."""
+"""Tests for eigenupdate.measure.frf (the FRF type, unit conversion) and io.frf_csv."""
 
 from __future__ import annotations
 
@@ -12,16 +12,9 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from eigenupdate.errors import InputError
-from eigenupdate.measure.frf import (
-    FRF,
-    atomic_write,
-    check_same_axis,
-    dof_label,
-    is_uniform,
-    read_frf_csv,
-    to_receptance,
-    write_frf_csv,
-)
+from eigenupdate.io.atomic import atomic_write
+from eigenupdate.io.frf_csv import read_frf_csv, write_frf_csv
+from eigenupdate.measure.frf import FRF, check_same_axis, dof_label, is_uniform, to_receptance
 
 # Analytic viscously damped SDOF: m x'' + c x' + k x = F.
 M, K, C = 2.0, 8.0e4, 12.0

@@ -13,15 +13,10 @@ from eigenupdate.model.beam import beam_model
 from eigenupdate.model.configurations import mass_at
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
-from eigenupdate.plot.plots import (
-    MassSweep,
-    mass_sweep,
-    plot_extraction_fit,
-    plot_frf_comparison,
-    plot_mass_sweep,
-)
+from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.solve.eigen import solve_elastic
 from eigenupdate.solve.response import configuration_matrices, receptance
+from eigenupdate.solve.sweep import MassSweep, mass_sweep
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 NODES = [0, 0.09, 0.19, 0.29, 0.39, 0.49, 0.59, 0.69, 0.80]

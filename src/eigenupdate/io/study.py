@@ -15,7 +15,7 @@ from typing import Any
 
 from eigenupdate.errors import InputError
 from eigenupdate.identify.weights import ESTIMATORS
-from eigenupdate.io.matrix_market import matrix_model
+from eigenupdate.io.matrix_market import read_matrix_model
 from eigenupdate.io.measurements import Measurement, read_measurements
 from eigenupdate.model.beam import beam_model, element_parameter_names
 from eigenupdate.model.configurations import BASE, Addition, Configuration
@@ -359,7 +359,7 @@ def _matrices(m: _Reader, base: Path) -> ParametricModel:
             raise r.error("K", "a parameter needs a K and/or an M file")
         r.finish()
         params.append((p, None if kf is None else base / kf, None if mf is None else base / mf))
-    return matrix_model(k0, m0, params)
+    return read_matrix_model(k0, m0, params)
 
 
 def _perturbation(r: _Reader) -> Configuration:

@@ -49,7 +49,7 @@ from eigenupdate.io.matrix_market import read_matrix_model
 from eigenupdate.io.measurements import Measurement, read_measurements, write_measurements
 from eigenupdate.io.study import Study, load_study
 from eigenupdate.io.uff import Mode, read_frf_files, read_frfs, read_modes, write_frfs, write_modes
-from eigenupdate.measure.dobson import dobson_fit, dobson_fit_bands, dobson_fit_modes
+from eigenupdate.measure.dobson import dobson_fit, dobson_fit_modes
 from eigenupdate.measure.extraction import ExtractedMode, extract_configuration
 from eigenupdate.measure.frf import FRF, to_receptance
 from eigenupdate.measure.modal_fit import ModalFit, NoResonance
@@ -90,9 +90,9 @@ __all__ = [
     "ESTIMATORS", "EstimatorWeights", "IdentifiabilityReport", "Iterate", "STATUS_MESSAGES",
     "Step", "UpdateResult", "check", "estimator_weights", "identifiability", "update",
     # measure
-    "ExtractedMode", "FRF", "ModalFit", "NoResonance", "dobson_fit", "dobson_fit_bands",
-    "dobson_fit_modes", "extract_configuration", "rational_fraction_fit",
-    "simulate_measurements", "synthetic_frfs", "to_receptance",
+    "ExtractedMode", "FRF", "ModalFit", "NoResonance", "dobson_fit", "dobson_fit_modes",
+    "extract_configuration", "rational_fraction_fit", "simulate_measurements", "synthetic_frfs",
+    "to_receptance",
     # io
     "Measurement", "Mode", "Study", "load_study", "read_frf_csv", "read_frf_files",
     "read_frfs", "read_matrix_model", "read_measurements", "read_modes", "write_frf_csv",

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from eigenupdate import workflow
 from eigenupdate.errors import EigenupdateWarning, InputError, NumericalError
 from eigenupdate.identify.weights import ESTIMATORS
 from eigenupdate.io.atomic import write_text
@@ -24,15 +25,7 @@ from eigenupdate.io.uff import Mode, write_frfs, write_modes
 from eigenupdate.measure.extraction import extraction_csv
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import text as report
-from eigenupdate.workflow import (
-    check_study,
-    compare_frf,
-    extract_study,
-    simulate_study,
-    simulate_study_frfs,
-    study_frequencies,
-    update_study,
-)
+from eigenupdate.solve.sweep import mass_sweep
 
 
 def _output_file(path: str | None, flag: str) -> None:
@@ -81,7 +74,7 @@ def _seed(text: str) -> int:
 
 def cmd_frequencies(args) -> int:
     study = load_study(args.study)
-    freqs = study_frequencies(study, args.modes)
+    freqs = workflow.study_frequencies(study, args.modes)
     doc = {"configurations": [{"name": name, "frequencies_hz": f.tolist()}
                               for name, f in freqs.items()]}
     if args.json:
@@ -97,7 +90,7 @@ def cmd_frequencies(args) -> int:
 def cmd_simulate(args) -> int:
     _output_file(args.output, "-o")
     study = load_study(args.study)
-    rows = simulate_study(study, args.noise_hz, args.std_hz, args.seed)
+    rows = workflow.simulate_study(study, args.noise_hz, args.std_hz, args.seed)
     write_measurements(args.output, rows)
     print(f"wrote {len(rows)} frequencies of {len(study.configurations)} configurations to "
           f"{args.output}", file=sys.stderr)
@@ -106,7 +99,7 @@ def cmd_simulate(args) -> int:
 
 def cmd_check(args) -> int:
     study = load_study(args.study)
-    r = check_study(study, args.method)
+    r = workflow.check_study(study, args.method)
     print(report.dumps(r.to_dict()) if args.json else report.check_text(r, study.title))
     return 0
 
@@ -114,7 +107,7 @@ def cmd_check(args) -> int:
 def cmd_update(args) -> int:
     _output_file(args.save, "--save")
     study = load_study(args.study)
-    res = update_study(study, args.method)
+    res = workflow.update_study(study, args.method)
     doc = res.to_dict()
     if args.save:
         write_text(args.save, report.dumps({"study": str(study.path), **doc}) + "\n")
@@ -139,7 +132,8 @@ def cmd_extract(args) -> int:
     _output_file(args.uff55, "--uff55")
     _output_dir(args.plots, "--plots")
     study = load_study(args.study)
-    done = extract_study(study, progress=_progress)  # everything before anything is written
+    # everything is extracted before anything is written
+    done = workflow.extract_study(study, progress=_progress)
     results = [m for d in done for m in d.modes]
     if args.plots:
         label = study.model.coordinate_table.point_label
@@ -180,7 +174,7 @@ def cmd_simulate_frf(args) -> int:
     study = load_study(args.study)
     f = np.arange(args.df, args.fmax + 0.5 * args.df, args.df)  # 0 Hz: rigid modes are infinite
     # everything is computed before the directory is made: no half-done output
-    sets = simulate_study_frfs(study, f, args.input, args.outputs, args.loss_factor,
+    sets = workflow.simulate_study_frfs(study, f, args.input, args.outputs, args.loss_factor,
                                noise=args.noise, seed=args.seed)
     out = Path(args.output)
     out.mkdir(parents=True, exist_ok=True)
@@ -198,7 +192,7 @@ def cmd_frf(args) -> int:
     _finite(args.fmax, "--fmax", positive=True)
     _finite(args.loss_factor, "--loss-factor")
     study = load_study(args.study)
-    c = compare_frf(study, args.input, args.output, configuration=args.configuration,
+    c = workflow.compare_frf(study, args.input, args.output, configuration=args.configuration,
                     measured=args.measured, updated=args.updated, loss_factor=args.loss_factor,
                     damping=args.damping, fmax_hz=args.fmax)
     plot_frf_comparison(
@@ -215,9 +209,9 @@ def cmd_sweep(args) -> int:
         raise InputError(f"{args.modes} must be >= 1", field="--modes")
     study = load_study(args.study)
     n = args.modes or max(study.modes or [3])
-    plot_mass_sweep(args.o, study.model, args.coordinate, args.max_mass, n,
-                    configuration=study.configuration(args.configuration),
-                    title=study.title)
+    sweep = mass_sweep(study.model, args.coordinate, args.max_mass, n,
+                       configuration=study.configuration(args.configuration))
+    plot_mass_sweep(args.o, sweep, title=study.title)
     _progress(f"wrote {args.o}")
     return 0
 

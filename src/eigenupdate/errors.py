@@ -21,37 +21,27 @@ configuration 'base': modes 1 and 2 coincide -> exit 2
 from __future__ import annotations
 
 
-def _located(message: str, source: str | None, field: str | None) -> str:
-    prefix = ": ".join(p for p in (source, field) if p)
-    return f"{prefix}: {message}" if prefix else message
+class _Located(Exception):
+    """One-line message ``source: field: message``; ``exit_status`` is the CLI's."""
+
+    exit_status = 2
+
+    def __init__(self, message: str, *, source: str | None = None, field: str | None = None):
+        prefix = ": ".join(p for p in (source, field) if p)
+        super().__init__(f"{prefix}: {message}" if prefix else message)
+        self.source = source
+        self.field = field
 
 
-class InputError(ValueError):
+class InputError(_Located, ValueError):
     """Bad input: the message names the file, the field and what is wrong.
 
     The CLI prints ``eigenupdate: error: <message>`` and exits with status 2.
     """
 
-    exit_status = 2
 
-    def __init__(self, message: str, *, source: str | None = None, field: str | None = None):
-        super().__init__(_located(message, source, field))
-        self.source = source
-        self.field = field
-
-
-class NumericalError(ArithmeticError):
-    """Valid input whose numbers cannot be computed reliably (base class).
-
-    Same one-line message shape as :class:`InputError`; ``exit_status`` is the CLI's.
-    """
-
-    exit_status = 2
-
-    def __init__(self, message: str, *, source: str | None = None, field: str | None = None):
-        super().__init__(_located(message, source, field))
-        self.source = source
-        self.field = field
+class NumericalError(_Located, ArithmeticError):
+    """Valid input whose numbers cannot be computed reliably (base class)."""
 
 
 class SingularMatrixError(NumericalError):

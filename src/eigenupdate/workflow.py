@@ -111,7 +111,7 @@ def extract_study(study: Study,
 
 
 def simulate_study_frfs(study: Study, frequency_hz: np.ndarray, excitation: int,
-                        outputs: Sequence[int], loss_factors: float | Sequence[float],
+                        outputs: Sequence[int], loss_factor: float | Sequence[float],
                         noise: float = 0.01,
                         seed: int | None = None) -> list[tuple[Configuration, list[FRF]]]:
     """Synthetic noisy FRFs of every configuration (``eigenupdate simulate-frf``), one
@@ -119,7 +119,7 @@ def simulate_study_frfs(study: Study, frequency_hz: np.ndarray, excitation: int,
     if len(set(outputs)) != len(outputs):
         raise InputError(f"coordinates repeated in {list(outputs)}", field="--outputs")
     rng = np.random.default_rng(seed)
-    return [(c, synthetic_frfs(study.model, c, frequency_hz, excitation, outputs, loss_factors,
+    return [(c, synthetic_frfs(study.model, c, frequency_hz, excitation, outputs, loss_factor,
                                noise=noise, seed=rng))
             for c in study.configurations]
 

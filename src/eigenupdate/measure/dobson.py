@@ -77,7 +77,7 @@ from eigenupdate.measure.modal_fit import (
 )
 from eigenupdate.measure.peaks import estimate_noise_std
 
-__all__ = ["ModalFit", "dobson_fit", "dobson_fit_bands", "dobson_fit_modes"]
+__all__ = ["ModalFit", "dobson_fit", "dobson_fit_modes"]
 
 #: A peak must stand this much above both band edges to count as a resonance, as a
 #: ratio and in standard deviations of the noise on the FRF.
@@ -95,7 +95,7 @@ class _Estimate:
 
 
 def dobson_fit(
-    freq_hz: np.ndarray,
+    frequency_hz: np.ndarray,
     receptance: np.ndarray,
     band_hz: tuple[float, float],
     *,
@@ -106,10 +106,10 @@ def dobson_fit(
 
     Parameters
     ----------
-    freq_hz : ndarray
+    frequency_hz : ndarray
         Frequency axis in Hz, strictly increasing.
     receptance : ndarray
-        Complex receptance in m/N at ``freq_hz``.
+        Complex receptance in m/N at ``frequency_hz``.
     band_hz : tuple of float
         ``(low, high)`` band in Hz holding one resonance peak.
     min_fraction : float, optional
@@ -146,16 +146,16 @@ def dobson_fit(
     if not 0.0 < min_fraction < 1.0:
         raise InputError(f"min_fraction must lie in (0, 1), got {min_fraction}",
                          source=source, field="min_fraction")
-    fit = _fit_band(freq_hz, receptance, band_hz, min_fraction, source)
+    fit = _fit_band(frequency_hz, receptance, band_hz, min_fraction, source)
     if isinstance(fit, NoResonance):
         raise InputError(fit.message, source=source, field="band_hz")
     return fit
 
 
-def _fit_band(freq_hz, receptance, band_hz, min_fraction: float,
+def _fit_band(frequency_hz, receptance, band_hz, min_fraction: float,
               source: str | None) -> ModalFit | NoResonance:
     """:func:`dobson_fit`, returning a status where the band holds no usable resonance."""
-    f_band, a_band = select_band(freq_hz, receptance, band_hz, source)
+    f_band, a_band = select_band(frequency_hz, receptance, band_hz, source)
     band = (float(band_hz[0]), float(band_hz[1]))
     rec = np.asarray(receptance, dtype=complex)
     if not _has_peak(a_band, estimate_noise_std(rec[np.isfinite(rec)])):
@@ -175,14 +175,15 @@ def _fit_band(freq_hz, receptance, band_hz, min_fraction: float,
 
 
 def dobson_fit_modes(
-    freq_hz: np.ndarray,
+    frequency_hz: np.ndarray,
     receptance: np.ndarray,
     bands_hz: Sequence[tuple[float, float]],
     *,
     min_fraction: float = 0.2,
     max_iterations: int = 50,
     source: str | None = None,
-) -> list[ModalFit]:
+    skip_missing: bool = False,
+) -> list[ModalFit] | list[ModalFit | None]:
     """Fit one mode per band with :func:`dobson_fit`, correcting for the other modes.
 
     After a first fit of every band, the fitted contributions of all *other* modes are
@@ -194,7 +195,7 @@ def dobson_fit_modes(
 
     Parameters
     ----------
-    freq_hz, receptance : ndarray
+    frequency_hz, receptance : ndarray
         Frequency axis (Hz, strictly increasing) and complex receptance (m/N).
     bands_hz : sequence of (float, float)
         One band per mode, e.g. from :func:`eigenupdate.measure.peaks.propose_bands`.
@@ -204,10 +205,14 @@ def dobson_fit_modes(
         Most subtract-and-refit passes (0 fits every band on the raw data).
     source : str, optional
         Name of the data source, used in error messages.
+    skip_missing : bool, optional
+        For an FRF that need not show every mode (a response point near a node): None
+        for a band without a usable resonance instead of an InputError. The neighbouring
+        modes are then subtracted only when every band fits.
 
     Returns
     -------
-    list of ModalFit
+    list of ModalFit (or None with ``skip_missing``)
         One fit per band, in the order of ``bands_hz``.
 
     Examples
@@ -220,50 +225,30 @@ def dobson_fit_modes(
     >>> fits = dobson_fit_modes(f, alpha, [(95.0, 102.5), (102.5, 110.0)])
     >>> print([f"{fit.frequency_hz:.4f}" for fit in fits])
     ['100.0000', '105.0000']
+
+    A band without a resonance, skipped:
+
+    >>> fits = dobson_fit_modes(f, alpha, [(95.0, 102.5), (150.0, 160.0)], skip_missing=True)
+    >>> print(f"{fits[0].frequency_hz:.1f}", fits[1])
+    100.0 None
     """
-    fits, failed = _fit_all(freq_hz, receptance, bands_hz, min_fraction, max_iterations,
+    fits, failed = _fit_all(frequency_hz, receptance, bands_hz, min_fraction, max_iterations,
                             source)
+    if skip_missing:
+        return [fit if isinstance(fit, ModalFit) else None for fit in fits]
     if failed is not None:
         raise InputError(failed.message, source=source, field="band_hz")
     return fits
 
 
-def dobson_fit_bands(
-    freq_hz: np.ndarray,
-    receptance: np.ndarray,
-    bands_hz: Sequence[tuple[float, float]],
-    *,
-    min_fraction: float = 0.2,
-    max_iterations: int = 50,
-    source: str | None = None,
-) -> list[ModalFit | None]:
-    """:func:`dobson_fit_modes` for an FRF that may not show every mode: None for a band
-    without a usable resonance.
-
-    The neighbouring modes are subtracted only when every band fits; otherwise each band
-    is fitted on its own (the subtraction needs every mode's contribution).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> f = np.arange(50.0, 200.0, 0.25)
-    >>> alpha = 2.0 / ((2 * np.pi * 100.0) ** 2 * (1 + 0.01j) - (2 * np.pi * f) ** 2)
-    >>> fits = dobson_fit_bands(f, alpha, [(95.0, 105.0), (150.0, 160.0)])
-    >>> print(f"{fits[0].frequency_hz:.4f}", fits[1])
-    100.0000 None
-    """
-    fits, _ = _fit_all(freq_hz, receptance, bands_hz, min_fraction, max_iterations, source)
-    return [fit if isinstance(fit, ModalFit) else None for fit in fits]
-
-
-def _fit_all(freq_hz, receptance, bands_hz, min_fraction: float, max_iterations: int,
+def _fit_all(frequency_hz, receptance, bands_hz, min_fraction: float, max_iterations: int,
              source: str | None) -> tuple[list, NoResonance | None]:
     """Subtract-and-refit; on the first band without a resonance, the first-pass fits
     (band by band on the raw data) and that band's status."""
     if max_iterations < 0:
         raise InputError(f"max_iterations must be >= 0, got {max_iterations}",
                          source=source, field="max_iterations")
-    freq, rec = validate_frf(freq_hz, receptance, source)
+    freq, rec = validate_frf(frequency_hz, receptance, source)
     first = [_fit_band(freq, rec, band, min_fraction, source) for band in bands_hz]
     failed = _first_failure(first)
     if failed is not None:

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from eigenupdate.errors import EigenupdateWarning, InputError
-from eigenupdate.measure.dobson import MIN_PEAK_RISE_IN_STD, dobson_fit_bands
+from eigenupdate.measure.dobson import MIN_PEAK_RISE_IN_STD, dobson_fit_modes
 from eigenupdate.measure.frf import FRF, check_same_axis
 from eigenupdate.measure.modal_fit import ModalFit, NoResonance, mode_receptance
 from eigenupdate.measure.peaks import estimate_noise_std, propose_bands
@@ -159,7 +159,8 @@ def extract_configuration(
             # band k is mode k: bands out of order or overlapping would mislabel modes
             raise InputError(f"bands {bands} must be ascending and must not overlap "
                              f"(band k holds elastic mode k)", field=f"{where} bands_hz")
-    per_frf = [dobson_fit_bands(*_finite(x), bands, source=x.source or where) for x in frfs]
+    per_frf = [dobson_fit_modes(*_finite(x), bands, source=x.source or where, skip_missing=True)
+               for x in frfs]
     checks = [_rational_fraction(x, bands) for x in frfs] if cross_check else []
     out = []
     for k in range(1, len(bands) + 1):

@@ -61,28 +61,23 @@ class _Model:
     coefs: np.ndarray
 
 
-def rational_fraction_fit(
-    freq_hz: np.ndarray,
-    receptance: np.ndarray,
-    band_hz: tuple[float, float],
-    n_modes: int,
-    *,
-    lower_residual: bool = True,
-    upper_residual: bool = True,
-    source: str | None = None,
-) -> list[ModalFit]:
+def rational_fraction_fit(frequency_hz: np.ndarray, receptance: np.ndarray,
+                          band_hz: tuple[float, float], n_modes: int,
+                          **options: bool | str | None) -> list[ModalFit]:
     """Fit ``n_modes`` hysteretically damped modes at once over ``band_hz``.
 
     Parameters
     ----------
-    freq_hz : ndarray
+    frequency_hz : ndarray
         Frequency axis in Hz, strictly increasing.
     receptance : ndarray
-        Complex receptance in m/N at ``freq_hz``.
+        Complex receptance in m/N at ``frequency_hz``.
     band_hz : tuple of float
         ``(low, high)`` band in Hz; it must lie above 0 Hz.
     n_modes : int
         Number of modes in the band.
+    **options
+        Keywords of :func:`rational_fraction_status`:
     lower_residual : bool, optional
         Fit a ``-A0 / w**2`` term (rigid-body modes, modes far below the band).
     upper_residual : bool, optional
@@ -111,16 +106,14 @@ def rational_fraction_fit(
     >>> print([f"{fit.frequency_hz:.6f} Hz, eta = {fit.loss_factor:.6f}" for fit in fits])
     ['100.000000 Hz, eta = 0.010000', '250.000000 Hz, eta = 0.010000']
     """
-    fits = rational_fraction_status(freq_hz, receptance, band_hz, n_modes,
-                                    lower_residual=lower_residual,
-                                    upper_residual=upper_residual, source=source)
+    fits = rational_fraction_status(frequency_hz, receptance, band_hz, n_modes, **options)
     if isinstance(fits, NoResonance):
-        raise InputError(fits.message, source=source, field="band_hz")
+        raise InputError(fits.message, source=options.get("source"), field="band_hz")
     return fits
 
 
 def rational_fraction_status(
-    freq_hz: np.ndarray,
+    frequency_hz: np.ndarray,
     receptance: np.ndarray,
     band_hz: tuple[float, float],
     n_modes: int,
@@ -142,7 +135,7 @@ def rational_fraction_status(
         raise InputError(f"n_modes must be a positive integer, got {n_modes}",
                          source=source, field="n_modes")
     n_modes = int(n_modes)
-    f_band, a_band = select_band(freq_hz, receptance, band_hz, source)
+    f_band, a_band = select_band(frequency_hz, receptance, band_hz, source)
     band = (float(band_hz[0]), float(band_hz[1]))
     x = (2.0 * np.pi * f_band) ** 2
     x_c, x_h = 0.5 * (x[0] + x[-1]), 0.5 * (x[-1] - x[0])

@@ -55,7 +55,7 @@ def synthetic_frfs(
     frequency_hz: ArrayLike,
     excitation: int,
     outputs: int | Sequence[int],
-    loss_factors: float | Sequence[float],
+    loss_factor: float | Sequence[float],
     noise: float = 0.01,
     seed: int | np.random.Generator | None = None,
     *,
@@ -76,7 +76,7 @@ def synthetic_frfs(
         Coordinate of the force.
     outputs : int or sequence of int
         Response coordinates, one FRF each.
-    loss_factors : float or sequence of float
+    loss_factor : float or sequence of float
         Hysteretic loss factor, one for all modes or one per elastic mode
         (see :func:`eigenupdate.solve.response.receptance`).
     noise : float
@@ -118,7 +118,7 @@ def synthetic_frfs(
     reference = table[excitation].uff_point
     points = [table[c].uff_point for c in outs]
     H = receptance(model, freq, excitation, outs, configuration=configuration, values=values,
-                   loss_factor=loss_factors)
+                   loss_factor=loss_factor)
     H = H.reshape(freq.size, len(outs))
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     name = configuration.name if configuration is not None else "base"

@@ -28,9 +28,7 @@ from numpy.typing import ArrayLike
 from eigenupdate.errors import InputError
 from eigenupdate.io.atomic import atomic_write
 from eigenupdate.measure.modal_fit import mode_receptance
-from eigenupdate.model.configurations import Configuration
-from eigenupdate.model.parametric import ParametricModel
-from eigenupdate.solve.sweep import MassSweep, mass_sweep
+from eigenupdate.solve.sweep import MassSweep
 
 __all__ = [
     "FORMATS",
@@ -221,41 +219,13 @@ def _wrapped_phase(f: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray
 # ------------------------------------------------------------------------ mass sweep
 
 
-def plot_mass_sweep(
-    path: str | os.PathLike[str],
-    model: ParametricModel,
-    coordinate: int,
-    max_mass: float,
-    n_modes: int,
-    configuration: Configuration | None = None,
-    n_points: int = 41,
-    *,
-    values: Sequence[float] | Mapping[str, float] | None = None,
-    title: str | None = None,
-) -> MassSweep:
-    """Natural frequency of each elastic mode against added mass (paper Fig. 4).
+def plot_mass_sweep(path: str | os.PathLike[str], sweep: MassSweep, *,
+                    title: str | None = None) -> Path:
+    """Natural frequency of each elastic mode against added mass (paper Fig. 4), written
+    to ``path`` (``.png``, ``.svg`` or ``.pdf``, replaced atomically), which is returned.
 
-    Parameters
-    ----------
-    path : str or path-like
-        Output ``.png``, ``.svg`` or ``.pdf``; replaced atomically.
-    model, configuration, values :
-        The structure (see :func:`eigenupdate.solve.response.configuration_matrices`).
-    coordinate : int
-        Coordinate the mass is added at.
-    max_mass : float
-        Largest added mass, kg (a rotary inertia in kg m^2 on a rotational coordinate).
-    n_modes : int
-        Number of elastic modes to plot.
-    n_points : int
-        Number of added-mass values from 0 to ``max_mass``.
-    title : str, optional
-        Written before the default title, which names what is added where.
-
-    Returns
-    -------
-    MassSweep
-        The plotted numbers.
+    ``sweep`` comes from :func:`eigenupdate.solve.sweep.mass_sweep`; ``title`` is written
+    before the default title, which names what is added where.
 
     Notes
     -----
@@ -279,9 +249,11 @@ def plot_mass_sweep(
 
     >>> import tempfile, os
     >>> from eigenupdate.model.beam import beam_model
+    >>> from eigenupdate.solve.sweep import mass_sweep
     >>> beam = beam_model([0, 0.09, 0.19, 0.29, 0.39, 0.49, 0.59, 0.69, 0.80], 4557.0, 3.4)
+    >>> sweep = mass_sweep(beam, 1, 0.4, 2)
     >>> with tempfile.TemporaryDirectory() as tmp:
-    ...     sweep = plot_mass_sweep(os.path.join(tmp, "sweep.svg"), beam, 1, 0.4, 2)
+    ...     out = plot_mass_sweep(os.path.join(tmp, "sweep.svg"), sweep)
     >>> print(f"M[1,1] = {sweep.reference_mass:.4f} kg; 0.2 kg = {sweep.percent[20]:.0f} %")
     M[1,1] = 0.1137 kg; 0.2 kg = 176 %
     >>> print(sweep.frequencies_hz[[0, 20]].round(1))
@@ -289,9 +261,8 @@ def plot_mass_sweep(
      [183.2 513.9]]
     """
     _format(path)
-    sweep = mass_sweep(model, coordinate, max_mass, n_modes, configuration, n_points,
-                       values=values)
-    rotational = model.coordinate_table[coordinate].rotation
+    coordinate = sweep.coordinate.number
+    rotational = sweep.coordinate.rotation
     what = "added rotary inertia" if rotational else "added mass"
     unit = "kg m$^2$" if rotational else "kg"
     if sweep.percent is not None:
@@ -324,8 +295,8 @@ def plot_mass_sweep(
             top.set_xlabel(f"{what} ({unit})")
     ax_f.legend(loc="best", fontsize="small")
     ax_r.legend(loc="best", fontsize="small")
-    config = f" ({configuration.name})" if configuration is not None else ""
-    heading = f"Effect of {what} at coordinate {coordinate}{config}"
+    config = f" ({sweep.configuration})" if sweep.configuration is not None else ""
+    heading = f"Effect of {what} at {sweep.coordinate.label}{config}"
     fig.suptitle(f"{title}: {heading}" if title else heading)
     _save(fig, path)
     return sweep

@@ -14,6 +14,7 @@ import scipy.sparse as sp
 
 from eigenupdate.errors import InputError
 from eigenupdate.model.configurations import Configuration
+from eigenupdate.model.coordinates import Coordinate
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.eigen import DENSE_LIMIT, base_operator, solve_elastic
 from eigenupdate.solve.response import configuration_matrices
@@ -31,11 +32,15 @@ class MassSweep:
     reference_mass : diagonal term of M at the coordinate (0 if massless), the 100 %
         of the percentage axis.
     frequencies_hz : (n_points, n_modes) elastic natural frequencies, Hz.
+    coordinate : where the mass is added (its label and whether it is a rotation).
+    configuration : name of the configuration the mass is added to (None: bare).
     """
 
     added_mass: np.ndarray
     reference_mass: float
     frequencies_hz: np.ndarray
+    coordinate: Coordinate
+    configuration: str | None = None
 
     @property
     def percent(self) -> np.ndarray | None:
@@ -104,7 +109,8 @@ def mass_sweep(
                 f"the model has only {sol.eigenvalues.size} elastic modes", field="n_modes"
             )
         freqs[i] = sol.frequencies_hz
-    return MassSweep(masses, float(M[row, row]), freqs)
+    return MassSweep(masses, float(M[row, row]), freqs, model.coordinate_table[coordinate],
+                     None if configuration is None else configuration.name)
 
 
 def _diag_unit(row: int, n: int) -> sp.csr_array:

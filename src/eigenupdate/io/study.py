@@ -41,7 +41,6 @@ class Study:
     max_iterations: int = 20
     tolerance: float = 1e-8
     frf: dict[str, list[Path]] = field(default_factory=dict)
-    frf_options: dict[str, Any] = field(default_factory=dict)
     bands_hz: dict[str, list[list[float]]] = field(default_factory=dict)
     """[measurement.frf_options] bands_hz by configuration (validated; empty: automatic)."""
     exclude_below_hz: float | None = None
@@ -225,7 +224,6 @@ def load_study(path: str | Path) -> Study:
         max_iterations=max_it,
         tolerance=tol,
         frf=frf,
-        frf_options=frf_options,
         **_frf_settings(frf_options, names, src),
     )
 

@@ -74,3 +74,25 @@ def test_disagreeing_estimates_warn(monkeypatch):
     with warnings.catch_warnings():
         warnings.simplefilter("error", eu.EigenupdateWarning)
         extraction.extract_configuration([frf], [1, 2], "base")
+
+
+def test_lanczos_not_converged_is_exit_1(tmp_path, run_cli, monkeypatch):
+    import scipy.sparse.linalg as spla
+
+    def no_convergence(*args, **kwargs):
+        raise spla.ArpackNoConvergence("ARPACK error -1: No convergence", np.zeros(0),
+                                       np.zeros((0, 0)))
+
+    from eigenupdate.solve import eigen
+
+    monkeypatch.setattr(eigen.spla, "eigsh", no_convergence)
+    model = eu.beam_model(np.linspace(0.0, 1.0, 300), 4557.0, 3.4)  # 600 coordinates: sparse
+    with pytest.raises(eu.NotConvergedError, match="did not converge"):
+        eu.solve_configurations(model, [eu.Configuration("base")], 2)
+    study = tmp_path / "beam.toml"
+    nodes = ", ".join(f"{x:.6f}" for x in np.linspace(0.0, 1.0, 300))
+    study.write_text(f'title = "t"\n[model]\ntype = "beam"\nnodes = [{nodes}]\nEI = 4557.0\n'
+                     f'mass_per_length = 3.4\n[measurement]\nmodes = [1]\n')
+    code, _, err = run_cli("frequencies", study)
+    assert code == 1 and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert "did not converge" in err

@@ -1,7 +1,8 @@
 """Command line: a thin shell over the library.
 
-Exit status: 0 success, 1 the update did not converge (the result is still printed),
-2 bad input (a one-line message naming the file and the field; no traceback).
+Exit status: 0 success, 1 the update did not converge (the result is still printed) or an
+iterative solver stopped (NotConvergedError), 2 bad input or a singular matrix or repeated
+eigenvalue (a one-line message naming the file and the field; no traceback).
 """
 
 from __future__ import annotations

@@ -1,8 +1,10 @@
 """The commands as library functions: each takes a loaded :class:`~eigenupdate.io.study.Study`
 and returns a typed result, so a notebook does what ``eigenupdate <command>`` does.
 
+>>> from pathlib import Path
 >>> from eigenupdate.io.study import load_study
->>> study = load_study("examples/paper_fig2/study.toml")
+>>> examples = Path(__file__).parents[2] / "examples"     # in the source tree
+>>> study = load_study(examples / "paper_fig2" / "study.toml")
 >>> check_study(study).rank
 10
 >>> res = update_study(study)

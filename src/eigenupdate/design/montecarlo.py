@@ -18,7 +18,7 @@ from eigenupdate.design.covariance import posterior_covariance
 from eigenupdate.design.executor import InProcess, Progress
 from eigenupdate.design.plan import frequency_std
 from eigenupdate.design.spec import DesignSpec
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.identify.updating import update
 from eigenupdate.io.measurements import Measurement, eigenvalue_std
 from eigenupdate.model.configurations import Configuration
@@ -59,7 +59,7 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
                     c.name, k, float(sol.frequencies_hz[k - 1] + rng.normal(0.0, std)), std)
         res = update(model, setup.configurations, setup.modes, meas, method=setup.method,
                      max_iterations=setup.max_iterations, xtol=setup.tolerance)
-    except InputError as exc:  # a drawn truth or its noisy frequencies the update refuses
+    except (InputError, NumericalError) as exc:  # a truth or its data the update refuses
         out.update(refused=True, message=str(exc))
         return out
     names = [model.names[j] for j in upd]

@@ -15,8 +15,8 @@ from typing import Any
 
 from eigenupdate.design.spec import CRITERIA, DesignSpec
 from eigenupdate.errors import InputError
-from eigenupdate.identify.updating import METHODS
-from eigenupdate.io.matrix_market import matrix_model
+from eigenupdate.identify.weights import ESTIMATORS
+from eigenupdate.io.matrix_market import read_matrix_model
 from eigenupdate.io.measurements import Measurement, read_measurements
 from eigenupdate.model.beam import beam_model, element_parameter_names
 from eigenupdate.model.configurations import BASE, Addition, Configuration
@@ -42,7 +42,19 @@ class Study:
     max_iterations: int = 20
     tolerance: float = 1e-8
     frf: dict[str, list[Path]] = field(default_factory=dict)
-    frf_options: dict[str, Any] = field(default_factory=dict)
+    bands_hz: dict[str, list[list[float]]] = field(default_factory=dict)
+    """[measurement.frf_options] bands_hz by configuration (validated; empty: automatic)."""
+    exclude_below_hz: float | None = None
+
+    def configuration(self, name: str | None = None) -> Configuration:
+        """The configuration called ``name``; the bare structure if None."""
+        if name is None:
+            return self.configurations[0]
+        for c in self.configurations:
+            if c.name == name:
+                return c
+        raise InputError(f"no configuration {name!r} (have "
+                         f"{[c.name for c in self.configurations]})", source=str(self.path))
     design: DesignSpec | None = None
 
     def measurements(self) -> dict[tuple[str, int], Measurement]:
@@ -192,8 +204,8 @@ def load_study(path: str | Path) -> Study:
 
     up = _Reader(top.get("updating", "table", {}), "updating", src)
     method = up.get("method", "str", "least-squares")
-    if method not in METHODS:
-        raise up.error("method", f"unknown method {method!r}; expected one of {list(METHODS)}")
+    if method not in ESTIMATORS:
+        raise up.error("method", f"unknown method {method!r}; expected one of {list(ESTIMATORS)}")
     max_it = up.get("max_iterations", "int", 20)
     if max_it < 1:
         raise up.error("max_iterations", "must be >= 1")
@@ -203,7 +215,7 @@ def load_study(path: str | Path) -> Study:
     up.finish()
     design = None
     if "design" in top.data:
-        design = _design(_Reader(top.get("design", "table"), "design", src), model, modes)
+        design = _design(_Reader(top.get("design", "table"), "design", src), model, mtype, modes)
     top.finish()
     return Study(
         path=path,
@@ -217,9 +229,42 @@ def load_study(path: str | Path) -> Study:
         max_iterations=max_it,
         tolerance=tol,
         frf=frf,
-        frf_options=frf_options,
+        **_frf_settings(frf_options, names, src),
         design=design,
     )
+
+
+def _frf_settings(options: dict, names: list[str], src: str) -> dict[str, Any]:
+    """[measurement.frf_options]: bands_hz (list, or table by configuration), exclude_below_hz."""
+    opts = dict(options)
+    field_ = "measurement.frf_options"
+    bands = opts.pop("bands_hz", None)
+    low = opts.pop("exclude_below_hz", None)
+    if opts:
+        raise InputError(f"unknown key(s) {sorted(opts)}", source=src, field=field_)
+    if bands is None:
+        table = {}
+    elif isinstance(bands, list):
+        table = {n: bands for n in names}
+    elif isinstance(bands, dict):
+        unknown = set(bands) - set(names)
+        if unknown:
+            raise InputError(f"unknown configuration(s) {sorted(unknown)}", source=src,
+                             field=f"{field_}.bands_hz")
+        table = bands
+    else:
+        raise InputError("must be a list of [low, high] pairs or a table of them", source=src,
+                         field=f"{field_}.bands_hz")
+    for name, b in table.items():
+        ok = isinstance(b, list) and all(
+            isinstance(x, list) and len(x) == 2 and all(isinstance(v, int | float) for v in x)
+            and 0 <= x[0] < x[1] for x in b)
+        if not ok:
+            raise InputError(f"{name!r}: bands must be [low, high] pairs in Hz, 0 <= low < high",
+                             source=src, field=f"{field_}.bands_hz")
+    if low is not None and not (isinstance(low, int | float) and low >= 0):
+        raise InputError("must be a number >= 0", source=src, field=f"{field_}.exclude_below_hz")
+    return {"bands_hz": table, "exclude_below_hz": low}
 
 
 def _parameter(r: _Reader, seen: dict[str, str], default_value: Any = ...) -> Parameter:
@@ -318,7 +363,7 @@ def _matrices(m: _Reader, base: Path) -> ParametricModel:
             raise r.error("K", "a parameter needs a K and/or an M file")
         r.finish()
         params.append((p, None if kf is None else base / kf, None if mf is None else base / mf))
-    return matrix_model(k0, m0, params)
+    return read_matrix_model(k0, m0, params)
 
 
 def _perturbation(r: _Reader) -> Configuration:
@@ -377,16 +422,16 @@ def _frf_files(table: dict, names: list[str], base: Path, src: str) -> dict[str,
     return out
 
 
-def _design(r: _Reader, model: ParametricModel, study_modes: list[int]) -> DesignSpec:
+def _design(r: _Reader, model: ParametricModel, model_type: str,
+            study_modes: list[int]) -> DesignSpec:
     """The [design] table of ``eigenupdate design`` (see :class:`DesignSpec`)."""
     coords = r.data.get("coordinates")
     if coords == "translational":
         r.used.add("coordinates")
-        if model.kind not in ("beam", "spring-mass"):
-            raise r.error("coordinates", "'translational' needs a beam or spring-mass model; "
-                                         "list the coordinates")
-        step = 2 if model.kind == "beam" else 1  # beam: odd coordinates are translations
-        coords = [int(c) for c in model.coordinates if (c - 1) % step == 0]
+        if model_type == "matrices":  # assembled matrices do not say which are rotations
+            raise r.error("coordinates", "'translational' needs a model that says which "
+                                         "coordinates are rotations; list the coordinates")
+        coords = [c.number for c in model.coordinate_table.coordinates if not c.rotation]
     else:
         coords = r.get("coordinates", "list")
         if not coords or not all(isinstance(c, int) and not isinstance(c, bool) for c in coords):

@@ -170,7 +170,8 @@ def solve_elastic(
     Parameters
     ----------
     K, M : stiffness and mass, dense or sparse, symmetric; M positive definite on the
-        dense path (positive semi-definite is fine on the sparse path).
+        dense path except for coordinates without any mass (condensed out statically),
+        positive semi-definite on the sparse path.
     n_modes : number of elastic modes wanted.
     operator : a :class:`ShiftInvert` of these K and M (sparse path); built if None.
     dense : force the dense (True) or sparse (False) path; by default dense for small models.
@@ -202,6 +203,9 @@ def all_modes(K, M) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     rigid-body mask)."""
     Kd = K.toarray() if sp.issparse(K) else np.asarray(K, dtype=float)
     Md = M.toarray() if sp.issparse(M) else np.asarray(M, dtype=float)
+    massless = ~np.any(Md != 0, axis=1)
+    if massless.any() and not massless.all():
+        return _condensed(Kd, Md, massless)
     try:
         lam, phi = scipy.linalg.eigh(Kd, Md)
     except np.linalg.LinAlgError:
@@ -209,6 +213,25 @@ def all_modes(K, M) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             "mass matrix is not positive definite (a coordinate without mass?)"
         ) from None
     return lam, phi, rigid_mask(Kd, Md, lam)
+
+
+def _condensed(K: np.ndarray, M: np.ndarray, massless: np.ndarray):
+    """Every finite eigenpair when some coordinates carry no mass (lumped-mass rotations):
+    static condensation onto the massive ones, as NASTRAN does; the massless coordinates
+    carry only infinite eigenvalues, which are dropped."""
+    a, b = np.flatnonzero(~massless), np.flatnonzero(massless)
+    try:
+        cb = scipy.linalg.cho_factor(K[np.ix_(b, b)])
+    except np.linalg.LinAlgError:
+        raise InputError(f"{b.size} coordinates without mass have a singular stiffness "
+                         f"(a massless mechanism)") from None
+    kba = scipy.linalg.cho_solve(cb, K[np.ix_(b, a)])
+    kc = K[np.ix_(a, a)] - K[np.ix_(a, b)] @ kba
+    kc = 0.5 * (kc + kc.T)
+    lam, phi_a, rigid = all_modes(kc, M[np.ix_(a, a)])
+    phi = np.empty((K.shape[0], lam.size))
+    phi[a], phi[b] = phi_a, -kba @ phi_a
+    return lam, phi, rigid
 
 
 def lowest_modes(K, M, k: int, op: ShiftInvert) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

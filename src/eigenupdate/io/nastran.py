@@ -1,0 +1,627 @@
+"""NASTRAN bulk data (BDF) in and out, read and written by pyNastran.
+
+:func:`read_nastran` validates the file once and assembles a :class:`ParametricModel`
+whose parameters are named card fields (``MAT1 1 E``); :func:`write_updated_bdf` writes
+the file back with updated values in their cards. pyNastran is an optional extra
+(``pip install eigenupdate[nastran]``); it is imported only here.
+
+Coordinates: the displacement ``component`` (1-6) of ``grid`` is coordinate
+``10 * grid + component`` of the model, in the grid's displacement frame (CD).
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import copy
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from eigenupdate.errors import InputError
+from eigenupdate.io.atomic import write_text
+from eigenupdate.model import frame3d
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.parametric import ParametricModel
+
+SUPPORTED = {
+    "GRID", "CORD1R", "CORD2R", "CORD1C", "CORD2C", "CORD1S", "CORD2S",
+    "CBAR", "PBAR", "CROD", "PROD", "CONROD", "CELAS1", "CELAS2", "PELAS",
+    "CONM2", "CMASS1", "CMASS2", "PMASS", "MAT1", "SPC", "SPC1", "SPCADD",
+    "PARAM", "EIGRL", "EIGR", "ENDDATA",
+}
+
+# card -> field -> (pyNastran attribute, what it scales); the rest are refused with a reason
+FIELDS = {
+    "MAT1": {"E": "e", "RHO": "rho"},
+    "PBAR": {"A": "A", "I1": "i1", "I2": "i2", "J": "j"},
+    "PROD": {"A": "A", "J": "j"},
+    "PELAS": {"K": "k"},
+    "CELAS2": {"K": "k"},
+    "CONM2": {"M": "mass"},
+    "CMASS2": {"M": "mass"},
+    "PMASS": {"M": "mass"},
+}
+NOT_LINEAR = {
+    ("MAT1", "NU"): "G = E / (2 (1 + NU)) is not linear in NU",
+    ("MAT1", "G"): "give E (G follows it when the card leaves G blank)",
+}
+
+
+def dof_number(grid: int, component: int) -> int:
+    """Model coordinate of a GRID's displacement component (1-6).
+
+    >>> dof_number(1203, 2)
+    12032
+    """
+    return 10 * int(grid) + int(component)
+
+
+@dataclass(frozen=True)
+class CardField:
+    """A parameter's place in the bulk data: card type, card id and field name."""
+
+    card: str
+    id: int
+    field: str
+
+
+@dataclass
+class NastranModel:
+    """A BDF read and assembled: the parametric model and what write-back needs."""
+
+    path: Path
+    model: ParametricModel
+    fields: tuple[CardField, ...]
+    consistent_mass: bool
+    spc_set: int | None
+    bdf: Any  # pyNastran BDF, kept to write the file back
+
+    def grid_dof(self, grid: int, component: int) -> int:
+        """Coordinate of (grid, component); InputError if unknown or restrained."""
+        if component not in range(1, 7):
+            raise InputError(f"component {component} must be 1-6")
+        if grid not in self.bdf.nodes:
+            raise InputError(f"GRID {grid} is not defined in {self.path}")
+        c = dof_number(grid, component)
+        if c not in self.model.coordinates:
+            why = f"SPC set {self.spc_set}" if self.spc_set is not None else "no stiffness or mass"
+            raise InputError(f"GRID {grid} component {component} is restrained ({why})")
+        return c
+
+
+def _pynastran():
+    try:
+        from pyNastran.bdf.bdf import BDF
+    except ImportError:
+        raise InputError("NASTRAN models need pyNastran: pip install 'eigenupdate[nastran]' "
+                         "(see the README)") from None
+    return BDF
+
+
+def _read(path: Path):
+    BDF = _pynastran()
+    text = path.read_text(errors="replace")
+    bdf = BDF(debug=None)
+    try:
+        bdf.read_bdf(str(path), xref=False, punch="BEGIN BULK" not in text.upper(),
+                     validate=True)
+    except Exception as exc:  # pyNastran raises many kinds on malformed cards
+        msg = str(exc).strip().splitlines()
+        raise InputError(f"pyNastran cannot read the file: {type(exc).__name__}: "
+                         f"{msg[0] if msg else ''}", source=str(path)) from None
+    return bdf
+
+
+def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardField]] = ()
+                 ) -> NastranModel:
+    """Read a BDF and assemble K = K0 + sum s_j K_j, M = M0 + sum s_j M_j.
+
+    Parameters
+    ----------
+    path : the bulk data file.
+    parameters : (parameter, card field) pairs; a parameter whose value is None-like is
+        not allowed: the value is taken from the card (``Parameter.value`` is ignored).
+
+    Returns
+    -------
+    NastranModel
+    """
+    path = Path(path)
+    src = str(path)
+    try:
+        bdf = _read(path)
+        return _assemble(path, bdf, parameters)
+    except InputError as exc:
+        if exc.source:
+            raise
+        raise InputError(str(exc), source=src, field=exc.field) from None
+
+
+def _unsupported(bdf) -> None:
+    bad = {k: v for k, v in bdf.card_count.items() if k not in SUPPORTED}
+    bad.update({k: v for k, v in getattr(bdf, "reject_count", {}).items()})
+    if bad:
+        listing = ", ".join(f"{k} x{v}" for k, v in sorted(bad.items()))
+        raise InputError(f"unsupported cards: {listing} (supported: bars, rods, springs, "
+                         f"masses, MAT1, SPC; shells, solids, RBEs and MPCs are not)")
+
+
+def _param(bdf, name: str, default: float) -> float:
+    p = bdf.params.get(name)
+    return default if p is None else float(p.values[0])
+
+
+class _Triplets:
+    """COO pieces of one sparse matrix."""
+
+    def __init__(self):
+        self.r, self.c, self.v = [], [], []
+
+    def add(self, rows, cols, vals):
+        self.r.append(np.ravel(rows))
+        self.c.append(np.ravel(cols))
+        self.v.append(np.ravel(vals))
+
+    def matrix(self, n: int, keep: np.ndarray | None = None) -> sp.csr_array:
+        if not self.v:
+            m = sp.csr_array((n, n))
+        else:
+            m = sp.csr_array((np.concatenate(self.v), (np.concatenate(self.r),
+                                                      np.concatenate(self.c))), shape=(n, n))
+        m.sum_duplicates()
+        return m if keep is None else sp.csr_array(m[keep][:, keep])
+
+
+def _assemble(path: Path, bdf, specs) -> NastranModel:
+    _unsupported(bdf)
+    consistent = _param(bdf, "COUPMASS", -1.0) > 0
+    wtmass = _param(bdf, "WTMASS", 1.0)
+    if not wtmass > 0:
+        raise InputError(f"PARAM WTMASS {wtmass} must be > 0")
+    if not bdf.nodes:
+        raise InputError("no GRID cards")
+    try:
+        bdf._cross_reference_coordinates()
+    except Exception as exc:
+        raise InputError(f"coordinate systems: {exc}") from None
+    nids = np.array(sorted(bdf.nodes), dtype=int)
+    where = {int(n): i for i, n in enumerate(nids)}
+    xyz = _positions(bdf, nids)
+    frames = _frames(bdf, nids)
+    ndof = 6 * nids.size
+
+    specs = list(specs)
+    fields = [f for _, f in specs]
+    pindex = _check_fields(bdf, fields)
+    k0, m0 = _Triplets(), _Triplets()
+    kj = [_Triplets() for _ in specs]
+    mj = [_Triplets() for _ in specs]
+    values = [_field_value(bdf, f) for f in fields]
+
+    def grid(n, card):
+        if n not in where:
+            raise InputError(f"{card}: GRID {n} is referenced but not defined")
+        return where[n]
+
+    _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values, k0, m0, kj, mj)
+    _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj)
+    _conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
+
+    restrained, spc_set = _spc(bdf, where)
+    K, M = k0.matrix(ndof), m0.matrix(ndof)
+    kt = [t.matrix(ndof) for t in kj]
+    mt = [t.matrix(ndof) for t in mj]
+    for s, a, b in zip(values, kt, mt, strict=True):
+        K, M = K + s * a, M + s * b
+    # AUTOSPC: coordinates with neither stiffness nor mass (rod rotations) carry nothing
+    touched = np.zeros(ndof, bool)
+    for mat in (K, M):
+        touched[mat.tocoo().row[mat.tocoo().data != 0]] = True
+    free = touched.copy()
+    free[restrained] = False
+    keep = np.flatnonzero(free)
+    if keep.size == 0:
+        raise InputError("every coordinate is restrained or carries neither stiffness nor mass")
+    coords = (10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))[keep]
+    params = []
+    for (p, f), v in zip(specs, values, strict=True):
+        params.append(Parameter(p.name, v, p.std, p.update))
+    pm = ParametricModel(
+        k0.matrix(ndof, keep), m0.matrix(ndof, keep), tuple(params),
+        tuple(None if t.nnz == 0 else sp.csr_array(t[keep][:, keep]) for t in kt),
+        tuple(None if t.nnz == 0 else sp.csr_array(t[keep][:, keep]) for t in mt),
+        coordinates=coords, kind="nastran")
+    for p, f, a, b in zip(params, fields, pm.k_terms, pm.m_terms, strict=True):
+        if a is None and b is None:
+            raise InputError(f"{f.card} {f.id} field {f.field} (parameter {p.name!r}) acts on "
+                             f"no free coordinate")
+    return NastranModel(path, pm, tuple(fields), consistent, spc_set, bdf)
+
+
+def _positions(bdf, nids: np.ndarray) -> np.ndarray:
+    out = np.empty((nids.size, 3))
+    for i, n in enumerate(nids):
+        g = bdf.nodes[int(n)]
+        if g.cp == 0:
+            out[i] = g.xyz
+        else:
+            if g.cp not in bdf.coords:
+                raise InputError(f"GRID {n}: coordinate system CP {g.cp} is not defined")
+            out[i] = bdf.coords[g.cp].transform_node_to_global(np.asarray(g.xyz, float))
+    return out
+
+
+def _frames(bdf, nids: np.ndarray) -> np.ndarray:
+    """Rows = displacement axes (CD) of each grid in basic."""
+    out = np.tile(np.eye(3), (nids.size, 1, 1))
+    for i, n in enumerate(nids):
+        g = bdf.nodes[int(n)]
+        if g.cd in (0, None):
+            continue
+        if g.cd not in bdf.coords:
+            raise InputError(f"GRID {n}: coordinate system CD {g.cd} is not defined")
+        c = bdf.coords[g.cd]
+        if c.Type != "R":
+            raise InputError(f"GRID {n}: displacement system CD {g.cd} is {c.type}; only "
+                             f"rectangular ones are supported")
+        out[i] = c.beta()
+    return out
+
+
+def _check_fields(bdf, fields: list[CardField]) -> dict:
+    """{(card, id): {field: parameter index}} after validating every field."""
+    out: dict = {}
+    stores = _stores(bdf)
+    for j, f in enumerate(fields):
+        if (f.card, f.field) in NOT_LINEAR:
+            raise InputError(f"{f.card} {f.id} field {f.field}: not a parameter: "
+                             f"{NOT_LINEAR[(f.card, f.field)]}")
+        if f.card not in FIELDS:
+            have = ", ".join(f"{c} {'/'.join(v)}" for c, v in FIELDS.items())
+            raise InputError(f"card {f.card} has no parameter fields (supported: {have})")
+        if f.field not in FIELDS[f.card]:
+            raise InputError(f"{f.card} {f.id}: field {f.field!r} is not a parameter; K and M "
+                             f"are linear in {sorted(FIELDS[f.card])} only")
+        card = stores[f.card].get(f.id)
+        if card is None or card.type != f.card:
+            raise InputError(f"{f.card} {f.id} is not in the file")
+        slot = out.setdefault((f.card, f.id), {})
+        if f.field in slot:
+            raise InputError(f"{f.card} {f.id} field {f.field} is named by two parameters")
+        slot[f.field] = j
+    return out
+
+
+def _stores(bdf) -> dict:
+    return {"MAT1": bdf.materials, "PBAR": bdf.properties, "PROD": bdf.properties,
+            "PELAS": bdf.properties, "CELAS2": bdf.elements, "CONM2": bdf.masses,
+            "CMASS2": bdf.masses, "PMASS": bdf.properties_mass}
+
+
+def _field_value(bdf, f: CardField) -> float:
+    card = _stores(bdf)[f.card][f.id]
+    v = float(np.ravel(getattr(card, FIELDS[f.card][f.field]))[0])
+    if not v >= 0:
+        raise InputError(f"{f.card} {f.id} field {f.field} = {v:g} is negative (a parameter "
+                         f"must be >= 0)")
+    return v
+
+
+def _material(bdf, mid: int, where: str):
+    mat = bdf.materials.get(mid)
+    if mat is None or mat.type != "MAT1":
+        raise InputError(f"{where}: material MAT1 {mid} is not defined")
+    rho = mat.rho or 0.0
+    if rho < 0:
+        raise InputError(f"MAT1 {mid}: negative density RHO = {rho:g}")
+    if not (mat.e and mat.e > 0):
+        raise InputError(f"MAT1 {mid}: E must be > 0 for a bar or rod, got {mat.e}")
+    g = mat.g if mat.g is not None else 0.0
+    # G left blank on the card: pyNastran filled in E / (2 (1 + NU)), so G follows E
+    tied = mat.nu is not None and g > 0 and math.isclose(g, mat.e / (2 * (1 + mat.nu)),
+                                                         rel_tol=1e-12)
+    return mat, rho, g, tied
+
+
+def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
+           k0, m0, kj, mj) -> None:
+    """CBAR, CROD and CONROD, vectorised over elements."""
+    rows = []  # (label, ga, gb, v or None, wa, wb, E, G, tied, rho, A, I1, I2, J, nsm, mid, pid)
+    for eid, e in sorted(bdf.elements.items()):
+        label = f"{e.type} {eid}"
+        if e.type == "CBAR":
+            prop = bdf.properties.get(e.pid)
+            if prop is None or prop.type != "PBAR":
+                raise InputError(f"{label}: property PBAR {e.pid} is not defined")
+            if e.offt != "GGG":
+                raise InputError(f"{label}: OFFT {e.offt} is not supported (only GGG)")
+            if (e.pa or 0) or (e.pb or 0):
+                raise InputError(f"{label}: pin flags PA/PB are not supported")
+            ga, gb = grid(e.ga, label), grid(e.gb, label)
+            if e.g0 is not None:
+                v = xyz[grid(e.g0, label)] - xyz[ga]
+            else:
+                v = frames[ga].T @ np.asarray(e.x, float)
+            wa = frames[ga].T @ np.asarray(e.wa, float)
+            wb = frames[gb].T @ np.asarray(e.wb, float)
+            sec = (prop.A, prop.i1, prop.i2, prop.j, prop.nsm, prop.mid, ("PBAR", prop.pid))
+            if prop.i12:
+                raise InputError(f"PBAR {prop.pid}: I12 = {prop.i12:g} is not supported")
+        elif e.type in ("CROD", "CONROD"):
+            if e.type == "CROD":
+                prop = bdf.properties.get(e.pid)
+                if prop is None or prop.type != "PROD":
+                    raise InputError(f"{label}: property PROD {e.pid} is not defined")
+                sec = (prop.A, 0.0, 0.0, prop.j, prop.nsm, prop.mid, ("PROD", prop.pid))
+            else:
+                sec = (e.A, 0.0, 0.0, e.j, e.nsm, e.mid, None)
+            ga, gb = grid(e.nodes[0], label), grid(e.nodes[1], label)
+            v, wa, wb = None, np.zeros(3), np.zeros(3)
+        else:
+            continue
+        A, i1, i2, j, nsm, mid, pkey = sec
+        for name, x in (("A", A), ("I1", i1), ("I2", i2), ("J", j), ("NSM", nsm)):
+            if x is None or not math.isfinite(x) or x < 0:
+                raise InputError(f"{pkey[0] + ' ' + str(pkey[1]) if pkey else label}: "
+                                 f"{name} = {x} must be >= 0")
+        mat, rho, g, tied = _material(bdf, mid, label)
+        rows.append((label, e.type != "CBAR", ga, gb, v, wa, wb, mat.e, g, tied, rho,
+                     float(A), float(i1), float(i2), float(j or 0.0), float(nsm or 0.0),
+                     mid, pkey))
+    if not rows:
+        return
+    label = [r[0] for r in rows]
+    rod = np.array([r[1] for r in rows])
+    ga = np.array([r[2] for r in rows])
+    gb = np.array([r[3] for r in rows])
+    xa = xyz[ga] + np.array([r[5] for r in rows])
+    xb = xyz[gb] + np.array([r[6] for r in rows])
+    v = np.array([frame3d.any_normal((xb - xa)[i:i + 1])[0] if r[4] is None else r[4]
+                  for i, r in enumerate(rows)])
+    L, R = frame3d.local_axes(xa, xb, v, label)
+    T = frame3d.element_transform(R, np.array([r[5] for r in rows]),
+                                  np.array([r[6] for r in rows]), frames[ga], frames[gb])
+    E, G, rho = (np.array([r[k] for r in rows], float) for k in (7, 8, 10))
+    tied = np.array([r[9] for r in rows])
+    A, I1, I2, J, nsm = (np.array([r[k] for r in rows], float) for k in range(11, 16))
+    kp = frame3d.stiffness_parts(L)
+    mp = frame3d.mass_parts(L, consistent)
+    mp["translation"][rod] = frame3d.rod_mass_part(L[rod], consistent)
+    mp["torsion"][rod] = 0.0
+    parts = {**{f"k_{k}": frame3d.to_global(x, T) for k, x in kp.items()},
+             **{f"m_{k}": frame3d.to_global(x, T) for k, x in mp.items()}}
+    dofs = (6 * np.stack([ga, gb], 1)[:, :, None] + np.arange(6)[None, None, :]).reshape(-1, 12)
+    r_idx = np.repeat(dofs, 12, axis=1)
+    c_idx = np.tile(dofs, (1, 12))
+    # section quantities and the parameters that scale each (one at most per element)
+    total = {"k_axial": E * A, "k_torsion": G * J, "k_bend1": E * I1, "k_bend2": E * I2,
+             "m_translation": wtmass * (rho * A + nsm), "m_torsion": wtmass * rho * J}
+    n = len(rows)
+    deriv: list[dict[str, np.ndarray]] = [{} for _ in kj]
+
+    def d(j, part, coef, mask):
+        arr = deriv[j].setdefault(part, np.zeros(n))
+        arr[mask] += coef[mask] if np.ndim(coef) else coef
+
+    mids = np.array([r[16] for r in rows])
+    pkeys = [r[17] for r in rows]
+    for (card, cid), slots in pindex.items():
+        if card == "MAT1":
+            mask = mids == cid
+            if "E" in slots:
+                j = slots["E"]
+                for part, c in (("k_axial", A), ("k_bend1", I1), ("k_bend2", I2)):
+                    d(j, part, c, mask)
+                d(j, "k_torsion", np.where(tied, G * J / E, 0.0), mask)
+            if "RHO" in slots:
+                j = slots["RHO"]
+                d(j, "m_translation", wtmass * A, mask)
+                d(j, "m_torsion", wtmass * J, mask)
+        elif card in ("PBAR", "PROD"):
+            mask = np.array([k == (card, cid) for k in pkeys])
+            for fld, parts_ in (("A", (("k_axial", E), ("m_translation", wtmass * rho))),
+                                ("I1", (("k_bend1", E),)), ("I2", (("k_bend2", E),)),
+                                ("J", (("k_torsion", G), ("m_torsion", wtmass * rho)))):
+                if fld in slots:
+                    for part, c in parts_:
+                        d(slots[fld], part, c, mask)
+    _one_parameter_per_quantity(deriv, label, kj)
+    for part, tot in total.items():
+        base = tot - sum((values[j] * dj[part] for j, dj in enumerate(deriv) if part in dj),
+                         np.zeros(n))
+        (k0 if part[0] == "k" else m0).add(r_idx, c_idx, base[:, None, None] * parts[part])
+        for j, dj in enumerate(deriv):
+            if part in dj and np.any(dj[part]):
+                sel = np.flatnonzero(dj[part])
+                dest = kj[j] if part[0] == "k" else mj[j]
+                dest.add(r_idx[sel], c_idx[sel], dj[part][sel, None, None] * parts[part][sel])
+
+
+def _one_parameter_per_quantity(deriv, label, kj) -> None:
+    seen: dict = {}
+    for j, dj in enumerate(deriv):
+        for part, arr in dj.items():
+            for e in np.flatnonzero(arr):
+                other = seen.setdefault((part, e), j)
+                if other != j:
+                    raise InputError(f"{label[e]}: parameters {other + 1} and {j + 1} both scale "
+                                     f"its {part[2:]} {'stiffness' if part[0] == 'k' else 'mass'}"
+                                     f": K or M would hold their product (not linear)")
+
+
+def _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj) -> None:
+    """CELAS1/2 and CMASS1/2: a scalar between two components (or to ground)."""
+    def put(trip, dofs, value):
+        if len(dofs) == 1:
+            trip.add(dofs, dofs, [value])
+        else:
+            a, b = dofs
+            trip.add([a, a, b, b], [a, b, a, b], [value, -value, -value, value])
+
+    def dofs_of(e, label):
+        out = []
+        for n, c in zip(e.nodes, (e.c1, e.c2), strict=True):
+            if n in (None, 0):
+                continue
+            if c not in range(1, 7):
+                raise InputError(f"{label}: component {c} must be 1-6 on a GRID")
+            out.append(6 * grid(n, label) + int(c) - 1)
+        if not out or (len(out) == 2 and out[0] == out[1]):
+            raise InputError(f"{label}: needs one or two different grid components")
+        return out
+
+    for eid, e in sorted(bdf.elements.items()):
+        label = f"{e.type} {eid}"
+        if e.type == "CELAS1":
+            p = bdf.properties.get(e.pid)
+            if p is None or p.type != "PELAS":
+                raise InputError(f"{label}: property PELAS {e.pid} is not defined")
+            k, j = p.k, pindex.get(("PELAS", p.pid), {}).get("K")
+        elif e.type == "CELAS2":
+            k, j = e.k, pindex.get(("CELAS2", eid), {}).get("K")
+        else:
+            continue
+        dofs = dofs_of(e, label)
+        if j is None:
+            put(k0, dofs, k)
+        else:
+            put(kj[j], dofs, 1.0)
+    for eid, e in sorted(bdf.masses.items()):
+        label = f"{e.type} {eid}"
+        if e.type == "CMASS1":
+            p = bdf.properties_mass.get(e.pid)
+            if p is None or p.type != "PMASS":
+                raise InputError(f"{label}: property PMASS {e.pid} is not defined")
+            m, j = p.mass, pindex.get(("PMASS", p.pid), {}).get("M")
+        elif e.type == "CMASS2":
+            m, j = e.mass, pindex.get(("CMASS2", eid), {}).get("M")
+        else:
+            continue
+        if m < 0:
+            raise InputError(f"{label}: negative mass {m:g}")
+        dofs = dofs_of(e, label)
+        if j is None:
+            put(m0, dofs, wtmass * m)
+        else:
+            put(mj[j], dofs, wtmass)
+
+
+def _conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj) -> None:
+    for eid, e in sorted(bdf.masses.items()):
+        if e.type != "CONM2":
+            continue
+        label = f"CONM2 {eid}"
+        g = grid(e.nid, label)
+        if e.mass < 0:
+            raise InputError(f"{label}: negative mass {e.mass:g}")
+        if e.cid == -1:
+            offset, rot = np.asarray(e.X, float) - xyz[g], np.eye(3)
+        else:
+            if e.cid not in bdf.coords:
+                raise InputError(f"{label}: coordinate system {e.cid} is not defined")
+            rot = bdf.coords[e.cid].beta() if e.cid else np.eye(3)
+            if e.cid and bdf.coords[e.cid].Type != "R":
+                raise InputError(f"{label}: CID {e.cid} must be rectangular")
+            offset = rot.T @ np.asarray(e.X, float)
+        i = e.I
+        inertia = np.array([[i[0], -i[1], -i[3]], [-i[1], i[2], -i[4]], [-i[3], -i[4], i[5]]])
+        if np.any(np.linalg.eigvalsh(inertia) < -1e-12 * max(abs(inertia).max(), 1e-300)):
+            raise InputError(f"{label}: inertia matrix is not positive semi-definite")
+        # rigid offset: u_cg = u_grid + theta x offset, all in basic, then to the grid's CD
+        a = np.zeros((6, 6))
+        a[:3, :3] = np.eye(3)
+        a[:3, 3:] = -frame3d.skew(offset[None])[0]
+        a[3:, 3:] = np.eye(3)
+        cd = np.zeros((6, 6))
+        cd[:3, :3] = cd[3:, 3:] = frames[g].T
+        a = a @ cd
+        unit = np.zeros((6, 6))
+        unit[:3, :3] = np.eye(3)
+        rot_in = np.zeros((6, 6))
+        rot_in[3:, 3:] = rot.T @ inertia @ rot
+        dofs = 6 * g + np.arange(6)
+        r, c = np.repeat(dofs, 6), np.tile(dofs, 6)
+        j = pindex.get(("CONM2", eid), {}).get("M")
+        trans = wtmass * (a.T @ unit @ a)
+        m0.add(r, c, wtmass * (a.T @ rot_in @ a) + (0.0 if j is not None else e.mass * trans))
+        if j is not None:
+            mj[j].add(r, c, trans)
+
+
+def _spc(bdf, where) -> tuple[np.ndarray, int | None]:
+    """Restrained rows: GRID PS fields and the SPC set chosen by case control (or the
+    only set in the file)."""
+    rows = []
+    for n, g in bdf.nodes.items():
+        for c in str(g.ps or ""):
+            if c != "0":
+                rows.append(6 * where[n] + int(c) - 1)
+    ids = set(bdf.spcs) | set(bdf.spcadds)
+    chosen = None
+    cc = bdf.case_control_deck
+    if cc is not None:
+        wanted = set()
+        for sub in cc.subcases.values():
+            try:
+                wanted.add(int(sub.get_parameter("SPC")[0]))
+            except KeyError:  # this subcase restrains nothing
+                pass
+        if len(wanted) > 1:
+            raise InputError(f"case control selects several SPC sets {sorted(wanted)}; "
+                             f"one is needed for one model")
+        chosen = int(wanted.pop()) if wanted else None
+    if chosen is None:
+        inner = {int(s) for add in bdf.spcadds.values() for a in add for s in a.sets}
+        top = sorted(ids - inner)
+        if len(top) > 1:
+            raise InputError(f"several SPC sets {top} and no case control SPC = to choose one")
+        chosen = top[0] if top else None
+    if chosen is not None:
+        rows += _spc_rows(bdf, where, chosen, set())
+    return np.array(sorted(set(rows)), dtype=int), chosen
+
+
+def _spc_rows(bdf, where, sid: int, seen: set) -> list[int]:
+    if sid in seen:
+        raise InputError(f"SPCADD {sid} includes itself")
+    seen.add(sid)
+    if sid not in bdf.spcs and sid not in bdf.spcadds:
+        raise InputError(f"SPC set {sid} is not defined")
+    rows = []
+    for add in bdf.spcadds.get(sid, []):
+        for s in add.sets:
+            rows += _spc_rows(bdf, where, int(s), seen)
+    for card in bdf.spcs.get(sid, []):
+        pairs = ([(n, card.components) for n in card.nodes] if card.type == "SPC1"
+                 else list(zip(card.nodes, card.components, strict=True)))
+        for n, comps in pairs:
+            if n not in where:
+                raise InputError(f"{card.type} {sid}: GRID {n} is referenced but not defined")
+            rows += [6 * where[n] + int(c) - 1 for c in str(comps) if c != "0"]
+    return rows
+
+
+def write_updated_bdf(nm: NastranModel, out: str | Path, values: dict[str, float],
+                      comment: Sequence[str] = ()) -> None:
+    """Write the BDF with the parameters' values in their cards (pyNastran's writer) and
+    ``comment`` lines at the top; atomically (a failure leaves ``out`` untouched)."""
+    bdf = copy.deepcopy(nm.bdf)  # nm stays as read
+    for p, f in zip(nm.model.parameters, nm.fields, strict=True):
+        v = float(values[p.name])
+        card = _stores(bdf)[f.card][f.id]
+        attr = FIELDS[f.card][f.field]
+        old = getattr(card, attr)
+        if f.card == "MAT1" and f.field == "E" and card.nu is not None and card.g:
+            if math.isclose(card.g, card.e / (2 * (1 + card.nu)), rel_tol=1e-12):
+                card.g = v / (2 * (1 + card.nu))  # G was blank: it follows E
+        setattr(card, attr, np.full_like(old, v) if isinstance(old, np.ndarray) else v)
+    buf = io.StringIO()
+    bdf.write_bdf(buf, close=False, enddata=True)
+    head = "".join(f"$ {line}\n" for line in comment)
+    write_text(out, head + buf.getvalue())
+

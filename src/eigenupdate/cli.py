@@ -20,6 +20,7 @@ from eigenupdate.identify.identifiability import check
 from eigenupdate.identify.updating import METHODS, update
 from eigenupdate.io.atomic import write_text
 from eigenupdate.io.measurements import Measurement, write_measurements
+from eigenupdate.io.nastran import save_updated_bdf
 from eigenupdate.io.study import Study, load_study
 from eigenupdate.io.uff import Mode, read_frf_files, read_modes, write_frfs, write_modes
 from eigenupdate.measure.extraction import extract_configuration, extraction_csv
@@ -136,7 +137,10 @@ def cmd_check(args) -> int:
 
 def cmd_update(args) -> int:
     _output_file(args.save, "--save")
+    _output_file(args.save_bdf, "--save-bdf")
     study = load_study(args.study)
+    if args.save_bdf and study.nastran is None:
+        raise InputError("needs a study whose [model] type is \"nastran\"", field="--save-bdf")
     method = args.method or study.method
     res = update(
         study.model, study.configurations, study.require_modes(), study.measurements(),
@@ -146,6 +150,8 @@ def cmd_update(args) -> int:
     doc = report.update_doc(res)
     if args.save:
         write_text(args.save, report.dumps({"study": str(study.path), **doc}) + "\n")
+    if args.save_bdf and res.converged:
+        save_updated_bdf(study, res, args.save_bdf)
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
     print(report.dumps(doc) if args.json else report.update_text(res, initial, study.title))
     if not res.converged:
@@ -421,6 +427,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--method", choices=METHODS)
     s.add_argument("--json", action="store_true")
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
+    s.add_argument("--save-bdf", metavar="UPDATED.bdf",
+                   help="NASTRAN model: write its BDF with the updated values in their cards")
     s.set_defaults(func=cmd_update)
 
     s = sub.add_parser("extract", help="natural frequencies from the study's measured FRFs")

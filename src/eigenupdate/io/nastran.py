@@ -625,3 +625,21 @@ def write_updated_bdf(nm: NastranModel, out: str | Path, values: dict[str, float
     head = "".join(f"$ {line}\n" for line in comment)
     write_text(out, head + buf.getvalue())
 
+
+
+def save_updated_bdf(study, result, out: str | Path) -> None:
+    """Write a study's NASTRAN model back with the values of an update ``result``
+    (:class:`~eigenupdate.identify.updating.UpdateResult`), a comment block saying what
+    was updated, from which test and with which posterior std."""
+    nm: NastranModel = study.nastran
+    lines = [f"eigenupdate: updated from {nm.path.name} by study {Path(study.path).name}",
+             f"measured frequencies: {study.frequencies}",
+             f"method: {result.method}, {result.message} after {result.nit} iteration(s)",
+             "parameter                  card field        initial      updated   post. std"]
+    initial = dict(zip(nm.model.names, nm.model.values, strict=True))
+    for p, f in zip(nm.model.parameters, nm.fields, strict=True):
+        std = result.std.get(p.name)
+        lines.append(f"{p.name:<26} {f.card} {f.id} {f.field:<5} {initial[p.name]:12.6g} "
+                     f"{result.parameters[p.name]:12.6g} "
+                     f"{'fixed' if std is None else format(std, '11.4g')}")
+    write_updated_bdf(nm, out, result.parameters, lines)

@@ -70,7 +70,7 @@ __all__ = [
 METHODS: tuple[str, str, str] = ("auto", "direct", "modal")
 
 #: Model kinds known to :func:`uff_point`.
-MODEL_KINDS: tuple[str, str, str] = ("beam", "spring-mass", "matrices")
+MODEL_KINDS: tuple[str, ...] = ("beam", "spring-mass", "matrices", "nastran")
 
 # Dense complex systems solved at once by the direct method: a bound on memory (bytes).
 _BATCH_BYTES = 64 * 2**20
@@ -120,6 +120,8 @@ def uff_point(model_kind: str, coordinate: int) -> tuple[int, int]:
         raise InputError(f"coordinate {coordinate!r} must be an integer >= 1", field="coordinate")
     if model_kind == "beam":
         return ((c + 1) // 2, 3) if c % 2 else (c // 2, 5)
+    if model_kind == "nastran":  # coordinate 10 grid + component: UFF node = GRID
+        return (c // 10, c % 10)
     return (c, 1)
 
 
@@ -156,6 +158,8 @@ def coordinate_from_uff(model_kind: str, point: tuple[int, int]) -> int:
             "(3 = +Z translation, 5 = +RY rotation)",
             field="point",
         )
+    if model_kind == "nastran" and 1 <= direction <= 6:
+        return 10 * node + direction
     if direction != 1:
         raise InputError(
             f"direction {direction} of node {node}: {model_kind} coordinates use direction 1",

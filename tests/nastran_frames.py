@@ -69,37 +69,53 @@ class Frame:
         out.append("ENDDATA")
         return "\n".join(out) + "\n"
 
-    def opensees_frequencies(self, n_modes: int) -> np.ndarray:
-        """Lowest n_modes natural frequencies (Hz) by OpenSees, elastic beam-columns with
-        the same mass formulation, full generalized LAPACK solver."""
-        ops = opensees()
-        ops.wipe()
-        ops.model("basic", "-ndm", 3, "-ndf", 6)
-        for n, x in self.nodes.items():
-            ops.node(n, *map(float, x))
-        for n in self.fixed:
-            ops.fix(n, 1, 1, 1, 1, 1, 1)
-        G = self.E / (2 * (1 + self.nu))
-        for eid, a, b, v, pid in self.bars:
-            A, i1, i2, j = self.sections[pid]
-            ex = self.nodes[b] - self.nodes[a]
-            vecxz = np.cross(ex, v)  # local z of NASTRAN's CBAR
+
+def opensees_frequencies(path: Path | str, n_modes: int) -> np.ndarray:
+    """Lowest n_modes natural frequencies (Hz) by OpenSees of a BDF holding CBAR/PBAR/MAT1,
+    CONM2 (point masses without offset or inertia), grounded CELAS2 and SPC1 (one set):
+    pyNastran reads the cards, OpenSees' elastic beam-columns with the same mass
+    formulation (``-cMass`` when PARAM COUPMASS > 0) and its full generalized LAPACK
+    eigen-solver do the rest."""
+    bdf = need("pyNastran.bdf.bdf").BDF(debug=None)
+    bdf.read_bdf(str(path), xref=False)
+    ops = opensees()
+    ops.wipe()
+    ops.model("basic", "-ndm", 3, "-ndf", 6)
+    for n, g in bdf.nodes.items():
+        ops.node(n, *map(float, g.xyz))
+    fix = {}
+    for cards in bdf.spcs.values():
+        for c in cards:
+            for n in c.nodes:
+                fix.setdefault(n, set()).update(int(x) for x in c.components)
+    for n, comps in fix.items():
+        ops.fix(n, *[int(d in comps) for d in range(1, 7)])
+    coup = bdf.params.get("COUPMASS")
+    consistent = coup is not None and coup.values[0] > 0
+    k = 0
+    for eid, e in bdf.elements.items():
+        if e.type == "CBAR":
+            p = bdf.properties[e.pid]
+            m = bdf.materials[p.mid]
+            xa, xb = bdf.nodes[e.ga].xyz, bdf.nodes[e.gb].xyz
+            vecxz = np.cross(xb - xa, e.x)  # local z of NASTRAN's CBAR
             ops.geomTransf("Linear", eid, *map(float, vecxz))
-            extra = ["-cMass"] if self.consistent else []
+            extra = ["-cMass"] if consistent else []
             # OpenSees: Iy bends in the local x-z plane (NASTRAN I2), Iz in x-y (I1)
-            ops.element("elasticBeamColumn", eid, a, b, A, self.E, G, j, i2, i1, eid,
-                        "-mass", self.rho * A, *extra)
-        for n, m in self.masses:
-            ops.mass(n, m, m, m, 0.0, 0.0, 0.0)
-        for i, (n, c, k) in enumerate(self.springs):
-            ground = 900000 + i
-            ops.node(ground, *map(float, self.nodes[n]))
-            ops.fix(ground, 1, 1, 1, 1, 1, 1)
-            ops.uniaxialMaterial("Elastic", 800000 + i, k)
-            ops.element("zeroLength", 700000 + i, ground, n, "-mat", 800000 + i, "-dir", c)
-        lam = np.array(ops.eigen("-fullGenLapack", n_modes))
-        ops.wipe()
-        return np.sqrt(lam) / (2 * np.pi)
+            ops.element("elasticBeamColumn", eid, e.ga, e.gb, p.A, m.e, m.g, p.j, p.i2, p.i1,
+                        eid, "-mass", m.rho * p.A, *extra)
+        elif e.type == "CELAS2":
+            k += 1
+            n = e.nodes[0]
+            ops.node(900000 + k, *map(float, bdf.nodes[n].xyz))
+            ops.fix(900000 + k, 1, 1, 1, 1, 1, 1)
+            ops.uniaxialMaterial("Elastic", k, e.k)
+            ops.element("zeroLength", 9000000 + k, 900000 + k, n, "-mat", k, "-dir", e.c1)
+    for e in bdf.masses.values():
+        ops.mass(e.nid, e.mass, e.mass, e.mass, 0.0, 0.0, 0.0)
+    lam = np.array(ops.eigen("-fullGenLapack", n_modes))
+    ops.wipe()
+    return np.sqrt(lam) / (2 * np.pi)
 
 
 def random_frame(rng: np.random.Generator, consistent: bool = True) -> Frame:

@@ -11,9 +11,9 @@ Coordinates: the displacement ``component`` (1-6) of ``grid`` is coordinate
 
 from __future__ import annotations
 
+import copy
 import io
 import math
-import copy
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -105,11 +105,18 @@ def _pynastran():
 
 def _read(path: Path):
     BDF = _pynastran()
+    from cpylog import SimpleLogger  # pyNastran's logger; errors are ours to report
+
     text = path.read_text(errors="replace")
-    bdf = BDF(debug=None)
+    bdf = BDF(log=SimpleLogger(level="critical"))
+    upper = text.upper()
+    source: Any = str(path)
+    if "CEND" not in upper and "BEGIN BULK" in upper:  # bulk data only, after BEGIN BULK
+        lines = text.splitlines(keepends=True)
+        first = next(i for i, x in enumerate(lines) if x.upper().startswith("BEGIN BULK"))
+        source = io.StringIO("".join(lines[first + 1:]))
     try:
-        bdf.read_bdf(str(path), xref=False, punch="BEGIN BULK" not in text.upper(),
-                     validate=True)
+        bdf.read_bdf(source, xref=False, punch="CEND" not in upper, validate=True)
     except Exception as exc:  # pyNastran raises many kinds on malformed cards
         msg = str(exc).strip().splitlines()
         raise InputError(f"pyNastran cannot read the file: {type(exc).__name__}: "
@@ -229,7 +236,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
         raise InputError("every coordinate is restrained or carries neither stiffness nor mass")
     coords = (10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))[keep]
     params = []
-    for (p, f), v in zip(specs, values, strict=True):
+    for (p, _), v in zip(specs, values, strict=True):
         params.append(Parameter(p.name, v, p.std, p.update))
     pm = ParametricModel(
         k0.matrix(ndof, keep), m0.matrix(ndof, keep), tuple(params),
@@ -322,10 +329,15 @@ def _material(bdf, mid: int, where: str):
     if not (mat.e and mat.e > 0):
         raise InputError(f"MAT1 {mid}: E must be > 0 for a bar or rod, got {mat.e}")
     g = mat.g if mat.g is not None else 0.0
-    # G left blank on the card: pyNastran filled in E / (2 (1 + NU)), so G follows E
-    tied = mat.nu is not None and g > 0 and math.isclose(g, mat.e / (2 * (1 + mat.nu)),
+    return mat, rho, g, _tied(mat)
+
+
+def _tied(mat) -> bool:
+    """True when MAT1's G was left blank: pyNastran filled in E / (2 (1 + NU)), so G
+    follows E."""
+    g = mat.g or 0.0
+    return mat.nu is not None and g > 0 and math.isclose(g, mat.e / (2 * (1 + mat.nu)),
                                                          rel_tol=1e-12)
-    return mat, rho, g, tied
 
 
 def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
@@ -611,20 +623,32 @@ def write_updated_bdf(nm: NastranModel, out: str | Path, values: dict[str, float
     """Write the BDF with the parameters' values in their cards (pyNastran's writer) and
     ``comment`` lines at the top; atomically (a failure leaves ``out`` untouched)."""
     bdf = copy.deepcopy(nm.bdf)  # nm stays as read
+    for mat in bdf.materials.values():
+        if mat.type == "MAT1" and _tied(mat):
+            mat.g = None  # G was blank: keep it blank, it follows E
     for p, f in zip(nm.model.parameters, nm.fields, strict=True):
         v = float(values[p.name])
         card = _stores(bdf)[f.card][f.id]
         attr = FIELDS[f.card][f.field]
         old = getattr(card, attr)
-        if f.card == "MAT1" and f.field == "E" and card.nu is not None and card.g:
-            if math.isclose(card.g, card.e / (2 * (1 + card.nu)), rel_tol=1e-12):
-                card.g = v / (2 * (1 + card.nu))  # G was blank: it follows E
         setattr(card, attr, np.full_like(old, v) if isinstance(old, np.ndarray) else v)
+        # some cards (CELAS2) always print 8-character fields: force 16 for updated ones
+        card.write_card = _large_field_writer(card)
     buf = io.StringIO()
-    bdf.write_bdf(buf, close=False, enddata=True)
+    # 16-character fields: the updated values keep 10-12 significant digits
+    bdf.write_bdf(buf, size=16, close=False, enddata=True)
     head = "".join(f"$ {line}\n" for line in comment)
     write_text(out, head + buf.getvalue())
 
+
+
+def _large_field_writer(card):
+    from pyNastran.bdf.field_writer_16 import print_card_16
+
+    def write_card(size: int = 16, is_double: bool = False) -> str:
+        return card.comment + print_card_16(card.repr_fields())
+
+    return write_card
 
 
 def save_updated_bdf(study, result, out: str | Path) -> None:

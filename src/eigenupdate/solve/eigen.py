@@ -220,12 +220,15 @@ def _condensed(K: np.ndarray, M: np.ndarray, massless: np.ndarray):
     static condensation onto the massive ones, as NASTRAN does; the massless coordinates
     carry only infinite eigenvalues, which are dropped."""
     a, b = np.flatnonzero(~massless), np.flatnonzero(massless)
-    try:
-        cb = scipy.linalg.cho_factor(K[np.ix_(b, b)])
-    except np.linalg.LinAlgError:
-        raise InputError(f"{b.size} coordinates without mass have a singular stiffness "
-                         f"(a massless mechanism)") from None
-    kba = scipy.linalg.cho_solve(cb, K[np.ix_(b, a)])
+    w, v = scipy.linalg.eigh(K[np.ix_(b, b)])
+    null = w <= 1e-12 * max(w.max(initial=0.0), 0.0)
+    # a massless motion with no stiffness (a free beam's lumped-mass rotation about its
+    # own axis) carries no eigenvalue at all, provided it moves no massive coordinate
+    if null.any() and np.abs(v[:, null].T @ K[np.ix_(b, a)]).max() > 1e-10 * np.abs(K).max():
+        raise InputError(f"{int(null.sum())} massless mechanism(s): coordinates without mass "
+                         f"and without stiffness of their own") from None
+    vr = v[:, ~null]
+    kba = vr @ ((vr.T @ K[np.ix_(b, a)]) / w[~null, None])
     kc = K[np.ix_(a, a)] - K[np.ix_(a, b)] @ kba
     kc = 0.5 * (kc + kc.T)
     lam, phi_a, rigid = all_modes(kc, M[np.ix_(a, a)])

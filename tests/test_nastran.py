@@ -247,3 +247,25 @@ def test_unknown_grid_in_perturbation():
     nm: NastranModel = read_nastran(FRAME / "frame.bdf")
     with pytest.raises(InputError, match="GRID 77 is not defined"):
         nm.grid_dof(77, 1)
+
+
+def test_coordinate_systems_leave_frequencies_unchanged(tmp_path):
+    """The cantilever given in a rotated and shifted CORD2R (CP) with displacements in
+    another one (CD) has the same frequencies as in basic: positions and displacement
+    frames go through pyNastran's transforms."""
+    plain = _freqs(_line_bdf(tmp_path, 10, 2.0, fixed="123456"), 6)
+    n, L = 10, 2.0
+    lines = ["BEGIN BULK", "PARAM,COUPMASS,1",
+             "CORD2R,5,,1.,2.,3.,1.6,2.8,3.9\n,2.,1.,3.5",
+             "CORD2R,6,,0.,0.,0.,0.,1.,1.\n,1.,0.,0."]
+    for i in range(n + 1):
+        lines.append(f"GRID,{i + 1},5,{L * i / n!r},0.,0.,6")
+    v = "0.,1.,0."  # orientation in GA's displacement system: CD 6, the same for every grid
+    lines += [f"CBAR,{i + 1},1,{i + 1},{i + 2},{v}" for i in range(n)]
+    lines += ["PBAR,1,1,1.e-3,2.e-7,8.e-7,5.e-7", "MAT1,1,2.e11,,0.3,7800.",
+              "SPC1,1,123456,1", "ENDDATA"]
+    path = tmp_path / "rotated.bdf"
+    path.write_text("\n".join(lines) + "\n")
+    rotated = _freqs(path, 6)
+    # a straight clamped beam's frequencies do not depend on its roll about the axis
+    assert np.allclose(rotated, plain, rtol=1e-9)

@@ -405,8 +405,7 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
     mp = frame3d.mass_parts(L, consistent)
     mp["translation"][rod] = frame3d.rod_mass_part(L[rod], consistent)
     mp["torsion"][rod] = 0.0
-    parts = {**{f"k_{k}": frame3d.to_global(x, T) for k, x in kp.items()},
-             **{f"m_{k}": frame3d.to_global(x, T) for k, x in mp.items()}}
+    parts = {**{f"k_{k}": x for k, x in kp.items()}, **{f"m_{k}": x for k, x in mp.items()}}
     dofs = (6 * np.stack([ga, gb], 1)[:, :, None] + np.arange(6)[None, None, :]).reshape(-1, 12)
     r_idx = np.repeat(dofs, 12, axis=1)
     c_idx = np.tile(dofs, (1, 12))
@@ -443,27 +442,38 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
                     for part, c in parts_:
                         d(slots[fld], part, c, mask)
     _one_parameter_per_quantity(deriv, label, kj)
-    for part, tot in total.items():
-        base = tot - sum((values[j] * dj[part] for j, dj in enumerate(deriv) if part in dj),
-                         np.zeros(n))
-        (k0 if part[0] == "k" else m0).add(r_idx, c_idx, base[:, None, None] * parts[part])
+    base = {part: tot - sum((values[j] * dj[part] for j, dj in enumerate(deriv) if part in dj),
+                            np.zeros(n)) for part, tot in total.items()}
+
+    def put(dest, coefs: dict[str, np.ndarray]) -> None:
+        # sum the local parts first: one transformation and one COO block per element
+        sel = np.flatnonzero(np.any([c != 0 for c in coefs.values()], axis=0))
+        if sel.size:
+            local = sum(c[sel, None, None] * parts[p][sel] for p, c in coefs.items())
+            dest.add(r_idx[sel], c_idx[sel], frame3d.to_global(local, T[sel]))
+
+    for kind, dest0, dests in (("k", k0, kj), ("m", m0, mj)):
+        put(dest0, {p: c for p, c in base.items() if p[0] == kind})
         for j, dj in enumerate(deriv):
-            if part in dj and np.any(dj[part]):
-                sel = np.flatnonzero(dj[part])
-                dest = kj[j] if part[0] == "k" else mj[j]
-                dest.add(r_idx[sel], c_idx[sel], dj[part][sel, None, None] * parts[part][sel])
+            if any(p[0] == kind for p in dj):
+                put(dests[j], {p: c for p, c in dj.items() if p[0] == kind})
 
 
 def _one_parameter_per_quantity(deriv, label, kj) -> None:
-    seen: dict = {}
-    for j, dj in enumerate(deriv):
-        for part, arr in dj.items():
-            for e in np.flatnonzero(arr):
-                other = seen.setdefault((part, e), j)
-                if other != j:
-                    raise InputError(f"{label[e]}: parameters {other + 1} and {j + 1} both scale "
-                                     f"its {part[2:]} {'stiffness' if part[0] == 'k' else 'mass'}"
-                                     f": K or M would hold their product (not linear)")
+    parts = {p for dj in deriv for p in dj}
+    for part in parts:
+        owner = np.full(len(label), -1)
+        for j, dj in enumerate(deriv):
+            if part not in dj:
+                continue
+            hit = np.flatnonzero(dj[part])
+            clash = hit[owner[hit] >= 0]
+            if clash.size:
+                e = clash[0]
+                raise InputError(f"{label[e]}: parameters {owner[e] + 1} and {j + 1} both scale "
+                                 f"its {part[2:]} {'stiffness' if part[0] == 'k' else 'mass'}"
+                                 f": K or M would hold their product (not linear)")
+            owner[hit] = j
 
 
 def _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj) -> None:

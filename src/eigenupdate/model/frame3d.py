@@ -187,4 +187,4 @@ def element_transform(rotation, offset_a, offset_b, frame_a, frame_b) -> np.ndar
 
 def to_global(local: np.ndarray, transform: np.ndarray) -> np.ndarray:
     """T^T k T for every element."""
-    return np.einsum("nji,njk,nkl->nil", transform, local, transform, optimize=True)
+    return np.transpose(transform, (0, 2, 1)) @ local @ transform

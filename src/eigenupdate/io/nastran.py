@@ -497,40 +497,30 @@ def _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj) -> None:
             raise InputError(f"{label}: needs one or two different grid components")
         return out
 
-    for eid, e in sorted(bdf.elements.items()):
-        label = f"{e.type} {eid}"
-        if e.type == "CELAS1":
-            p = bdf.properties.get(e.pid)
-            if p is None or p.type != "PELAS":
-                raise InputError(f"{label}: property PELAS {e.pid} is not defined")
-            k, j = p.k, pindex.get(("PELAS", p.pid), {}).get("K")
-        elif e.type == "CELAS2":
-            k, j = e.k, pindex.get(("CELAS2", eid), {}).get("K")
-        else:
-            continue
-        dofs = dofs_of(e, label)
-        if j is None:
-            put(k0, dofs, k)
-        else:
-            put(kj[j], dofs, 1.0)
-    for eid, e in sorted(bdf.masses.items()):
-        label = f"{e.type} {eid}"
-        if e.type == "CMASS1":
-            p = bdf.properties_mass.get(e.pid)
-            if p is None or p.type != "PMASS":
-                raise InputError(f"{label}: property PMASS {e.pid} is not defined")
-            m, j = p.mass, pindex.get(("PMASS", p.pid), {}).get("M")
-        elif e.type == "CMASS2":
-            m, j = e.mass, pindex.get(("CMASS2", eid), {}).get("M")
-        else:
-            continue
-        if m < 0:
-            raise InputError(f"{label}: negative mass {m:g}")
-        dofs = dofs_of(e, label)
-        if j is None:
-            put(m0, dofs, wtmass * m)
-        else:
-            put(mj[j], dofs, wtmass)
+    # (cards, with a property, property card, direct card, field, K or M, unit scale)
+    kinds = ((bdf.elements, "CELAS1", bdf.properties, "PELAS", "CELAS2", "K", k0, kj, 1.0),
+             (bdf.masses, "CMASS1", bdf.properties_mass, "PMASS", "CMASS2", "M", m0, mj,
+              wtmass))
+    for cards, with_prop, props, prop_card, direct, fld, dest0, dests, scale in kinds:
+        attr = FIELDS[direct][fld]
+        for eid, e in sorted(cards.items()):
+            label = f"{e.type} {eid}"
+            if e.type == with_prop:
+                p = props.get(e.pid)
+                if p is None or p.type != prop_card:
+                    raise InputError(f"{label}: property {prop_card} {e.pid} is not defined")
+                value, j = getattr(p, attr), pindex.get((prop_card, p.pid), {}).get(fld)
+            elif e.type == direct:
+                value, j = getattr(e, attr), pindex.get((direct, eid), {}).get(fld)
+            else:
+                continue
+            if fld == "M" and value < 0:
+                raise InputError(f"{label}: negative mass {value:g}")
+            dofs = dofs_of(e, label)
+            if j is None:
+                put(dest0, dofs, scale * value)
+            else:
+                put(dests[j], dofs, scale)
 
 
 def _conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj) -> None:

@@ -56,15 +56,16 @@ def test_random_frames_match_opensees(tmp_path, consistent):
     assert worst < 1e-8
 
 
-def _line_bdf(tmp_path, n, L, *, fixed="", coupmass=True, card="CBAR", extra=""):
+def _line_bdf(tmp_path, n, L, *, fixed="", coupmass=True, card="CBAR", extra="",
+              beam_k="0.,0."):
     """A straight line of n elements along x."""
     lines = ["BEGIN BULK"] + (["PARAM,COUPMASS,1"] if coupmass else [])
     lines += [f"GRID*,{i + 1},,{L * i / n!r},0.\n*,0." for i in range(n + 1)]
     for i in range(n):
-        lines.append(f"CBAR,{i + 1},1,{i + 1},{i + 2},0.,1.,0." if card == "CBAR"
-                     else f"CROD,{i + 1},1,{i + 1},{i + 2}")
-    lines += ["PBAR,1,1,1.e-3,2.e-7,8.e-7,5.e-7" if card == "CBAR" else "PROD,1,1,1.e-3,5.e-7",
-              "MAT1,1,2.e11,,0.3,7800."]
+        lines.append(f"{card},{i + 1},1,{i + 1},{i + 2}" + (",0.,1.,0." * (card != "CROD")))
+    lines += [{"CBAR": "PBAR,1,1,1.e-3,2.e-7,8.e-7,5.e-7",
+               "CBEAM": f"PBEAM,1,1,1.e-3,2.e-7,8.e-7,,5.e-7\n,,,,,,,,\n,{beam_k}",
+               "CROD": "PROD,1,1,1.e-3,5.e-7"}[card], "MAT1,1,2.e11,,0.3,7800."]
     if fixed:
         lines.append(f"SPC1,1,{fixed},1")
     lines += [extra, "ENDDATA"]
@@ -269,3 +270,33 @@ def test_coordinate_systems_leave_frequencies_unchanged(tmp_path):
     rotated = _freqs(path, 6)
     # a straight clamped beam's frequencies do not depend on its roll about the axis
     assert np.allclose(rotated, plain, rtol=1e-9)
+
+
+@pytest.mark.parametrize("coupmass", [True, False], ids=["consistent", "lumped"])
+def test_cbeam_constant_section_is_the_cbar(tmp_path, coupmass):
+    """A CBEAM with a constant PBEAM and K1 = K2 = 0 (no shear flexibility) is the same
+    Euler-Bernoulli element as the CBAR, checked against OpenSees above."""
+    bar = read_nastran(_line_bdf(tmp_path, 6, 2.0, fixed="123456", coupmass=coupmass)).model
+    beam = read_nastran(_line_bdf(tmp_path, 6, 2.0, fixed="123456", coupmass=coupmass,
+                                  card="CBEAM")).model
+    for a, b in ((bar.stiffness(), beam.stiffness()), (bar.mass(), beam.mass())):
+        assert abs(a - b).max() <= 1e-15 * abs(a).max()
+
+
+def test_shear_flexible_pbeam_refused(tmp_path):
+    path = _line_bdf(tmp_path, 2, 2.0, card="CBEAM", beam_k="")
+    with pytest.raises(InputError, match="PBEAM 1: shear factors K1 = 1, K2 = 1"):
+        read_nastran(path)
+
+
+def test_pbeam_area_parameter_finite_difference(tmp_path):
+    """Source: finite difference of the assembled K and M in the PBEAM's A."""
+    path = _line_bdf(tmp_path, 3, 2.0, fixed="123456", card="CBEAM")
+    nm = read_nastran(path, [(Parameter("A", 0.0), CardField("PBEAM", 1, "A"))])
+    bumped = tmp_path / "bumped.bdf"
+    bumped.write_text(path.read_text().replace("PBEAM,1,1,1.e-3", "PBEAM,1,1,1.5e-3"))
+    up = read_nastran(bumped).model
+    for plus, base, term in ((up.stiffness(), nm.model.stiffness(), nm.model.k_terms[0]),
+                             (up.mass(), nm.model.mass(), nm.model.m_terms[0])):
+        fd = ((plus - base) / 0.5e-3).toarray()
+        assert np.max(np.abs(fd - term.toarray())) <= 1e-9 * np.abs(fd).max()

@@ -30,7 +30,7 @@ from eigenupdate.model.parametric import ParametricModel
 
 SUPPORTED = {
     "GRID", "CORD1R", "CORD2R", "CORD1C", "CORD2C", "CORD1S", "CORD2S",
-    "CBAR", "PBAR", "CROD", "PROD", "CONROD", "CELAS1", "CELAS2", "PELAS",
+    "CBAR", "PBAR", "CBEAM", "PBEAM", "CROD", "PROD", "CONROD", "CELAS1", "CELAS2", "PELAS",
     "CONM2", "CMASS1", "CMASS2", "PMASS", "MAT1", "SPC", "SPC1", "SPCADD",
     "PARAM", "EIGRL", "EIGR", "ENDDATA",
 }
@@ -39,6 +39,7 @@ SUPPORTED = {
 FIELDS = {
     "MAT1": {"E": "e", "RHO": "rho"},
     "PBAR": {"A": "A", "I1": "i1", "I2": "i2", "J": "j"},
+    "PBEAM": {"A": "A", "I1": "i1", "I2": "i2", "J": "j"},
     "PROD": {"A": "A", "J": "j"},
     "PELAS": {"K": "k"},
     "CELAS2": {"K": "k"},
@@ -305,7 +306,8 @@ def _check_fields(bdf, fields: list[CardField]) -> dict:
 
 
 def _stores(bdf) -> dict:
-    return {"MAT1": bdf.materials, "PBAR": bdf.properties, "PROD": bdf.properties,
+    return {"MAT1": bdf.materials, "PBAR": bdf.properties, "PBEAM": bdf.properties,
+            "PROD": bdf.properties,
             "PELAS": bdf.properties, "CELAS2": bdf.elements, "CONM2": bdf.masses,
             "CMASS2": bdf.masses, "PMASS": bdf.properties_mass}
 
@@ -346,24 +348,25 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
     rows = []  # (label, ga, gb, v or None, wa, wb, E, G, tied, rho, A, I1, I2, J, nsm, mid, pid)
     for eid, e in sorted(bdf.elements.items()):
         label = f"{e.type} {eid}"
-        if e.type == "CBAR":
+        if e.type in ("CBAR", "CBEAM"):
+            ptype = "PBAR" if e.type == "CBAR" else "PBEAM"
             prop = bdf.properties.get(e.pid)
-            if prop is None or prop.type != "PBAR":
-                raise InputError(f"{label}: property PBAR {e.pid} is not defined")
+            if prop is None or prop.type != ptype:
+                raise InputError(f"{label}: property {ptype} {e.pid} is not defined")
             if e.offt != "GGG":
                 raise InputError(f"{label}: OFFT {e.offt} is not supported (only GGG)")
             if (e.pa or 0) or (e.pb or 0):
                 raise InputError(f"{label}: pin flags PA/PB are not supported")
-            ga, gb = grid(e.ga, label), grid(e.gb, label)
+            if getattr(e, "sa", 0) or getattr(e, "sb", 0):
+                raise InputError(f"{label}: scalar points SA/SB (warping) are not supported")
+            ga, gb = grid(e.nodes[0], label), grid(e.nodes[1], label)
             if e.g0 is not None:
                 v = xyz[grid(e.g0, label)] - xyz[ga]
             else:
                 v = frames[ga].T @ np.asarray(e.x, float)
             wa = frames[ga].T @ np.asarray(e.wa, float)
             wb = frames[gb].T @ np.asarray(e.wb, float)
-            sec = (prop.A, prop.i1, prop.i2, prop.j, prop.nsm, prop.mid, ("PBAR", prop.pid))
-            if prop.i12:
-                raise InputError(f"PBAR {prop.pid}: I12 = {prop.i12:g} is not supported")
+            sec = _bar_section(prop)
         elif e.type in ("CROD", "CONROD"):
             if e.type == "CROD":
                 prop = bdf.properties.get(e.pid)
@@ -382,7 +385,7 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
                 raise InputError(f"{pkey[0] + ' ' + str(pkey[1]) if pkey else label}: "
                                  f"{name} = {x} must be >= 0")
         mat, rho, g, tied = _material(bdf, mid, label)
-        rows.append((label, e.type != "CBAR", ga, gb, v, wa, wb, mat.e, g, tied, rho,
+        rows.append((label, e.type in ("CROD", "CONROD"), ga, gb, v, wa, wb, mat.e, g, tied, rho,
                      float(A), float(i1), float(i2), float(j or 0.0), float(nsm or 0.0),
                      mid, pkey))
     if not rows:
@@ -433,7 +436,7 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
                 j = slots["RHO"]
                 d(j, "m_translation", wtmass * A, mask)
                 d(j, "m_torsion", wtmass * J, mask)
-        elif card in ("PBAR", "PROD"):
+        elif card in ("PBAR", "PBEAM", "PROD"):
             mask = np.array([k == (card, cid) for k in pkeys])
             for fld, parts_ in (("A", (("k_axial", E), ("m_translation", wtmass * rho))),
                                 ("I1", (("k_bend1", E),)), ("I2", (("k_bend2", E),)),
@@ -457,6 +460,30 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
         for j, dj in enumerate(deriv):
             if any(p[0] == kind for p in dj):
                 put(dests[j], {p: c for p, c in dj.items() if p[0] == kind})
+
+
+def _bar_section(prop) -> tuple:
+    """(A, I1, I2, J, NSM, MID, (card, id)) of a PBAR or a constant-section PBEAM."""
+    where = f"{prop.type} {prop.pid}"
+    if prop.type == "PBEAM":
+        for name in ("A", "i1", "i2", "i12", "j", "nsm"):
+            if np.ptp(np.asarray(getattr(prop, name), float)) != 0:
+                raise InputError(f"{where}: {name.upper()} varies along the beam; only a "
+                                 f"constant section is supported")
+        if prop.k1 or prop.k2:
+            raise InputError(f"{where}: shear factors K1 = {prop.k1:g}, K2 = {prop.k2:g} make "
+                             f"NASTRAN's beam shear-flexible (blank means 1.0); this is an "
+                             f"Euler-Bernoulli model: set K1 = K2 = 0.0 to use it")
+        extra = [n for n in ("s1", "s2", "nsia", "nsib", "cwa", "cwb", "m1a", "m2a", "m1b",
+                             "m2b", "n1a", "n2a", "n1b", "n2b") if getattr(prop, n)]
+        if extra:
+            raise InputError(f"{where}: {', '.join(x.upper() for x in extra)} (warping, "
+                             f"offsets of the mass or neutral axis) are not supported")
+    first = [float(np.ravel(getattr(prop, n))[0]) for n in ("A", "i1", "i2", "i12", "j", "nsm")]
+    A, i1, i2, i12, j, nsm = first
+    if i12:
+        raise InputError(f"{where}: I12 = {i12:g} is not supported")
+    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid)
 
 
 def _one_parameter_per_quantity(deriv, label, kj) -> None:

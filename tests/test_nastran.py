@@ -300,3 +300,22 @@ def test_pbeam_area_parameter_finite_difference(tmp_path):
                              (up.mass(), nm.model.mass(), nm.model.m_terms[0])):
         fd = ((plus - base) / 0.5e-3).toarray()
         assert np.max(np.abs(fd - term.toarray())) <= 1e-9 * np.abs(fd).max()
+
+
+def test_conm2_offset_and_inertia_closed_form(tmp_path):
+    """Source: rigid-body mass of a point mass m at offset r with inertia I about its
+    centre, seen from the grid: [[m 1, -m [r]x], [m [r]x, I + m (|r|^2 1 - r r^T)]];
+    PARAM WTMASS scales all of it."""
+    r = np.array([0.3, -0.2, 0.5])
+    path = tmp_path / "conm2.bdf"
+    path.write_text("BEGIN BULK\nPARAM,WTMASS,0.5\nGRID,1,,1.,2.,3.\nGRID,2,,2.,2.,3.\n"
+                    "CELAS2,1,1.,1,1,2,1\n"
+                    f"CONM2,7,1,,12.,{r[0]},{r[1]},{r[2]}\n,2.,0.1,3.,0.2,0.3,4.\nENDDATA\n")
+    m = read_nastran(path).model
+    rows = [m.index(10 + c) for c in range(1, 7)]
+    got = m.mass().toarray()[np.ix_(rows, rows)]
+    inertia = np.array([[2.0, -0.1, -0.2], [-0.1, 3.0, -0.3], [-0.2, -0.3, 4.0]])
+    rx = np.array([[0, -r[2], r[1]], [r[2], 0, -r[0]], [-r[1], r[0], 0]])
+    want = np.block([[12 * np.eye(3), -12 * rx],
+                     [12 * rx, inertia + 12 * (r @ r * np.eye(3) - np.outer(r, r))]])
+    assert np.allclose(got, 0.5 * want, rtol=1e-14, atol=1e-14)

@@ -345,65 +345,80 @@ def _tied(mat) -> bool:
 def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
            k0, m0, kj, mj) -> None:
     """CBAR, CROD and CONROD, vectorised over elements."""
-    rows = []  # (label, ga, gb, v or None, wa, wb, E, G, tied, rho, A, I1, I2, J, nsm, mid, pid)
+    sections: dict = {}  # validated once per property (or CONROD)
+
+    def section(key, make, where_):
+        if key not in sections:
+            A, i1, i2, j, nsm, mid, pkey = make()
+            for name, x in (("A", A), ("I1", i1), ("I2", i2), ("J", j), ("NSM", nsm)):
+                if x is None or not math.isfinite(x) or x < 0:
+                    raise InputError(f"{pkey[0] + ' ' + str(pkey[1]) if pkey else where_}: "
+                                     f"{name} = {x} must be >= 0")
+            mat, rho, g, tied = _material(bdf, mid, where_)
+            sections[key] = (mat.e, g, tied, rho, float(A), float(i1), float(i2),
+                             float(j or 0.0), float(nsm or 0.0), mid, pkey)
+        return sections[key]
+
+    label, rod, ga, gb, g0, xv, wa, wb, sec = [], [], [], [], [], [], [], [], []
+    zero = np.zeros(3)
     for eid, e in sorted(bdf.elements.items()):
-        label = f"{e.type} {eid}"
+        lab = f"{e.type} {eid}"
         if e.type in ("CBAR", "CBEAM"):
             ptype = "PBAR" if e.type == "CBAR" else "PBEAM"
             prop = bdf.properties.get(e.pid)
             if prop is None or prop.type != ptype:
-                raise InputError(f"{label}: property {ptype} {e.pid} is not defined")
+                raise InputError(f"{lab}: property {ptype} {e.pid} is not defined")
             if e.offt != "GGG":
-                raise InputError(f"{label}: OFFT {e.offt} is not supported (only GGG)")
+                raise InputError(f"{lab}: OFFT {e.offt} is not supported (only GGG)")
             if (e.pa or 0) or (e.pb or 0):
-                raise InputError(f"{label}: pin flags PA/PB are not supported")
+                raise InputError(f"{lab}: pin flags PA/PB are not supported")
             if getattr(e, "sa", 0) or getattr(e, "sb", 0):
-                raise InputError(f"{label}: scalar points SA/SB (warping) are not supported")
-            ga, gb = grid(e.nodes[0], label), grid(e.nodes[1], label)
-            if e.g0 is not None:
-                v = xyz[grid(e.g0, label)] - xyz[ga]
-            else:
-                v = frames[ga].T @ np.asarray(e.x, float)
-            wa = frames[ga].T @ np.asarray(e.wa, float)
-            wb = frames[gb].T @ np.asarray(e.wb, float)
-            sec = _bar_section(prop)
+                raise InputError(f"{lab}: scalar points SA/SB (warping) are not supported")
+            a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
+            g0.append(-1 if e.g0 is None else grid(e.g0, lab))
+            xv.append(zero if e.g0 is not None else e.x)
+            wa.append(e.wa)
+            wb.append(e.wb)
+            sec.append(section((ptype, e.pid), lambda p=prop: _bar_section(p), lab))
         elif e.type in ("CROD", "CONROD"):
             if e.type == "CROD":
                 prop = bdf.properties.get(e.pid)
                 if prop is None or prop.type != "PROD":
-                    raise InputError(f"{label}: property PROD {e.pid} is not defined")
-                sec = (prop.A, 0.0, 0.0, prop.j, prop.nsm, prop.mid, ("PROD", prop.pid))
+                    raise InputError(f"{lab}: property PROD {e.pid} is not defined")
+                sec.append(section(("PROD", e.pid), lambda p=prop: (
+                    p.A, 0.0, 0.0, p.j, p.nsm, p.mid, ("PROD", p.pid)), lab))
             else:
-                sec = (e.A, 0.0, 0.0, e.j, e.nsm, e.mid, None)
-            ga, gb = grid(e.nodes[0], label), grid(e.nodes[1], label)
-            v, wa, wb = None, np.zeros(3), np.zeros(3)
+                sec.append(section(("CONROD", eid), lambda e=e: (
+                    e.A, 0.0, 0.0, e.j, e.nsm, e.mid, None), lab))
+            a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
+            g0.append(-1)
+            xv.append(zero)
+            wa.append(zero)
+            wb.append(zero)
         else:
             continue
-        A, i1, i2, j, nsm, mid, pkey = sec
-        for name, x in (("A", A), ("I1", i1), ("I2", i2), ("J", j), ("NSM", nsm)):
-            if x is None or not math.isfinite(x) or x < 0:
-                raise InputError(f"{pkey[0] + ' ' + str(pkey[1]) if pkey else label}: "
-                                 f"{name} = {x} must be >= 0")
-        mat, rho, g, tied = _material(bdf, mid, label)
-        rows.append((label, e.type in ("CROD", "CONROD"), ga, gb, v, wa, wb, mat.e, g, tied, rho,
-                     float(A), float(i1), float(i2), float(j or 0.0), float(nsm or 0.0),
-                     mid, pkey))
-    if not rows:
+        label.append(lab)
+        rod.append(e.type in ("CROD", "CONROD"))
+        ga.append(a)
+        gb.append(b)
+    if not label:
         return
-    label = [r[0] for r in rows]
-    rod = np.array([r[1] for r in rows])
-    ga = np.array([r[2] for r in rows])
-    gb = np.array([r[3] for r in rows])
-    xa = xyz[ga] + np.array([r[5] for r in rows])
-    xb = xyz[gb] + np.array([r[6] for r in rows])
-    v = np.array([frame3d.any_normal((xb - xa)[i:i + 1])[0] if r[4] is None else r[4]
-                  for i, r in enumerate(rows)])
+    rod, ga, gb, g0 = np.array(rod), np.array(ga), np.array(gb), np.array(g0)
+    # orientation vector and offsets are given in GA's (GB's) displacement system
+    to_basic = np.transpose(frames, (0, 2, 1))
+    wa = np.einsum("nij,nj->ni", to_basic[ga], np.array(wa, float))
+    wb = np.einsum("nij,nj->ni", to_basic[gb], np.array(wb, float))
+    xa, xb = xyz[ga] + wa, xyz[gb] + wb
+    v = np.einsum("nij,nj->ni", to_basic[ga], np.array(xv, float))
+    by_g0 = g0 >= 0
+    v[by_g0] = xyz[g0[by_g0]] - xyz[ga[by_g0]]
+    v[rod] = frame3d.any_normal((xb - xa)[rod])
+    rows = sec  # per element: E, G, tied, rho, A, I1, I2, J, nsm, mid, pkey
     L, R = frame3d.local_axes(xa, xb, v, label)
-    T = frame3d.element_transform(R, np.array([r[5] for r in rows]),
-                                  np.array([r[6] for r in rows]), frames[ga], frames[gb])
-    E, G, rho = (np.array([r[k] for r in rows], float) for k in (7, 8, 10))
-    tied = np.array([r[9] for r in rows])
-    A, I1, I2, J, nsm = (np.array([r[k] for r in rows], float) for k in range(11, 16))
+    T = frame3d.element_transform(R, wa, wb, frames[ga], frames[gb])
+    E, G, rho = (np.array([r[k] for r in rows], float) for k in (0, 1, 3))
+    tied = np.array([r[2] for r in rows])
+    A, I1, I2, J, nsm = (np.array([r[k] for r in rows], float) for k in range(4, 9))
     kp = frame3d.stiffness_parts(L)
     mp = frame3d.mass_parts(L, consistent)
     mp["translation"][rod] = frame3d.rod_mass_part(L[rod], consistent)
@@ -422,8 +437,8 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
         arr = deriv[j].setdefault(part, np.zeros(n))
         arr[mask] += coef[mask] if np.ndim(coef) else coef
 
-    mids = np.array([r[16] for r in rows])
-    pkeys = [r[17] for r in rows]
+    mids = np.array([r[9] for r in rows])
+    pkeys = [r[10] for r in rows]
     for (card, cid), slots in pindex.items():
         if card == "MAT1":
             mask = mids == cid

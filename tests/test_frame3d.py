@@ -71,3 +71,39 @@ def test_bad_geometry_names_the_element():
         frame3d.local_axes(np.zeros((1, 3)), np.zeros((1, 3)), np.ones((1, 3)), ["CBAR 7"])
     with pytest.raises(InputError, match="CBAR 7: orientation vector"):
         frame3d.local_axes(np.zeros((1, 3)), np.ones((1, 3)), np.ones((1, 3)), ["CBAR 7"])
+
+
+def test_consistent_mass_of_rigid_motions_with_offsets():
+    """Source: the exact rigid-body inertia of a uniform line segment (ends p, q, axis e,
+    mass L per unit mass per length, centre c): mass L, first moment L c, inertia about
+    the origin L (|c|^2 1 - c c^T) + L^3 / 12 (1 - e e^T); the torsion part adds L e e^T.
+    Cubic bending and linear axial shape functions move rigidly exactly, so R^T M R must
+    equal it, with the segment carried by rigid offsets from its grids."""
+    ga, gb = np.array([0.2, -0.1, 0.4]), np.array([1.5, 0.9, 1.1])
+    wa, wb = np.array([0.05, 0.1, -0.2]), np.array([-0.1, 0.03, 0.15])
+    p, q = ga + wa, gb + wb
+    L, T = _element(p, q, np.array([0.3, -1.0, 0.5]), wa, wb, _rotation(1), _rotation(2))
+    parts = frame3d.mass_parts(L, True)
+    rigid = np.zeros((12, 6))  # columns: translations x, y, z, rotations about the origin
+    for g, frame, sl in ((ga, _rotation(1), slice(0, 6)), (gb, _rotation(2), slice(6, 12))):
+        for axis in range(6):
+            t, th = np.zeros(3), np.zeros(3)
+            if axis < 3:
+                t[axis] = 1.0
+            else:
+                th[axis - 3] = 1.0
+                t = np.cross(th, g)
+            rigid[sl, axis] = np.concatenate([frame @ t, frame @ th])
+    length = float(L[0])
+    e, c = (q - p) / length, (p + q) / 2
+    cx = frame3d.skew(c[None])[0]
+    want = np.zeros((6, 6))
+    want[:3, :3] = length * np.eye(3)
+    want[:3, 3:] = -length * cx
+    want[3:, :3] = length * cx
+    want[3:, 3:] = length * (c @ c * np.eye(3) - np.outer(c, c)) + \
+        length**3 / 12 * (np.eye(3) - np.outer(e, e))
+    got = rigid.T @ frame3d.to_global(parts["translation"], T)[0] @ rigid
+    assert np.allclose(got, want, rtol=1e-12, atol=1e-12)
+    got_t = rigid.T @ frame3d.to_global(parts["torsion"], T)[0] @ rigid
+    assert np.allclose(got_t[3:, 3:], length * np.outer(e, e), atol=1e-12)

@@ -378,3 +378,26 @@ def test_offsets_stiffness_matches_opensees(tmp_path):
     ops.wipe()
     mine = np.array([u[m.index(10 * n + c)] for n in (2, 3, 4) for c in range(1, 7)])
     assert np.max(np.abs(mine - ref)) <= 1e-9 * np.max(np.abs(ref))
+
+
+def test_g0_orientation_is_the_vector_to_that_grid(tmp_path):
+    """CBAR's G0 gives v = x(G0) - x(GA): a grid off the axis in +y gives the same
+    matrices as the vector (0, 1, 0)."""
+    plain = read_nastran(_line_bdf(tmp_path, 4, 2.0, fixed="123456")).model
+    text = _line_bdf(tmp_path, 4, 2.0, fixed="123456").read_text()
+    for i in range(4):
+        text = text.replace(f"CBAR,{i + 1},1,{i + 1},{i + 2},0.,1.,0.",
+                            f"CBAR,{i + 1},1,{i + 1},{i + 2},99")
+    path = tmp_path / "g0.bdf"
+    path.write_text(text.replace("ENDDATA", "GRID,99,,0.3,5.,0.\nSPC1,1,123456,99\nENDDATA"))
+    g0 = read_nastran(path).model
+    assert np.array_equal(g0.coordinates, plain.coordinates)
+    for a, b in ((plain.stiffness(), g0.stiffness()), (plain.mass(), g0.mass())):
+        assert abs(a - b).max() <= 1e-13 * abs(a).max()
+
+
+def test_missing_bdf_file(tmp_path, run_cli):
+    study = tmp_path / "study.toml"
+    study.write_text('[model]\ntype = "nastran"\nbdf = "nowhere.bdf"\n')
+    code, out, err = run_cli("frequencies", study, "--modes", "1")
+    assert code == 2 and "nowhere.bdf" in err and err.count("\n") == 1

@@ -113,6 +113,8 @@ def uff_point(model_kind: str, coordinate: int) -> tuple[int, int]:
     ((1, 3), (8, 3), (6, 5))
     >>> uff_point("spring-mass", 4)
     (4, 1)
+    >>> uff_point("nastran", 60112), coordinate_from_uff("nastran", (6011, 2))  # GRID 6011, T2
+    ((6011, 2), 60112)
     """
     _check_kind(model_kind)
     c = int(coordinate)

@@ -401,3 +401,30 @@ def test_missing_bdf_file(tmp_path, run_cli):
     study.write_text('[model]\ntype = "nastran"\nbdf = "nowhere.bdf"\n')
     code, out, err = run_cli("frequencies", study, "--modes", "1")
     assert code == 2 and "nowhere.bdf" in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("system", ["CORD2C", "CORD2S"])
+def test_curvilinear_displacement_systems(tmp_path, system):
+    """Displacements in a cylindrical (spherical) CD are along the local r, theta, z
+    (R, theta, phi) at each grid: a cantilever on a ray at 30 degrees in the x-y plane
+    whose free end is held across the ray in the plane (cylindrical theta, spherical phi)
+    has the frequencies of the same cantilever along x held in y. The CBAR orientation
+    vector is given in GA's CD too."""
+    n, L = 8, 2.0
+    held = _freqs(_line_bdf(tmp_path, n, L, fixed="123456",
+                            extra=f"SPC1,1,2,{n + 1}"), 6)
+    c, s = math.cos(math.pi / 6), math.sin(math.pi / 6)
+    # both systems' z axis is basic z; the grids lie at polar angle 90 degrees, so the
+    # spherical theta is -z and phi the in-plane direction across the ray
+    lines = ["BEGIN BULK", "PARAM,COUPMASS,1", f"{system},4,,0.,0.,0.,0.,0.,1.\n,1.,0.,0."]
+    v = "0.,0.,1." if system == "CORD2C" else "0.,-1.,0."  # basic +z, in GA's CD
+    for i in range(n + 1):  # the ray starts 0.5 m out: no grid on the system's axis
+        r = 0.5 + L * i / n
+        lines.append(f"GRID,{i + 1},,{r * c!r},{r * s!r},0.,4")
+    lines += [f"CBAR,{i + 1},1,{i + 1},{i + 2},{v}" for i in range(n)]
+    lines += ["PBAR,1,1,1.e-3,8.e-7,2.e-7,5.e-7", "MAT1,1,2.e11,,0.3,7800.",
+              "SPC1,1,123456,1", f"SPC1,1,{2 if system == 'CORD2C' else 3},{n + 1}",
+              "ENDDATA"]
+    path = tmp_path / "ray.bdf"
+    path.write_text("\n".join(lines) + "\n")
+    assert np.allclose(_freqs(path, 6), held, rtol=1e-9)

@@ -132,8 +132,8 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
     Parameters
     ----------
     path : the bulk data file.
-    parameters : (parameter, card field) pairs; a parameter whose value is None-like is
-        not allowed: the value is taken from the card (``Parameter.value`` is ignored).
+    parameters : (parameter, card field) pairs; each parameter's value is taken from its
+        card field (``Parameter.value`` is ignored), its name, std and update flag are kept.
 
     Returns
     -------
@@ -200,7 +200,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     nids = np.array(sorted(bdf.nodes), dtype=int)
     where = {int(n): i for i, n in enumerate(nids)}
     xyz = _positions(bdf, nids)
-    frames = _frames(bdf, nids)
+    frames = _frames(bdf, nids, xyz)
     ndof = 6 * nids.size
 
     specs = list(specs)
@@ -264,8 +264,9 @@ def _positions(bdf, nids: np.ndarray) -> np.ndarray:
     return out
 
 
-def _frames(bdf, nids: np.ndarray) -> np.ndarray:
-    """Rows = displacement axes (CD) of each grid in basic."""
+def _frames(bdf, nids: np.ndarray, xyz: np.ndarray) -> np.ndarray:
+    """Rows = displacement axes (CD) of each grid in basic; in a cylindrical (spherical)
+    system they are the local r, theta, z (R, theta, phi) directions at the grid."""
     out = np.tile(np.eye(3), (nids.size, 1, 1))
     for i, n in enumerate(nids):
         g = bdf.nodes[int(n)]
@@ -274,10 +275,24 @@ def _frames(bdf, nids: np.ndarray) -> np.ndarray:
         if g.cd not in bdf.coords:
             raise InputError(f"GRID {n}: coordinate system CD {g.cd} is not defined")
         c = bdf.coords[g.cd]
-        if c.Type != "R":
-            raise InputError(f"GRID {n}: displacement system CD {g.cd} is {c.type}; only "
-                             f"rectangular ones are supported")
-        out[i] = c.beta()
+        beta = c.beta()
+        if c.Type == "R":
+            out[i] = beta
+            continue
+        x, y, z = (xyz[i] - np.asarray(c.origin, float)) @ beta.T  # in the system's axes
+        r = math.hypot(x, y)
+        if r <= 1e-12 * max(abs(z), 1.0):
+            raise InputError(f"GRID {n}: lies on the axis of displacement system CD {g.cd} "
+                             f"({c.type}), where its directions are undefined")
+        cp, sp_ = x / r, y / r
+        if c.Type == "C":
+            axes = np.array([[cp, sp_, 0.0], [-sp_, cp, 0.0], [0.0, 0.0, 1.0]])
+        else:  # spherical: R, theta from the z axis, phi about it
+            rho = math.hypot(r, z)
+            st, ct = r / rho, z / rho
+            axes = np.array([[st * cp, st * sp_, ct], [ct * cp, ct * sp_, -st],
+                             [-sp_, cp, 0.0]])
+        out[i] = axes @ beta
     return out
 
 

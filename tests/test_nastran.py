@@ -239,7 +239,7 @@ def test_perturbation_on_restrained_component(tmp_path, run_cli):
     # the spring-supported base 1006 is free only in z (component 3)
     study.write_text(text.replace("grid = 2006\ncomponent = 2", "grid = 1006\ncomponent = 2"))
     code, out, err = run_cli("check", study)
-    assert code == 2 and "GRID 1006 component 2 is restrained (SPC set 1)" in err
+    assert code == 2 and "GRID 1006 component 2 is restrained (SPC set 1 or GRID PS)" in err
 
 
 def test_unknown_grid_in_perturbation():

@@ -80,6 +80,7 @@ class NastranModel:
     fields: tuple[CardField, ...]
     consistent_mass: bool
     spc_set: int | None
+    restrained: frozenset  # coordinates held by the SPC set or GRID PS
     bdf: Any  # pyNastran BDF, kept to write the file back
 
     def grid_dof(self, grid: int, component: int) -> int:
@@ -90,7 +91,8 @@ class NastranModel:
             raise InputError(f"GRID {grid} is not defined in {self.path}")
         c = dof_number(grid, component)
         if c not in self.model.coordinates:
-            why = f"SPC set {self.spc_set}" if self.spc_set is not None else "no stiffness or mass"
+            why = (f"SPC set {self.spc_set} or GRID PS" if c in self.restrained
+                   else "it carries neither stiffness nor mass")
             raise InputError(f"GRID {grid} component {component} is restrained ({why})")
         return c
 
@@ -248,7 +250,8 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
         if a is None and b is None:
             raise InputError(f"{f.card} {f.id} field {f.field} (parameter {p.name!r}) acts on "
                              f"no free coordinate")
-    return NastranModel(path, pm, tuple(fields), consistent, spc_set, bdf)
+    held = frozenset((10 * nids[restrained // 6] + restrained % 6 + 1).tolist())
+    return NastranModel(path, pm, tuple(fields), consistent, spc_set, held, bdf)
 
 
 def _positions(bdf, nids: np.ndarray) -> np.ndarray:

@@ -28,6 +28,7 @@ from eigenupdate.errors import EigenupdateWarning, InputError, NumericalError
 from eigenupdate.identify.weights import ESTIMATORS
 from eigenupdate.io.atomic import write_text
 from eigenupdate.io.measurements import write_measurements
+from eigenupdate.io.nastran import save_updated_bdf
 from eigenupdate.io.study import load_study
 from eigenupdate.io.uff import Mode, write_frfs, write_modes
 from eigenupdate.measure.extraction import extraction_csv
@@ -114,11 +115,16 @@ def cmd_check(args) -> int:
 
 def cmd_update(args) -> int:
     _output_file(args.save, "--save")
+    _output_file(args.save_bdf, "--save-bdf")
     study = load_study(args.study)
+    if args.save_bdf and study.nastran is None:
+        raise InputError("needs a study whose [model] type is \"nastran\"", field="--save-bdf")
     res = workflow.update_study(study, args.method)
     doc = res.to_dict()
     if args.save:
         write_text(args.save, report.dumps({"study": str(study.path), **doc}) + "\n")
+    if args.save_bdf and res.converged:
+        save_updated_bdf(study, res, args.save_bdf)
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
     print(report.dumps(doc) if args.json else report.update_text(res, initial, study.title))
     if not res.converged:
@@ -333,6 +339,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--method", choices=ESTIMATORS)
     s.add_argument("--json", action="store_true")
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
+    s.add_argument("--save-bdf", metavar="UPDATED.bdf",
+                   help="NASTRAN model: write its BDF with the updated values in their cards")
     s.set_defaults(func=cmd_update)
 
     s = sub.add_parser("design", help="choose the added masses from the study's [design] table")

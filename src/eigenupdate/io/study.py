@@ -24,7 +24,7 @@ from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
 
-MODEL_TYPES = ("spring-mass", "beam", "matrices")
+MODEL_TYPES = ("spring-mass", "beam", "matrices", "nastran")
 
 
 @dataclass
@@ -56,6 +56,7 @@ class Study:
         raise InputError(f"no configuration {name!r} (have "
                          f"{[c.name for c in self.configurations]})", source=str(self.path))
     design: DesignSpec | None = None
+    nastran: Any = None  # io.nastran.NastranModel of a type = "nastran" model (write-back)
 
     def measurements(self) -> dict[tuple[str, int], Measurement]:
         """Read the measurement CSV; configuration names must be those of the study."""
@@ -161,7 +162,8 @@ def load_study(path: str | Path) -> Study:
     title = top.get("title", "str", path.stem)
     m = _Reader(top.get("model", "table"), "model", src)
     mtype = m.get("type", "str")
-    builders = {"spring-mass": _spring_mass, "beam": _beam, "matrices": _matrices}
+    builders = {"spring-mass": _spring_mass, "beam": _beam, "matrices": _matrices,
+                "nastran": _nastran}
     if mtype not in builders:
         raise m.error("type", f"unknown model type {mtype!r}; expected one of {list(MODEL_TYPES)}")
     try:
@@ -171,9 +173,10 @@ def load_study(path: str | Path) -> Study:
             raise
         raise InputError(str(exc), source=src) from None
     m.finish()
+    nastran, model = (model, model.model) if mtype == "nastran" else (None, model)
 
     perts = [
-        _perturbation(_Reader(t, f"perturbation[{i + 1}]", src))
+        _perturbation(_Reader(t, f"perturbation[{i + 1}]", src), nastran)
         for i, t in enumerate(top.get("perturbation", "tables", []))
     ]
     configs = [Configuration(BASE), *perts]
@@ -231,6 +234,7 @@ def load_study(path: str | Path) -> Study:
         frf=frf,
         **_frf_settings(frf_options, names, src),
         design=design,
+        nastran=nastran,
     )
 
 
@@ -366,24 +370,40 @@ def _matrices(m: _Reader, base: Path) -> ParametricModel:
     return read_matrix_model(k0, m0, params)
 
 
-def _perturbation(r: _Reader) -> Configuration:
+def _nastran(m: _Reader, base: Path):
+    """[model] type = "nastran": a BDF and parameters named by card, id and field."""
+    from eigenupdate.io.nastran import CardField, read_nastran
+
+    bdf = base / m.get("bdf", "str")
+    params, seen = [], {}
+    for i, t in enumerate(m.get("parameter", "tables", [])):
+        r = _Reader(t, f"model.parameter[{i + 1}]", m.source)
+        if "value" in t:
+            raise r.error("value", "the value is the card's; edit the BDF to change it")
+        p = _parameter(r, seen, default_value=0.0)
+        where = CardField(r.get("card", "str").upper(), r.get("id", "int"),
+                          r.get("field", "str").upper())
+        r.finish()
+        params.append((p, where))
+    return read_nastran(bdf, params)
+
+
+def _perturbation(r: _Reader, nastran=None) -> Configuration:
     adds = []
-    if "add" in r.data and {"coordinate", "mass", "stiffness"} & set(r.data):
+    if "add" in r.data and {"coordinate", "grid", "mass", "stiffness"} & set(r.data):
         raise r.error("add", "give either coordinate with mass/stiffness or add = [...], "
                              "not both")
     if "add" in r.data:
         for j, t in enumerate(r.get("add", "tables")):
-            adds.append(_addition(_Reader(t, f"{r.where}.add[{j + 1}]", r.source)))
-    if "coordinate" in r.data:
-        adds.append(_addition(r, finish=False))
+            adds.append(_addition(_Reader(t, f"{r.where}.add[{j + 1}]", r.source),
+                                  nastran=nastran))
+    if "coordinate" in r.data or "grid" in r.data:
+        adds.append(_addition(r, finish=False, nastran=nastran))
     if not adds:
         raise r.error("coordinate", "a perturbation needs a coordinate (or add = [...])")
     a0 = adds[0]
-    default = (
-        f"{a0.mass:g} kg at {a0.coordinate}"
-        if a0.mass
-        else f"{a0.stiffness:g} N/m at {a0.coordinate}"
-    )
+    at = a0.coordinate if nastran is None else f"{a0.coordinate // 10}-{a0.coordinate % 10}"
+    default = f"{a0.mass:g} kg at {at}" if a0.mass else f"{a0.stiffness:g} N/m at {at}"
     name = r.get("name", "str", default if len(adds) == 1 else ...)
     if name == BASE:
         raise r.error("name", f"{BASE!r} is the bare structure; choose another name")
@@ -391,8 +411,16 @@ def _perturbation(r: _Reader) -> Configuration:
     return Configuration(name, tuple(adds))
 
 
-def _addition(r: _Reader, finish: bool = True) -> Addition:
-    c = r.get("coordinate", "int")
+def _addition(r: _Reader, finish: bool = True, nastran=None) -> Addition:
+    if nastran is None:
+        c = r.get("coordinate", "int")
+    else:  # NASTRAN names a GRID and a component 1-6
+        if "coordinate" in r.data:
+            raise r.error("coordinate", "a NASTRAN model names grid = ... and component = 1-6")
+        try:
+            c = nastran.grid_dof(r.get("grid", "int"), r.get("component", "int"))
+        except InputError as exc:
+            raise r.error("grid", str(exc)) from None
     mass = r.get("mass", "float", 0.0)
     k = r.get("stiffness", "float", 0.0)
     if mass < 0 or k < 0 or (mass == 0 and k == 0):

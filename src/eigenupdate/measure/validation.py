@@ -4,13 +4,14 @@ artefact fails, and honest standard deviations for modes narrower than a line.
 A candidate band's single-mode fit (:func:`eigenupdate.measure.dobson.dobson_fit`) on one
 FRF becomes a mode only if
 
-1. ``|alpha|`` rises :data:`RISE_IN_STD` local noise std above the band's floor (the
-   straight line between its edge values) at :data:`MIN_LINES_ABOVE` lines or more: a
-   one-line spike has no skirts, a resonance has;
+1. the peak of ``|alpha|`` rises :data:`RISE_IN_STD` local noise std above the band's
+   floor (its lowest value), and :data:`MIN_LINES_ABOVE` lines or more (the peak
+   included) rise :data:`SKIRT_IN_STD`: a one-line spike has no skirts, a resonance has;
 2. the loss factor is positive;
 3. the natural frequency lies inside the band;
 4. the single mode plus a constant explains the band: ``1 - |alpha - fit|**2 /
-   |alpha - mean alpha|**2`` (the fit quality, R**2) is at least :data:`MIN_FIT_QUALITY`;
+   |alpha - mean alpha|**2`` (the fit quality, R**2) is at least :data:`MIN_FIT_QUALITY`,
+   or the residual is no larger than the noise (:data:`MAX_RESIDUAL_IN_STD`);
 5. refits over a narrowed and a widened band, and the global rational-fraction fit where
    it has a pole in the band, agree with it within :data:`STABLE_IN_STD` combined std or
    :data:`STABLE_IN_LINES` line spacings, whichever is larger.
@@ -37,6 +38,7 @@ from eigenupdate.measure.modal_fit import MIN_BAND_POINTS, ModalFit, mode_recept
 from eigenupdate.measure.peaks import estimate_noise_std
 
 __all__ = [
+    "SKIRT_IN_STD",
     "MIN_FIT_QUALITY",
     "MIN_LINES_ABOVE",
     "RISE_IN_STD",
@@ -50,13 +52,19 @@ __all__ = [
 #: Rise above the local floor, in noise std: the peak picker's least prominence, so noise
 #: alone passes with a probability of about 1e-8 per line.
 RISE_IN_STD = 6.0
-#: Lines that must rise that far: one line is a spike (or a harmonic exactly on a line);
-#: even a mode far narrower than a line lifts its neighbours by 1/3 of its peak or more.
+#: Lines (the peak included) that must rise SKIRT_IN_STD: one line is a spike (or a
+#: harmonic exactly on a line); even a mode far narrower than a line lifts a neighbour by
+#: 1/3 of its peak or more.
 MIN_LINES_ABOVE = 2
+#: Rise of the skirt lines, in noise std: noise alone reaches it with a probability of
+#: exp(-9) ~ 1e-4 per line, so a spike passes for a resonance about once in 4000.
+SKIRT_IN_STD = 3.0
 #: Least fit quality (R**2 of mode + constant over the band). Clean modes give > 0.99, also
 #: at 1 line per 20 half-power bandwidths; a two-line harmonic with a flat phase or a
 #: leakage ripple (alternating sign from line to line) cannot be fitted that well.
 MIN_FIT_QUALITY = 0.9
+#: ... unless the residual is noise (rms in noise std): a weak mode's band is mostly noise.
+MAX_RESIDUAL_IN_STD = 1.5
 #: Agreement of the second estimates, in combined standard deviations ...
 STABLE_IN_STD = 4.0
 #: ... or in line spacings, whichever is larger (a mode narrower than a line is located to
@@ -109,7 +117,7 @@ def validate_fit(
 
     Examples
     --------
-    A resonance is a mode; a one-line spike of 50 noise std on a smooth curve is not:
+    A resonance is a mode; a one-line spike on a smooth curve is not:
 
     >>> rng = np.random.default_rng(0)
     >>> f = np.arange(1.0, 200.0, 0.5)
@@ -123,7 +131,7 @@ def validate_fit(
     >>> h[300] += 50 * 1e-3 * abs(mode).max()          # 150.5 Hz
     >>> v = validate_fit(f, h, dobson_fit(f, h, (148.0, 153.0)))
     >>> print(v.reason)
-    rises 6 noise std above its floor at 1 line only (a spike, not a resonance)
+    peak 13.9 noise std above its floor, a single line (a spike, not a resonance)
     """
     f, h = np.asarray(freq_hz, float), np.asarray(receptance, complex)
     lo, hi = fit.band_hz
@@ -135,30 +143,34 @@ def validate_fit(
     df = float(np.median(np.diff(fb)))
 
     mag = np.abs(hb)
-    floor = np.interp(fb, [fb[0], fb[-1]], [mag[0], mag[-1]])
-    lines_above = int(np.count_nonzero(mag - floor > RISE_IN_STD * sigma))
+    top = int(np.argmax(mag))
+    floor = min(mag[:top].min(initial=mag[top]), mag[top + 1:].min(initial=mag[top]))
+    rise = (mag - floor) / sigma if sigma > 0 else np.full(mag.shape, np.inf)
+    lines_above = int(np.count_nonzero(rise > SKIRT_IN_STD)) if rise[top] > RISE_IN_STD else 0
 
     x = (2.0 * np.pi * fb) ** 2
     modal = mode_receptance(fit, x)
     const = np.mean(hb - modal)
     spread = float(np.sum(np.abs(hb - hb.mean()) ** 2))
-    quality = 1.0 - float(np.sum(np.abs(hb - modal - const) ** 2)) / spread if spread else 0.0
+    resid = float(np.sum(np.abs(hb - modal - const) ** 2))
+    quality = 1.0 - resid / spread if spread else 0.0
+    rms = np.sqrt(resid / hb.size)
 
     bandwidth = fit.loss_factor * fit.frequency_hz
     under = bandwidth < UNDER_RESOLVED_LINES * df
 
     reason = None
     if lines_above < MIN_LINES_ABOVE:
-        reason = (f"rises {RISE_IN_STD:g} noise std above its floor at {lines_above} line"
-                  f"{'' if lines_above == 1 else 's'} only"
-                  + (" (a spike, not a resonance)" if lines_above == 1 else ""))
+        reason = (f"peak {rise[top]:.3g} noise std above its floor, "
+                  + ("a single line (a spike, not a resonance)" if lines_above == 1 else
+                     f"less than {RISE_IN_STD:g}"))
     elif not fit.loss_factor > 0:
         reason = f"loss factor {fit.loss_factor:.3g} is not positive"
     elif not lo < fit.frequency_hz < hi:
         reason = f"fitted frequency {fit.frequency_hz:.6g} Hz lies outside its band"
-    elif quality < MIN_FIT_QUALITY:
+    elif quality < MIN_FIT_QUALITY and rms > MAX_RESIDUAL_IN_STD * sigma:
         reason = (f"one mode does not explain the band: fit quality {quality:.3f} < "
-                  f"{MIN_FIT_QUALITY:g}")
+                  f"{MIN_FIT_QUALITY:g}, residual {rms / sigma:.3g} noise std")
     second_hz = None
     out = fit
     if reason is None:

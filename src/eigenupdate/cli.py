@@ -22,8 +22,9 @@ from eigenupdate.io.atomic import write_text
 from eigenupdate.io.measurements import Measurement, write_measurements
 from eigenupdate.io.study import Study, load_study
 from eigenupdate.io.uff import Mode, read_frf_files, read_modes, write_frfs, write_modes
-from eigenupdate.measure.extraction import extract_configuration, extraction_csv
-from eigenupdate.measure.frf import dof_label
+from eigenupdate.measure.extraction import extraction_csv
+from eigenupdate.measure.frf import FRF_KINDS, dof_label
+from eigenupdate.measure.survey import extract_test, extraction_doc, extraction_text
 from eigenupdate.measure.synthetic import synthetic_frfs
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import text as report
@@ -162,12 +163,14 @@ def _safe_name(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9.-]+", "_", name).strip("_") or "configuration"
 
 
-def _frf_options(study: Study) -> tuple[dict, float | None]:
-    """[measurement.frf_options]: bands_hz (list, or table by configuration), exclude_below_hz."""
+def _frf_options(study: Study) -> tuple[dict, float | None, dict[Path, str]]:
+    """[measurement.frf_options]: bands_hz (list, or table by configuration),
+    exclude_below_hz, kind (one FRF kind, or a table by file as written in [measurement.frf])."""
     opts = dict(study.frf_options)
     src, field = str(study.path), "measurement.frf_options"
     bands = opts.pop("bands_hz", None)
     low = opts.pop("exclude_below_hz", None)
+    kind = opts.pop("kind", None)
     if opts:
         raise InputError(f"unknown key(s) {sorted(opts)}", source=src, field=field)
     names = [c.name for c in study.configurations]
@@ -193,46 +196,62 @@ def _frf_options(study: Study) -> tuple[dict, float | None]:
                              source=src, field=f"{field}.bands_hz")
     if low is not None and not (isinstance(low, int | float) and low >= 0):
         raise InputError("must be a number >= 0", source=src, field=f"{field}.exclude_below_hz")
-    return table, low
+    files = {p for ps in study.frf.values() for p in ps}
+    base = study.path.parent
+    kinds = {p: kind for p in files} if isinstance(kind, str) else \
+        {base / k: v for k, v in kind.items()} if isinstance(kind, dict) else {}
+    for p, k in kinds.items():
+        if k not in FRF_KINDS or p not in files:
+            what = f"{k!r} is not one of {list(FRF_KINDS)}" if k not in FRF_KINDS else \
+                f"{p.relative_to(base)} is not a file of [measurement.frf]"
+            raise InputError(what, source=src, field=f"{field}.kind")
+    if kind is not None and not isinstance(kind, str | dict):
+        raise InputError("must be an FRF kind or a table of them by file", source=src,
+                         field=f"{field}.kind")
+    return table, low, kinds
 
 
 def cmd_extract(args) -> int:
     _output_file(args.output, "-o")
     _output_file(args.uff55, "--uff55")
     _output_dir(args.plots, "--plots")
-    study = load_study(args.study)
-    modes = study.require_modes()
-    bands, low = _frf_options(study)
-    missing = [c.name for c in study.configurations if not study.frf.get(c.name)]
-    if missing:
-        raise InputError(f"no FRF file for configuration(s) {missing}", source=str(study.path),
-                         field="measurement.frf")
-    done = []  # everything is extracted before anything is written
-    n = len(study.configurations)
-    for i, c in enumerate(study.configurations, 1):
-        files = study.frf[c.name]
-        frfs = read_frf_files(files)
-        _progress(f"[{i}/{n}] {c.name}: {len(frfs)} FRF(s) from {len(files)} file(s)")
-        ex = extract_configuration(frfs, modes, c.name, bands_hz=bands.get(c.name),
-                                   exclude_below_hz=low)
-        for m in ex:
-            d = m.disagreement
-            if d is not None and d > 4:
-                _progress(f"  warning: {c.name} mode {m.mode}: Dobson {m.frequency_hz:.4f} Hz and "
-                          f"rational fraction {m.check_hz:.4f} Hz differ by {d:.1f} std")
-        done.append((c, frfs, ex))
-    results = [m for _, _, ex in done for m in ex]
+    inputs = [Path(p) for p in args.inputs]
+    if len(inputs) == 1 and inputs[0].suffix.lower() == ".toml":
+        study = load_study(inputs[0], require_model=False)
+        bands, low, kinds = _frf_options(study)
+        missing = [c.name for c in study.configurations if not study.frf.get(c.name)]
+        if missing:
+            raise InputError(f"no FRF file for configuration(s) {missing}",
+                             source=str(study.path), field="measurement.frf")
+        files = {c.name: study.frf[c.name] for c in study.configurations}
+        model, configs, used = study.model, study.configurations, study.modes
+    else:  # FRF files on the command line: one configuration per file, named by its stem
+        names = [p.stem for p in inputs]
+        if len(set(names)) != len(names):
+            raise InputError(f"two files with one name in {args.inputs}", field="inputs")
+        files = {p.stem: [p] for p in inputs}
+        bands, low, model, configs, used = {}, None, None, None, []
+        kinds = {p: args.kind for p in inputs} if args.kind else {}
+    frfs = {name: read_frf_files(ps, [kinds.get(p) for p in ps]) for name, ps in files.items()}
+    res = extract_test(frfs, model=model, configurations=configs, used_modes=used,
+                       bands_hz=bands, exclude_below_hz=low, progress=_progress)
+    print(report.dumps(extraction_doc(res)) if args.json else extraction_text(res))
+    if res.problems:  # a failed run writes nothing
+        for p in res.problems[1:]:
+            _progress(f"eigenupdate: also: {p}")
+        raise InputError(res.problems[0])
+    results = res.modes
     if args.plots:
         Path(args.plots).mkdir(parents=True, exist_ok=True)
-        for c, frfs, ex in done:
-            for j, x in enumerate(frfs):
-                shown = [m for m in ex if m.fits[j] is not None]
+        for ex in res.configurations:
+            for j, x in enumerate(frfs[ex.configuration]):
+                shown = [m for m in ex.modes if m.fits[j] is not None]
                 if shown:
-                    out = Path(args.plots) / f"extract_{_safe_name(c.name)}_{j + 1}.png"
+                    out = Path(args.plots) / f"extract_{_safe_name(ex.configuration)}_{j + 1}.png"
                     plot_extraction_fit(out, x.frequency_hz, x.receptance,
                                         [m.fits[j] for m in shown],
                                         mode_numbers=[m.mode for m in shown],
-                                        title=f"{c.name}: {dof_label(x.response)}/"
+                                        title=f"{ex.configuration}: {dof_label(x.response)}/"
                                               f"{dof_label(x.reference)}")
         _progress(f"wrote the fit plots to {args.plots}")
     write_text(args.output, extraction_csv(results))
@@ -241,10 +260,6 @@ def cmd_extract(args) -> int:
             Mode(m.frequency_hz, loss_factor=m.loss_factor, mode_number=m.mode,
                  label=m.configuration)
             for m in results])
-    print(report.table(
-        ["configuration", "mode", "f Hz", "std Hz", "loss factor", "check f Hz", "diff/std"],
-        [[m.configuration, m.mode, m.frequency_hz, m.std_hz, m.loss_factor, m.check_hz,
-          m.disagreement] for m in results]))
     _progress(f"wrote {len(results)} frequencies to {args.output}")
     return 0
 
@@ -423,9 +438,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
     s.set_defaults(func=cmd_update)
 
-    s = sub.add_parser("extract", help="natural frequencies from the study's measured FRFs")
-    s.add_argument("study")
+    s = sub.add_parser("extract", help="natural frequencies from the study's measured FRFs "
+                                       "(a study, or FRF files: one configuration per file)")
+    s.add_argument("inputs", nargs="+", metavar="STUDY.toml | FRF")
     s.add_argument("-o", "--output", required=True, help="measurement CSV to write")
+    s.add_argument("--kind", choices=FRF_KINDS,
+                   help="what FRF files on the command line hold if their header does not say")
+    s.add_argument("--json", action="store_true", help="print the table as JSON")
     s.add_argument("--uff55", help="also write the modes (with loss factors) as UFF 55")
     s.add_argument("--plots", metavar="DIR", help="save a plot of every fit in DIR")
     s.set_defaults(func=cmd_extract)
@@ -479,6 +498,9 @@ def _located(exc: InputError, args) -> str:
     come from the study's model all the same; options (``--x``) name themselves.
     """
     study = getattr(args, "study", None)
+    inputs = getattr(args, "inputs", None) or []
+    if study is None and len(inputs) == 1 and str(inputs[0]).endswith(".toml"):
+        study = inputs[0]  # extract on a study
     if exc.source is None and study and not (exc.field or "").startswith("-"):
         return f"{study}: {exc}"
     return str(exc)

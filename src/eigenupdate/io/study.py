@@ -33,7 +33,7 @@ class Study:
     path: Path
     title: str
     model_type: str
-    model: ParametricModel
+    model: ParametricModel | None  # None only from load_study(require_model=False)
     configurations: list[Configuration]
     modes: list[int]
     frequencies: Path | None = None
@@ -130,8 +130,13 @@ class _Reader:
             )
 
 
-def load_study(path: str | Path) -> Study:
-    """Parse and validate a study file."""
+def load_study(path: str | Path, *, require_model: bool = True) -> Study:
+    """Parse and validate a study file.
+
+    With ``require_model=False`` (``eigenupdate extract``) the [model] table may be
+    missing: ``model`` is then None and the configurations are the perturbations (or,
+    without any, the keys of [measurement.frf]).
+    """
     path = Path(path)
     src = str(path)
     try:
@@ -145,6 +150,11 @@ def load_study(path: str | Path) -> Study:
         raise InputError(f"not UTF-8 text: {exc}", source=src) from None
     top = _Reader(data, "", src)
     title = top.get("title", "str", path.stem)
+    if "model" not in data and not require_model:
+        return _study_without_model(path, top, title)
+    if "model" not in data:
+        raise InputError("[model] is required (only 'extract' runs without a model)",
+                         source=src, field="model")
     m = _Reader(top.get("model", "table"), "model", src)
     mtype = m.get("type", "str")
     builders = {"spring-mass": _spring_mass, "beam": _beam, "matrices": _matrices}
@@ -176,17 +186,7 @@ def load_study(path: str | Path) -> Study:
         except InputError as exc:
             raise InputError(str(exc), source=src, field=f"perturbation[{i}]") from None
 
-    meas = _Reader(top.get("measurement", "table", {}), "measurement", src)
-    modes = meas.get("modes", "list", [])
-    if any(isinstance(k, bool) or not isinstance(k, int) or k < 1 for k in modes):
-        raise meas.error("modes", f"must be elastic mode numbers >= 1, got {modes}")
-    if len(set(modes)) != len(modes):
-        raise meas.error("modes", f"repeated mode number in {modes}")
-    freq = meas.get("frequencies", "str", None)
-    frf_table = meas.get("frf", "table", {})
-    frf_options = meas.get("frf_options", "table", {})
-    meas.finish()
-    frf = _frf_files(frf_table, names, path.parent, src)
+    modes, freq, frf, frf_options = _measurement(top, names, path)
 
     up = _Reader(top.get("updating", "table", {}), "updating", src)
     method = up.get("method", "str", "least-squares")
@@ -214,6 +214,46 @@ def load_study(path: str | Path) -> Study:
         frf=frf,
         frf_options=frf_options,
     )
+
+
+def _measurement(top: _Reader, names: list[str] | None, path: Path
+                 ) -> tuple[list[int], str | None, dict[str, list[Path]], dict[str, Any]]:
+    """[measurement]: modes, frequencies, frf (by configuration), frf_options."""
+    src = str(path)
+    meas = _Reader(top.get("measurement", "table", {}), "measurement", src)
+    modes = meas.get("modes", "list", [])
+    if any(isinstance(k, bool) or not isinstance(k, int) or k < 1 for k in modes):
+        raise meas.error("modes", f"must be elastic mode numbers >= 1, got {modes}")
+    if len(set(modes)) != len(modes):
+        raise meas.error("modes", f"repeated mode number in {modes}")
+    freq = meas.get("frequencies", "str", None)
+    frf_table = meas.get("frf", "table", {})
+    frf_options = meas.get("frf_options", "table", {})
+    meas.finish()
+    if names is None:  # no model and no perturbations: the FRF table names them
+        names = sorted(frf_table, key=lambda n: n != BASE)
+    frf = _frf_files(frf_table, names, path.parent, src)
+    return modes, freq, frf, frf_options
+
+
+def _study_without_model(path: Path, top: _Reader, title: str) -> Study:
+    src = str(path)
+    perts = [
+        _perturbation(_Reader(t, f"perturbation[{i + 1}]", src))
+        for i, t in enumerate(top.get("perturbation", "tables", []))
+    ]
+    names = [BASE, *[c.name for c in perts]] if perts else None
+    modes, freq, frf, frf_options = _measurement(top, names, path)
+    if not frf:
+        raise InputError("a study without [model] needs [measurement.frf] files",
+                         source=src, field="measurement.frf")
+    configs = ([Configuration(BASE), *perts] if perts
+               else [Configuration(n) for n in sorted(frf, key=lambda n: n != BASE)])
+    top.used.add("updating")
+    top.finish()
+    return Study(path=path, title=title, model_type="", model=None, configurations=configs,
+                 modes=sorted(modes), frequencies=None if freq is None else path.parent / freq,
+                 frf=frf, frf_options=frf_options)
 
 
 def _parameter(r: _Reader, seen: dict[str, str], default_value: Any = ...) -> Parameter:

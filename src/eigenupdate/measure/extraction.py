@@ -147,6 +147,7 @@ class Rejected:
     frequency_hz: float
     band_hz: tuple[float, float]
     reason: str
+    narrow: bool = False  # a spike or harmonic, interpolated over in the data
 
 
 @dataclass(frozen=True)
@@ -200,18 +201,28 @@ def extract_resonances(
         bands = find_bands(frfs, 0, exclude_below_hz=exclude_below_hz, source=where)
     numbers = list(range(1, len(bands) + 1))
     rejected: list[Rejected] = []
+    # The global fit (one pole per band, slow with many bands) joins once the Dobson
+    # tests have thrown out the spikes; if its stability test rejects more, go round again.
+    with_check = False
     while True:
         per_frf = [_dobson(x, bands, where) for x in frfs]
-        checks = [_rational_fraction(x, bands) if cross_check and bands else None
+        checks = [_rational_fraction(x, bands) if with_check and bands else None
                   for x in frfs]
         verdicts = [_verdicts(x, fits, chk, bands)
                     for x, fits, chk in zip(frfs, per_frf, checks, strict=True)]
         bad = [k for k in range(len(bands))
                if not any(v[k] is not None and v[k].reason is None for v in verdicts)]
-        if not bad:
+        if not bad and (with_check or not cross_check):
             break
+        with_check = with_check or (cross_check and not bad)
+        if not bad:
+            continue
         for k in bad:
-            rejected.append(_rejection(configuration, bands[k], [v[k] for v in verdicts]))
+            r = _rejection(configuration, bands[k], [v[k] for v in verdicts])
+            if r.narrow:  # a spike or a harmonic: take it out of the data the fits see
+                frfs = [_despike(x, bands[k]) for x in frfs]
+                r = replace(r, reason=r.reason + "; its lines were interpolated over")
+            rejected.append(r)
         keep = [k for k in range(len(bands)) if k not in bad]
         bands, numbers = [bands[k] for k in keep], [numbers[k] for k in keep]
     out = []
@@ -314,7 +325,29 @@ def _rejection(configuration: str, band: tuple[float, float],
     if v is None:
         return Rejected(configuration, 0.5 * (band[0] + band[1]), band,
                         f"no FRF shows a resonance in {band[0]:.4g}-{band[1]:.4g} Hz")
-    return Rejected(configuration, v.fit.frequency_hz, band, v.reason or "")
+    narrow = all(x is None or x.lines_above <= NARROW_LINES for x in verdicts)
+    return Rejected(configuration, v.fit.frequency_hz, band, v.reason or "", narrow)
+
+
+#: A rejected candidate that rises above its floor at this many lines or fewer is a
+#: spike or a harmonic (a resonance lifts its skirts over many more lines): its peak line
+#: and the two beside it are replaced by a straight line between their neighbours, so
+#: that it cannot mislead the fits of the resonances around it.
+NARROW_LINES = 3
+
+
+def _despike(frf: FRF, band: tuple[float, float]) -> FRF:
+    f, h = frf.frequency_hz, np.array(frf.receptance)
+    inside = np.flatnonzero((f >= band[0]) & (f <= band[1]) & np.isfinite(h))
+    if inside.size == 0:
+        return frf
+    top = int(inside[np.argmax(np.abs(h[inside]))])
+    lo, hi = top - 2, top + 2
+    if lo < 0 or hi >= f.size or not np.isfinite(h[[lo, hi]]).all():
+        return frf
+    t = (f[lo + 1:hi] - f[lo]) / (f[hi] - f[lo])
+    h[lo + 1:hi] = h[lo] + t * (h[hi] - h[lo])
+    return FRF(f, h, frf.response, frf.reference, frf.source)
 
 
 def _finite(frf: FRF) -> tuple[np.ndarray, np.ndarray]:

@@ -142,12 +142,14 @@ def _describe(i: int, k: int, best: dict[int, int], other: dict[int, int],
     """Name the two candidates of an ambiguous assignment."""
     j = next((j for j, kk in other.items() if kk == k), None)
     if j is not None and j != i:  # another resonance could be this model mode
+        a, b = sorted((i, j))
         return (f"model mode {k + 1} ({model_hz[k]:.5g} Hz): the resonance at "
-                f"{measured_hz[i]:.5g} Hz or at {measured_hz[j]:.5g} Hz")
+                f"{measured_hz[a]:.5g} Hz or at {measured_hz[b]:.5g} Hz")
     kk = other.get(i)
     if kk is not None:  # this resonance could be another model mode
-        return (f"the resonance at {measured_hz[i]:.5g} Hz: model mode {k + 1} "
-                f"({model_hz[k]:.5g} Hz) or {kk + 1} ({model_hz[kk]:.5g} Hz)")
+        a, b = sorted((k, kk))
+        return (f"the resonance at {measured_hz[i]:.5g} Hz: model mode {a + 1} "
+                f"({model_hz[a]:.5g} Hz) or {b + 1} ({model_hz[b]:.5g} Hz)")
     return f"the resonance at {measured_hz[i]:.5g} Hz: model mode {k + 1} or none"
 
 

@@ -5,8 +5,8 @@ A candidate band's single-mode fit (:func:`eigenupdate.measure.dobson.dobson_fit
 FRF becomes a mode only if
 
 1. the peak of ``|alpha|`` rises :data:`RISE_IN_STD` local noise std above the band's
-   floor (its lowest value), and :data:`MIN_LINES_ABOVE` lines or more (the peak
-   included) rise :data:`SKIRT_IN_STD`: a one-line spike has no skirts, a resonance has;
+   floor (its lowest value), and a run of :data:`MIN_LINES_ABOVE` lines or more through
+   the peak rises :data:`SKIRT_IN_STD`: a one-line spike has no skirts, a resonance has;
 2. the loss factor is positive;
 3. the natural frequency lies inside the band;
 4. the single mode plus a constant explains the band: ``1 - |alpha - fit|**2 /
@@ -146,7 +146,7 @@ def validate_fit(
     top = int(np.argmax(mag))
     floor = min(mag[:top].min(initial=mag[top]), mag[top + 1:].min(initial=mag[top]))
     rise = (mag - floor) / sigma if sigma > 0 else np.full(mag.shape, np.inf)
-    lines_above = int(np.count_nonzero(rise > SKIRT_IN_STD)) if rise[top] > RISE_IN_STD else 0
+    lines_above = _run_through(top, rise > SKIRT_IN_STD) if rise[top] > RISE_IN_STD else 0
 
     x = (2.0 * np.pi * fb) ** 2
     modal = mode_receptance(fit, x)
@@ -190,6 +190,16 @@ def validate_fit(
                                                                    second_hz)),
                               loss_factor_std=float(np.hypot(fit.loss_factor_std, d_eta)))
     return Verdict(out, reason, quality, lines_above, bool(under), second_hz)
+
+
+def _run_through(k: int, above: np.ndarray) -> int:
+    """Length of the run of True in ``above`` through index ``k`` (skirts touch the peak)."""
+    lo = hi = k
+    while lo > 0 and above[lo - 1]:
+        lo -= 1
+    while hi < above.size - 1 and above[hi + 1]:
+        hi += 1
+    return hi - lo + 1
 
 
 def _second_estimates(f: np.ndarray, h: np.ndarray, fit: ModalFit, check: ModalFit | None,

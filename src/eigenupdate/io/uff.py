@@ -37,8 +37,9 @@ units label says otherwise.  Recognised labels are converted: lengths ``mm``, ``
 ``cm``, ``in``, ``ft``; ``g`` (9.80665 m/s^2) for acceleration; ``kN``, ``lbf``, ``kgf``
 for force; a combined numerator label such as ``g/N``, ``(m/s^2)/N``, ``m/s^2/N`` or
 ``(1/N)*(m/s^2)``.  ``²`` is read as ``^2``, also when a non-UTF-8 file turned it into a
-replacement character.  An unrecognised label is rejected rather than guessed.  The unit *exponents* of records
-8-11 are ignored (the specification makes them relevant only for "general" data).
+replacement character.  An unrecognised label is rejected rather than guessed.  The unit
+*exponents* of records 8-11 are ignored (the specification makes them relevant only for
+"general" data).
 
 Precision
 ---------

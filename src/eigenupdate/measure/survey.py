@@ -92,9 +92,8 @@ def extract_test(
 def _number_by_model(out: list[ConfigurationExtraction], model: ParametricModel,
                      configurations: list[Configuration], problems: list[str]
                      ) -> list[ConfigurationExtraction]:
-    from eigenupdate.solve.jacobian import solve_configurations
-
     from eigenupdate.errors import InputError
+    from eigenupdate.solve.jacobian import solve_configurations
 
     configs = {c.name: c for c in configurations}
     top = max(ex.frequency_range_hz[1] for ex in out)

@@ -217,8 +217,13 @@ def extract_resonances(
         with_check = with_check or (cross_check and not bad)
         if not bad:
             continue
+        found = {k: _rejection(configuration, bands[k], [v[k] for v in verdicts]) for k in bad}
+        if any(r.narrow for r in found.values()):
+            # Spikes and harmonics first: their fitted "modes" are subtracted from the
+            # other bands, so the other verdicts of this pass are not to be trusted yet.
+            bad = [k for k in bad if found[k].narrow]
         for k in bad:
-            r = _rejection(configuration, bands[k], [v[k] for v in verdicts])
+            r = found[k]
             if r.narrow:  # a spike or a harmonic: take it out of the data the fits see
                 frfs = [_despike(x, bands[k]) for x in frfs]
                 r = replace(r, reason=r.reason + "; its lines were interpolated over")
@@ -338,10 +343,15 @@ NARROW_LINES = 3
 
 def _despike(frf: FRF, band: tuple[float, float]) -> FRF:
     f, h = frf.frequency_hz, np.array(frf.receptance)
+    mag = np.abs(h)
     inside = np.flatnonzero((f >= band[0]) & (f <= band[1]) & np.isfinite(h))
-    if inside.size == 0:
+    # the spike is the highest interior local maximum: the band's highest line may be the
+    # skirt of a resonance next to it, which must stay
+    inside = inside[(inside > 0) & (inside < f.size - 1)]
+    peaks = inside[(mag[inside] >= mag[inside - 1]) & (mag[inside] >= mag[inside + 1])]
+    if peaks.size == 0:
         return frf
-    top = int(inside[np.argmax(np.abs(h[inside]))])
+    top = int(peaks[np.argmax(mag[peaks])])
     lo, hi = top - 2, top + 2
     if lo < 0 or hi >= f.size or not np.isfinite(h[[lo, hi]]).all():
         return frf

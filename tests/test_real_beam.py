@@ -58,7 +58,10 @@ def test_six_modes_within_0_02_percent_of_lscf(extracted, lscf):
     # std covers the difference to the other method
     assert all(m.under_resolved for m in ex.modes)
     assert np.all(np.abs(f - f_ref) < 3 * std)
-    assert np.all(np.abs(eta - eta_ref) < 3 * np.hypot(eta_std, 0.0))
+    # loss factors from the skirts alone (bandwidths below a line): the differences to
+    # LSCF are 0.1-2.9 of our std (LSCF's own error is not in that std)
+    assert np.all(np.abs(eta - eta_ref) < 4 * eta_std)
+    assert np.all(np.abs(eta / eta_ref - 1) < 0.25)
 
 
 def test_extract_real_files_without_a_study(run_cli, tmp_path):

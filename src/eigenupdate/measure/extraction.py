@@ -109,7 +109,7 @@ def find_bands(
     """Bands of the ``n_modes`` lowest elastic resonances seen in any of the FRFs.
 
     Peaks are picked in each FRF; bands of different FRFs around the same resonance
-    (one band's centre inside another's band) are merged, taking the median edges.
+    (one band's centre inside the other band) are merged, taking the median edges.
     """
     check_same_axis(list(frfs), source or "")
     found = []
@@ -123,7 +123,10 @@ def find_bands(
     clusters: list[list[tuple[float, float]]] = []
     for b in found:
         centre = 0.5 * (b[0] + b[1])
-        if clusters and clusters[-1][0][0] <= centre <= clusters[-1][0][1]:
+        a = clusters[-1][0] if clusters else None
+        # either centre inside the other band: bands cut short on one side by a spike or
+        # a ripple next to the peak are still the same resonance
+        if a is not None and (a[0] <= centre <= a[1] or b[0] <= 0.5 * (a[0] + a[1]) <= b[1]):
             clusters[-1].append(b)
         else:
             clusters.append([b])

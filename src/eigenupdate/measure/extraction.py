@@ -1,17 +1,19 @@
 """From measured FRFs of one configuration to the natural frequencies the update uses.
 
 Per configuration (the bare structure, or one perturbation) there may be several FRFs
-(several response points). The resonance bands are found once, on the sum of the FRFs
-each normalised by its peak, so that a mode with a node at one response point is still
-found at the others and elastic mode k is always the k-th resonance. Dobson's method is
-fitted in every band of every FRF; the estimates of a mode are combined by inverse
-variance, and the standard deviation is inflated when the FRFs disagree more than their
-own standard deviations say. The rational-fraction fit over all bands at once is an
-independent cross-check.
+(several response points). Candidate resonances are the peaks of each FRF, bands of the
+same peak in different FRFs merged. Dobson's method is fitted in every band of every FRF,
+and each fit must pass the tests of :mod:`eigenupdate.measure.validation` (a spike, a
+harmonic or a leakage ripple fails them); candidates that fail in every FRF are listed
+as rejected with the reason. The estimates of a mode are combined by inverse variance,
+with a common extra variance when the FRFs disagree more than their own standard
+deviations say. The rational-fraction fit over all bands at once is an independent
+cross-check and one of the stability tests.
 
-Caveat: a mode that every FRF misses (all response points at its nodes) cannot be seen;
-the modes above it would then be numbered wrongly. Choose response points away from
-nodes, as for any modal test.
+Numbering: :func:`extract_resonances` numbers the validated resonances by order;
+:mod:`eigenupdate.measure.survey` renumbers them by the model's modes when there is a
+model, so that a mode every FRF misses (all response points at its nodes) is reported
+as missing instead of shifting the numbers above it.
 """
 
 from __future__ import annotations
@@ -277,11 +279,11 @@ def extract_configuration(
     exclude_below_hz : ignore peaks below this frequency (e.g. suspension modes).
     cross_check : also run the rational-fraction fit.
     """
-    ex = extract_resonances(frfs, configuration, bands_hz=bands_hz,
-                            exclude_below_hz=exclude_below_hz, cross_check=cross_check)
     if bands_hz is not None and len(bands_hz) < max(modes):
         raise InputError(f"{len(bands_hz)} bands given, elastic mode {max(modes)} is used",
                          field=f"configuration {configuration!r} bands_hz")
+    ex = extract_resonances(frfs, configuration, bands_hz=bands_hz,
+                            exclude_below_hz=exclude_below_hz, cross_check=cross_check)
     problem = missing_used_modes(ex, modes)
     if problem:
         raise InputError(problem)

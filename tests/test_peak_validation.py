@@ -146,3 +146,38 @@ def test_no_spurious_or_misnumbered_mode_in_50_cases(beam):
         named, total = named + n, total + t
     print(f"{N_CASES} cases: {named} of {total} spikes/harmonics named in the rejected lists")
     assert named >= 0.5 * total
+
+
+
+def _close_pair(seed, second):
+    rng = np.random.default_rng(seed)
+    f = np.arange(50.0, 160.0, 0.1)
+    x = (2 * np.pi * f) ** 2
+    h = sum(a / ((2 * np.pi * fr) ** 2 * (1 + 0.01j) - x) for fr, a in ((100, 1), (103, second)))
+    sigma = 0.01 * np.abs(h).max()
+    h += sigma / np.sqrt(2) * (rng.normal(size=f.size) + 1j * rng.normal(size=f.size))
+    spikes = rng.choice(np.flatnonzero((f < 95) | (f > 108)), 5, replace=False)
+    h[spikes] += rng.uniform(20, 100, 5) * sigma
+    return extract_test({"c": [FRF(f, h)]})
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_close_modes_both_found_spikes_not(seed):
+    """Two modes 3 half-power bandwidths apart (100 and 103 Hz, eta = 0.01, an
+    anti-resonance between them), 0.1 Hz lines, 1 % noise, 20-100 x noise spikes: both
+    modes and nothing else, numbered by order."""
+    res = _close_pair(seed, 0.8)
+    (ex,) = res.configurations
+    assert [m.mode for m in ex.modes] == [1, 2] and res.numbered_by == "order"
+    for m, fr in zip(ex.modes, (100.0, 103.0), strict=True):
+        assert abs(m.frequency_hz - fr) < 5 * m.std_hz, (m.frequency_hz, m.std_hz)
+    assert len(ex.rejected) >= 4  # the spikes (two may share a band)
+
+
+def test_merged_peaks_are_rejected_not_misread():
+    """Opposite modal constants: no dip between the two modes, one peak. The single-mode
+    fit cannot explain it, so it is rejected with that reason (and a study using these
+    modes stops), rather than read as one mode with a wrong frequency."""
+    (ex,) = _close_pair(0, -0.8).configurations
+    assert not ex.modes
+    assert any("one mode does not explain the band" in r.reason for r in ex.rejected)

@@ -33,6 +33,7 @@ from eigenupdate.io.measurements import Measurement, eigenvalue_std, select, to_
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.jacobian import Linearisation, linearise
+from eigenupdate.solve.perturbed import CertificateReport
 
 METHODS = ("least-squares", "weighted-least-squares", "bayesian")
 MAX_HALVINGS = 30
@@ -56,6 +57,9 @@ class UpdateResult:
     rows : (configuration, mode) of each equation.
     measured_hz, initial_hz, updated_hz : frequencies of each row.
     model : the updated model.
+    solver : sparse models: what the perturbed-configuration fast path did over all
+        linearisations (:meth:`eigenupdate.solve.perturbed.CertificateReport.as_dict`
+        plus ``linearisations``); None on the dense path.
     """
 
     method: str
@@ -70,6 +74,7 @@ class UpdateResult:
     initial_hz: np.ndarray = field(repr=False)
     updated_hz: np.ndarray = field(repr=False)
     model: ParametricModel = field(repr=False)
+    solver: dict | None = field(default=None, repr=False)
 
     @property
     def success(self) -> bool:
@@ -138,8 +143,13 @@ def update(
         s[upd] = z * scale
         return s
 
+    solver, n_lin = CertificateReport(), [0]
+
     def evaluate(z: np.ndarray) -> tuple[Linearisation, float]:
         lin = linearise(model, configurations, modes, full(z))
+        if lin.certificate is not None:
+            solver.merge(lin.certificate)
+            n_lin[0] += 1
         r = w * (lam_meas - lin.eigenvalues)
         a = prior * (z - z0)
         return lin, float(r @ r + a @ a)
@@ -221,6 +231,7 @@ def update(
         initial_hz=np.sqrt(lin0.eigenvalues) / (2 * np.pi),
         updated_hz=np.sqrt(np.maximum(lin_final.eigenvalues, 0)) / (2 * np.pi),
         model=updated,
+        solver={**solver.as_dict(), "linearisations": n_lin[0]} if n_lin[0] else None,
     )
 
 

@@ -94,6 +94,7 @@ def update_doc(r: UpdateResult) -> dict:
             for (c, k), m, i, u in zip(r.rows, r.measured_hz, r.initial_hz, r.updated_hz,
                                        strict=True)
         ],
+        **({"solver": r.solver} if r.solver is not None else {}),
     }
 
 

@@ -169,7 +169,7 @@ def linearise(
         lam.extend(sol.eigenvalues[idx])
         rows.extend((c.name, k) for k in modes)
     if sparse:  # all configurations' modes in one product per parameter
-        phi = np.hstack([s.modes[:, idx] for s in sols])
+        phi = [s.modes if s.modes.shape[1] == idx.size else s.modes[:, idx] for s in sols]
         blocks = [RestrictedTerms(kt, mt).derivatives(phi, np.array(lam))]
     scale = np.array([model.parameters[j].scale for j in upd])  # initial values, not current
     return Linearisation(

@@ -453,6 +453,7 @@ def solve_perturbed(
     subspace (several masses at one coordinate, paper Table 2).
     """
     report = CertificateReport() if report is None else report
+    report.levels = LEVELS
     out: list[EigenSolution | None] = [None] * len(configurations)
     if base_sol.computed is None:
         return out

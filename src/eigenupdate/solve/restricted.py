@@ -33,15 +33,17 @@ class RestrictedTerms:
         self._k = [_restrict(t) for t in k_terms]
         self._m = [_restrict(t) for t in m_terms]
 
-    def derivatives(self, phi: np.ndarray, lam: np.ndarray) -> np.ndarray:
+    def derivatives(self, phi: np.ndarray | Sequence[np.ndarray], lam: np.ndarray) -> np.ndarray:
         """(modes, parameters) matrix of d lambda / d s_j for the columns of ``phi``
-        (mass-normalised) with eigenvalues ``lam``."""
-        out = np.zeros((phi.shape[1], len(self._k)))
+        (mass-normalised; or a list of such blocks, taken side by side) with eigenvalues
+        ``lam``."""
+        blocks = [phi] if isinstance(phi, np.ndarray) else list(phi)
+        out = np.zeros((sum(b.shape[1] for b in blocks), len(self._k)))
         for j, (kj, mj) in enumerate(zip(self._k, self._m, strict=True)):
             if kj is not None:
-                out[:, j] += _quadratic(kj, phi)
+                out[:, j] += np.concatenate([_quadratic(kj, b) for b in blocks])
             if mj is not None:
-                out[:, j] -= lam * _quadratic(mj, phi)
+                out[:, j] -= lam * np.concatenate([_quadratic(mj, b) for b in blocks])
         return out
 
 

@@ -75,7 +75,7 @@ def solve_configurations(
     K, M = model.stiffness(values), model.mass(values)
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
     if not sparse:
-        return [_solve_one(model, K, M, c, n_modes, None, None) for c in configurations]
+        return [solve_one(model, K, M, c, n_modes, None, None) for c in configurations]
     try:
         base_op, base_sol = base_operator(K, M, n_modes)
     except InputError as exc:
@@ -104,11 +104,11 @@ def solve_on_base(
         elif ritz is not None:
             out.append(ritz)
         else:
-            out.append(_solve_one(model, K, M, c, n_modes, base_op, base_sol.n_rigid))
+            out.append(solve_one(model, K, M, c, n_modes, base_op, base_sol.n_rigid))
     return out
 
 
-def _solve_one(model, K, M, c: Configuration, n_modes: int, base_op, n_rigid):
+def solve_one(model, K, M, c: Configuration, n_modes: int, base_op, n_rigid):
     """One configuration by Lanczos reusing the base factorisation (Woodbury), or dense."""
     try:
         dk, dm = c.delta(model)

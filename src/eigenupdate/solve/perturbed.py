@@ -79,7 +79,8 @@ class Base:
     ----------
     op : factorisation of A = K - sigma M.
     M : mass matrix (CSR).
-    kdiag, mdiag : diagonals of K and M (rigid-body test of a perturbed configuration).
+    rigid_scale : max_i K_ii / M_ii of the bare structure: the scale of the rigid-body test
+        (see :func:`eigenupdate.solve.eigen.rigid_mask`; a few added terms hardly move it).
     lam : (kb,) eigenvalues computed for the bare structure, ascending, rigid-body
         modes included.
     phi : (n, kb) their mass-normalised modes.
@@ -87,8 +88,7 @@ class Base:
 
     op: ShiftInvert
     M: sp.csr_array
-    kdiag: np.ndarray
-    mdiag: np.ndarray
+    rigid_scale: float
     lam: np.ndarray
     phi: np.ndarray
     Mphi: np.ndarray
@@ -142,12 +142,14 @@ class RitzResult:
     vec_bound : (n_modes,) bound on the angle of each wanted mode.
     passed : whether the certificate holds (bounds below EIG_RTOL / VEC_TOL, next
         eigenvalue below NEXT_RTOL, interlacing consistent).
+    coefficients : (me, n_modes) the modes' coordinates in the basis [phi | Q].
     """
 
     solution: EigenSolution
     eig_bound: np.ndarray
     vec_bound: np.ndarray
     passed: bool
+    coefficients: np.ndarray
 
 
 @dataclass
@@ -220,8 +222,10 @@ def make_base(K, M, op: ShiftInvert, lam: np.ndarray, phi: np.ndarray) -> Base:
     """Collect the bare structure's operator and eigenpairs (see :class:`Base`)."""
     M = sp.csr_array(M)
     phi = np.asfortranarray(phi, dtype=float)
-    return Base(op, M, np.asarray(K.diagonal(), float), np.asarray(M.diagonal(), float),
-                np.asarray(lam, float), phi, np.asfortranarray(M @ phi))
+    k, m = np.asarray(K.diagonal(), float), np.asarray(M.diagonal(), float)
+    ok = m > 0
+    scale = float(np.max(k[ok] / m[ok])) if ok.any() else 1.0
+    return Base(op, M, scale, np.asarray(lam, float), phi, np.asfortranarray(M @ phi))
 
 
 class _Breakdown(ArithmeticError):
@@ -341,12 +345,14 @@ def _assemble(base: Base, rows, Qmat, C, R, Z, levels: int) -> Subspace:
 
 def ritz(
     base: Base, sub: Subspace, rows: np.ndarray, dk: Sequence[float], dm: Sequence[float],
-    n_modes: int,
+    n_modes: int, vectors: bool = True,
 ) -> RitzResult:
     """Rayleigh-Ritz of one configuration in ``sub`` and its certificate.
 
     The configuration adds stiffness ``dk`` and mass ``dm`` at ``rows`` (repeats are
-    summed); every row must be one of ``sub.rows``.
+    summed); every row must be one of ``sub.rows``. Without ``vectors`` the modes are
+    left as their coordinates in the basis (``RitzResult.coefficients``; the solution's
+    ``modes`` is then empty).
     """
     sigma = base.op.sigma
     pos = np.searchsorted(sub.rows, rows)
@@ -366,12 +372,7 @@ def ritz(
     theta, Y = scipy.linalg.eigh(Gc[:m, :m], Mc[:m, :m])
     lam = theta + sigma
 
-    kdiag, mdiag = base.kdiag.copy(), base.mdiag.copy()
-    kdiag[sub.rows] += addk
-    mdiag[sub.rows] += addm
-    ok = mdiag > 0
-    scale = float(np.max(kdiag[ok] / mdiag[ok])) if ok.any() else 1.0
-    rigid = np.abs(lam) < RIGID_RTOL * scale
+    rigid = np.abs(lam) < RIGID_RTOL * base.rigid_scale
     n_rigid = int(np.count_nonzero(rigid[: n_modes + 8]))
     want = np.arange(n_rigid, min(n_rigid + n_modes + 1, m))
     # residual of mu = 1/theta for A_c^-1 M_c in the A_c norm, from projected quantities
@@ -409,10 +410,11 @@ def ritz(
     lam_e = theta_e + sigma
     use = want[:n_modes]
     kb = base.phi.shape[1]
-    modes = base.phi @ Ye[:kb, use] + sub.Q @ Ye[kb:, use]
+    coef = Ye[:, use]
+    modes = (base.phi @ coef[:kb] + sub.Q @ coef[kb:]) if vectors else np.empty((0, use.size))
     sol = EigenSolution(lam_e[use].copy(), modes, n_rigid,
                         float(lam_e[want[-1]]) if want.size > n_modes else None)
-    return RitzResult(sol, eig[:n_modes], vec[:n_modes], passed)
+    return RitzResult(sol, eig[:n_modes], vec[:n_modes], passed, coef)
 
 
 def _interlaces(lam_base, lam, addk, addm, eig, want, rtol=1e-9) -> bool:
@@ -470,24 +472,49 @@ def solve_perturbed(
             continue
         rows_of[i] = rows
         groups.setdefault(key, []).append(i)
-    n, kb = base.phi.shape
-    keys = [k for k in groups if 2 * (kb + (LEVELS + EXTRA_LEVELS + 1) * len(k)) <= n]
-    subs = dict(zip(keys, build_subspaces(base, [np.array(k) for k in keys]), strict=True))
+    fams = families(base, list(groups))
     for key, members in groups.items():
-        wider = None
         for i in members:
             c = configurations[i]
-            dk = [a.stiffness for a in c.additions]
-            dm = [a.mass for a in c.additions]
-            r, extended = None, False
-            if subs.get(key) is not None:
-                r = ritz(base, subs[key], rows_of[i], dk, dm, n_modes)
-            if r is not None and not r.passed:
-                if wider is None:
-                    wider = build_subspaces(base, [np.array(key)], LEVELS + EXTRA_LEVELS)[0]
-                if wider is not None:
-                    r, extended = ritz(base, wider, rows_of[i], dk, dm, n_modes), True
-            report.add(r, extended, c.name)
+            r, sub = fams[key].solve(rows_of[i], [a.stiffness for a in c.additions],
+                                     [a.mass for a in c.additions], n_modes)
+            report.add(r, sub is not fams[key].first, c.name)
             if r is not None and r.passed:
                 out[i] = r.solution
     return out
+
+
+class Family:
+    """The subspaces of one row set: the first (None if the model is too small for it)
+    and, built when a configuration fails the certificate, one EXTRA_LEVELS wider."""
+
+    def __init__(self, base: Base, rows: np.ndarray, first: Subspace | None):
+        self.base, self.rows, self.first = base, rows, first
+        self._wider: Subspace | None = None
+        self._tried = first is None
+
+    def solve(self, rows, dk, dm, n_modes: int, vectors: bool = True
+              ) -> tuple[RitzResult | None, Subspace | None]:
+        """Certified Ritz solution if there is one (else the last attempt, or None), and
+        the subspace that gave it."""
+        if self.first is None:
+            return None, None
+        r = ritz(self.base, self.first, rows, dk, dm, n_modes, vectors)
+        if r.passed:
+            return r, self.first
+        if not self._tried:
+            self._tried = True
+            self._wider = build_subspaces(self.base, [self.rows], LEVELS + EXTRA_LEVELS)[0]
+        if self._wider is None:
+            return r, self.first
+        return ritz(self.base, self._wider, rows, dk, dm, n_modes, vectors), self._wider
+
+
+def families(base: Base, keys: Sequence[tuple[int, ...]]) -> dict[tuple[int, ...], Family]:
+    """A :class:`Family` per row set (a tuple of ascending rows), first subspaces built
+    together; row sets too large for the model get none (their configurations go to
+    Lanczos)."""
+    n, kb = base.phi.shape
+    fit = [k for k in keys if 2 * (kb + (LEVELS + EXTRA_LEVELS + 1) * len(k)) <= n]
+    built = dict(zip(fit, build_subspaces(base, [np.array(k) for k in fit]), strict=True))
+    return {k: Family(base, np.array(k), built.get(k)) for k in keys}

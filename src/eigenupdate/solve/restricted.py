@@ -60,3 +60,47 @@ def _restrict(term):
 def _quadratic(term, phi: np.ndarray) -> np.ndarray:
     rows, cols, sub = term
     return np.einsum("ij,ij->j", phi[rows], sub @ phi[cols])
+
+
+class ProjectedTerms:
+    """Sensitivities of modes given by their coordinates in a basis V = [phi | Q].
+
+    With P_j = V^T K_j V and R_j = V^T M_j V, a mode x = V y has
+    d lambda / d s_j = y^T (P_j - lambda R_j) y. The blocks of ``phi`` (shared by every
+    basis) are computed once; :meth:`derivatives` adds those of Q. For many
+    configurations sharing a small basis (screening) this replaces one product with the
+    full modes per configuration by one per basis.
+    """
+
+    def __init__(self, terms: RestrictedTerms, phi: np.ndarray):
+        self.phi = phi
+        self._terms = []
+        for kind in (terms._k, terms._m):
+            cache = []
+            for t in kind:
+                if t is None:
+                    cache.append(None)
+                    continue
+                rows, cols, sub = t
+                b_phi = sub @ phi[cols]  # rows of K_j phi that are not zero
+                cache.append((rows, cols, sub, b_phi, phi[rows].T @ b_phi))
+            self._terms.append(cache)
+
+    def derivatives(self, Q: np.ndarray, coef: np.ndarray, lam: np.ndarray) -> np.ndarray:
+        """(modes, parameters) d lambda / d s_j of the modes [phi | Q] @ coef, eigenvalues
+        ``lam`` (``coef`` may hold several configurations' modes side by side)."""
+        kb = self.phi.shape[1]
+        a, b = coef[:kb], coef[kb:]
+        out = np.zeros((coef.shape[1], len(self._terms[0])))
+        for sign, cache in zip((1.0, -1.0), self._terms, strict=True):
+            for j, t in enumerate(cache):
+                if t is None:
+                    continue
+                rows, cols, sub, b_phi, pp = t
+                q_rows = Q[rows]
+                pq = b_phi.T @ q_rows  # phi^T B Q
+                qq = q_rows.T @ (sub @ Q[cols])
+                quad = (np.einsum("ai,ab,bi->i", a, pp, a) + 2 * np.einsum("ai,ab,bi->i", a, pq, b)
+                        + np.einsum("ai,ab,bi->i", b, qq, b))
+                out[:, j] += quad if sign > 0 else -lam * quad
+        return out

@@ -19,10 +19,10 @@ import numpy as np
 from eigenupdate.errors import InputError
 from eigenupdate.model.configurations import Addition, Configuration
 from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve import perturbed
 from eigenupdate.solve.eigen import DENSE_LIMIT, base_operator
-from eigenupdate.solve.jacobian import solve_configurations, solve_on_base
-from eigenupdate.solve.perturbed import CertificateReport
-from eigenupdate.solve.restricted import RestrictedTerms
+from eigenupdate.solve.jacobian import solve_configurations, solve_one
+from eigenupdate.solve.restricted import ProjectedTerms, RestrictedTerms
 from eigenupdate.solve.sensitivity import check_distinct
 
 CHUNK = 20
@@ -107,36 +107,54 @@ def screen(
     idx = np.asarray(modes) - 1
     n_modes = modes[-1]
     K, M = model.stiffness(values), model.mass(values)
-    sparse = model.n > DENSE_LIMIT
-    base_op = base_sol = None
-    if sparse:
-        try:
-            base_op, base_sol = base_operator(K, M, n_modes)
-        except InputError as exc:
-            raise InputError(str(exc), field="the bare structure") from None
-    report = CertificateReport()
-
-    def solve(chunk: list[Configuration]):
-        if sparse:
-            return solve_on_base(model, K, M, base_op, base_sol, chunk, n_modes, report)
-        return solve_configurations(model, chunk, n_modes, values, dense=True)
-
-    def rows(sols, names):
-        lam = np.concatenate([s.eigenvalues[idx] for s in sols])
-        for s, name in zip(sols, names, strict=True):
-            check_distinct(s, modes, name)
-        J = terms.derivatives([s.modes[:, idx] for s in sols], lam)
-        return lam.reshape(len(sols), idx.size), J.reshape(len(sols), idx.size, -1)
-
-    base_lam, base_J = rows(solve([Configuration("base")]), ["the bare structure"])
     lam = np.empty((len(configs), idx.size))
     J = np.empty((len(configs), idx.size, upd.size))
-    order = np.argsort(coords, kind="stable")  # candidates at one coordinate together
-    unique = np.unique(coords)
+    bound = np.full(len(configs), np.nan)
+
+    def derivatives(sol, name):
+        check_distinct(sol, modes, name)
+        return sol.eigenvalues[idx], terms.derivatives(sol.modes[:, idx], sol.eigenvalues[idx])
+
+    if model.n <= DENSE_LIMIT:
+        sols = solve_configurations(model, [Configuration("base"), *configs], n_modes, values,
+                                    dense=True)
+        base_lam, base_J = derivatives(sols[0], "the bare structure")
+        for i, (c, sol) in enumerate(zip(configs, sols[1:], strict=True)):
+            lam[i], J[i] = derivatives(sol, c.name)
+        return Screening(coords, masses, modes, lam, J, [model.names[j] for j in upd],
+                         np.isfinite(bound), bound, base_lam, base_J)
+    try:
+        base_op, base_sol = base_operator(K, M, n_modes)
+    except InputError as exc:
+        raise InputError(str(exc), field="the bare structure") from None
+    base_lam, base_J = derivatives(base_sol, "the bare structure")
+    base = perturbed.make_base(K, M, base_op, *base_sol.computed)
+    projected = ProjectedTerms(terms, base.phi)
+    rows = np.empty(len(configs), dtype=int)
+    for i, c in enumerate(configs):
+        rows[i] = c.rows(model)[0]
+    unique = np.unique(rows)
     for start in range(0, unique.size, CHUNK):
-        sel = order[np.isin(coords[order], unique[start:start + CHUNK])]
-        chunk = [configs[i] for i in sel]
-        lam[sel], J[sel] = rows(solve(chunk), [c.name for c in chunk])
-    bound = np.array([report.bounds.get(c.name, np.nan) for c in configs])
+        chunk = unique[start:start + CHUNK]
+        fams = perturbed.families(base, [(int(r),) for r in chunk])
+        for r in chunk:
+            members = np.flatnonzero(rows == r)
+            done: dict[int, tuple] = {}  # id(subspace) -> (subspace, [(i, coefficients)])
+            for i in members:
+                res, sub = fams[(int(r),)].solve(np.array([r]), [0.0], [masses[i]], n_modes,
+                                                 vectors=False)
+                if res is not None and res.passed:
+                    check_distinct(res.solution, modes, configs[i].name)
+                    lam[i] = res.solution.eigenvalues[idx]
+                    bound[i] = float(np.max(res.eig_bound))
+                    done.setdefault(id(sub), (sub, []))[1].append((i, res.coefficients[:, idx]))
+                else:  # Lanczos on the base factorisation
+                    sol = solve_one(model, K, M, configs[i], n_modes, base_op, base_sol.n_rigid)
+                    lam[i], J[i] = derivatives(sol, configs[i].name)
+            for sub, items in done.values():
+                ids = [i for i, _ in items]
+                d = projected.derivatives(sub.Q, np.hstack([c for _, c in items]),
+                                          lam[ids].ravel())
+                J[ids] = d.reshape(len(ids), idx.size, -1)
     return Screening(coords, masses, modes, lam, J, [model.names[j] for j in upd],
-                     np.isfinite(bound), bound, base_lam[0], base_J[0])
+                     np.isfinite(bound), bound, base_lam, base_J)

@@ -287,8 +287,12 @@ def _build_equal(base: Base, rows: np.ndarray, levels: int) -> list[Subspace | N
             alive &= ~bad
             ev[bad] = 1.0
             Tt = (U / np.sqrt(ev)[:, None, :]).transpose(0, 2, 1)
-            WT[:] = Tt @ WT
-            MWT = Tt @ MWT
+            if k == 1:  # in place: no temporary of the model's size
+                WT *= Tt
+                MWT *= Tt
+            else:
+                WT[:] = Tt @ WT
+                MWT = Tt @ MWT
             R[j] = (np.sqrt(ev)[:, :, None] * U.transpose(0, 2, 1)) @ R[j]
         QT[:, j * k:(j + 1) * k] = WT
         MQT[:, j * k:(j + 1) * k] = MWT

@@ -124,6 +124,20 @@ def solve_one(model, K, M, c: Configuration, n_modes: int, base_op, n_rigid):
         raise InputError(str(exc), field=f"configuration {c.name!r}") from None
 
 
+def modes_and_updated(
+    model: ParametricModel, modes: Sequence[int], field: str = "measurement.modes"
+) -> tuple[list[int], np.ndarray]:
+    """Sorted distinct elastic mode numbers and the updated parameters' indices, or
+    InputError."""
+    modes = sorted(set(int(k) for k in modes))
+    if not modes or modes[0] < 1:
+        raise InputError("modes must be elastic mode numbers >= 1", field=field)
+    upd = model.updated
+    if upd.size == 0:
+        raise InputError("no parameter is updated (every parameter has update = false)")
+    return modes, upd
+
+
 def linearise(
     model: ParametricModel,
     configurations: Sequence[Configuration],
@@ -147,12 +161,7 @@ def linearise(
     >>> np.round(lin.J, 9).tolist()    # [[-k/m^2, 1/m], [-k/(m+2)^2, 1/(m+2)]]
     [[-200.0, 0.5], [-50.0, 0.25]]
     """
-    modes = sorted(set(int(k) for k in modes))
-    if not modes or modes[0] < 1:
-        raise InputError("modes must be elastic mode numbers >= 1", field="measurement.modes")
-    upd = model.updated
-    if upd.size == 0:
-        raise InputError("no parameter is updated (every parameter has update = false)")
+    modes, upd = modes_and_updated(model, modes)
     kt = [model.k_terms[j] for j in upd]
     mt = [model.m_terms[j] for j in upd]
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)

@@ -21,7 +21,7 @@ from eigenupdate.model.configurations import Addition, Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve import perturbed
 from eigenupdate.solve.eigen import DENSE_LIMIT, base_operator
-from eigenupdate.solve.jacobian import solve_configurations, solve_one
+from eigenupdate.solve.jacobian import modes_and_updated, solve_configurations, solve_one
 from eigenupdate.solve.restricted import ProjectedTerms, RestrictedTerms
 from eigenupdate.solve.sensitivity import check_distinct
 
@@ -87,12 +87,7 @@ def screen(
     >>> s.eigenvalues.round(9).tolist(), s.J[:, 0, :].round(9).tolist()
     ([[200.0], [100.0]], [[-50.0, 0.25], [-12.5, 0.125]])
     """
-    modes = sorted(set(int(k) for k in modes))
-    if not modes or modes[0] < 1:
-        raise InputError("modes must be elastic mode numbers >= 1", field="modes")
-    upd = model.updated
-    if upd.size == 0:
-        raise InputError("no parameter is updated (every parameter has update = false)")
+    modes, upd = modes_and_updated(model, modes, "modes")
     if len(candidates) == 0:
         raise InputError("no candidate to screen", field="candidates")
     coords = np.array([int(c) for c, _ in candidates])

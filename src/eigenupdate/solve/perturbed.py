@@ -477,41 +477,65 @@ def solve_perturbed(
         rows_of[i] = rows
         groups.setdefault(key, []).append(i)
     fams = families(base, list(groups))
+    first, retry = {}, []
     for key, members in groups.items():
         for i in members:
-            c = configurations[i]
-            r, sub = fams[key].solve(rows_of[i], [a.stiffness for a in c.additions],
-                                     [a.mass for a in c.additions], n_modes)
-            report.add(r, sub is not fams[key].first, c.name)
+            first[i] = fams[key].first_try(rows_of[i], *_additions(configurations[i]), n_modes)
+            if first[i] is not None and not first[i].passed:
+                retry.append(i)
+    widen(base, [fams[k] for k in groups if any(i in retry for i in groups[k])])
+    for key, members in groups.items():
+        for i in members:
+            r, extended = first[i], False
+            if i in retry and fams[key].wider is not None:
+                r = ritz(base, fams[key].wider, rows_of[i], *_additions(configurations[i]),
+                         n_modes)
+                extended = True
+            report.add(r, extended, configurations[i].name)
             if r is not None and r.passed:
                 out[i] = r.solution
     return out
 
 
+def _additions(c: Configuration) -> tuple[list[float], list[float]]:
+    return [a.stiffness for a in c.additions], [a.mass for a in c.additions]
+
+
 class Family:
     """The subspaces of one row set: the first (None if the model is too small for it)
-    and, built when a configuration fails the certificate, one EXTRA_LEVELS wider."""
+    and, for configurations that fail the certificate, one EXTRA_LEVELS wider."""
 
     def __init__(self, base: Base, rows: np.ndarray, first: Subspace | None):
         self.base, self.rows, self.first = base, rows, first
-        self._wider: Subspace | None = None
-        self._tried = first is None
+        self.wider: Subspace | None = None
+        self.widened = first is None
+
+    def first_try(self, rows, dk, dm, n_modes: int, vectors: bool = True
+                  ) -> RitzResult | None:
+        """Rayleigh-Ritz in the first subspace (None if there is none)."""
+        if self.first is None:
+            return None
+        return ritz(self.base, self.first, rows, dk, dm, n_modes, vectors)
 
     def solve(self, rows, dk, dm, n_modes: int, vectors: bool = True
               ) -> tuple[RitzResult | None, Subspace | None]:
         """Certified Ritz solution if there is one (else the last attempt, or None), and
-        the subspace that gave it."""
-        if self.first is None:
-            return None, None
-        r = ritz(self.base, self.first, rows, dk, dm, n_modes, vectors)
-        if r.passed:
+        the subspace that gave it; the wider subspace is built when first needed."""
+        r = self.first_try(rows, dk, dm, n_modes, vectors)
+        if r is None or r.passed:
             return r, self.first
-        if not self._tried:
-            self._tried = True
-            self._wider = build_subspaces(self.base, [self.rows], LEVELS + EXTRA_LEVELS)[0]
-        if self._wider is None:
+        widen(self.base, [self])
+        if self.wider is None:
             return r, self.first
-        return ritz(self.base, self._wider, rows, dk, dm, n_modes, vectors), self._wider
+        return ritz(self.base, self.wider, rows, dk, dm, n_modes, vectors), self.wider
+
+
+def widen(base: Base, fams: Sequence[Family]) -> None:
+    """Build the wider subspaces of ``fams`` that are not built yet, together."""
+    todo = [f for f in fams if not f.widened]
+    for f, sub in zip(todo, build_subspaces(base, [f.rows for f in todo],
+                                            LEVELS + EXTRA_LEVELS), strict=True):
+        f.wider, f.widened = sub, True
 
 
 def families(base: Base, keys: Sequence[tuple[int, ...]]) -> dict[tuple[int, ...], Family]:

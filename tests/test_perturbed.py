@@ -175,7 +175,7 @@ def test_screening_matches_full_resolves(monkeypatch):
     # the order of the candidates is kept when chunks group them by coordinate
     monkeypatch.setattr("eigenupdate.solve.screening.CHUNK", 1)
     s1 = screen(model, candidates, modes)
-    np.testing.assert_allclose(s1.eigenvalues, s.eigenvalues, rtol=1e-10)
+    np.testing.assert_allclose(s1.eigenvalues, s.eigenvalues, rtol=1e-9)  # own eigsh start
 
 
 def test_update_reports_the_fast_path(monkeypatch):

@@ -273,27 +273,27 @@ def _build_equal(base: Base, rows: np.ndarray, levels: int) -> list[Subspace | N
         if j == 0:
             Z = W[rows.ravel()].reshape(ns, k, ns, k)[np.arange(ns), :, np.arange(ns), :]
         WT = W.T.reshape(ns, k, n)  # a view of W
-        for _ in range(2):  # deflate and M-orthonormalise, twice
+        for _ in range(2):  # deflate twice (classical Gram-Schmidt), then M-normalise
             cp = Mphi.T @ W
             c_phi = cp.T.reshape(ns, k, kb).transpose(0, 2, 1)
             c_own = MQT[:, :j * k] @ WT.transpose(0, 2, 1)  # (ns, j k, k)
             W -= phi @ cp
             WT -= c_own.transpose(0, 2, 1) @ QT[:, :j * k]
-            C[j] += np.concatenate([c_phi, c_own], axis=1) @ R[j]
-            MWT = np.ascontiguousarray((M @ W).T).reshape(ns, k, n)
-            gram = WT @ MWT.transpose(0, 2, 1)
-            ev, U = np.linalg.eigh((gram + gram.transpose(0, 2, 1)) / 2)
-            bad = ~(ev[:, 0] > 1e-24 * ev[:, -1])  # the Krylov space is exhausted
-            alive &= ~bad
-            ev[bad] = 1.0
-            Tt = (U / np.sqrt(ev)[:, None, :]).transpose(0, 2, 1)
-            if k == 1:  # in place: no temporary of the model's size
-                WT *= Tt
-                MWT *= Tt
-            else:
-                WT[:] = Tt @ WT
-                MWT = Tt @ MWT
-            R[j] = (np.sqrt(ev)[:, :, None] * U.transpose(0, 2, 1)) @ R[j]
+            C[j] += np.concatenate([c_phi, c_own], axis=1)
+        MWT = np.ascontiguousarray((M @ W).T).reshape(ns, k, n)
+        gram = WT @ MWT.transpose(0, 2, 1)
+        ev, U = np.linalg.eigh((gram + gram.transpose(0, 2, 1)) / 2)
+        bad = ~(ev[:, 0] > 1e-24 * ev[:, -1])  # the Krylov space is exhausted
+        alive &= ~bad
+        ev[bad] = 1.0
+        Tt = (U / np.sqrt(ev)[:, None, :]).transpose(0, 2, 1)
+        if k == 1:  # in place: no temporary of the model's size
+            WT *= Tt
+            MWT *= Tt
+        else:
+            WT[:] = Tt @ WT
+            MWT = Tt @ MWT
+        R[j] = np.sqrt(ev)[:, :, None] * U.transpose(0, 2, 1)
         QT[:, j * k:(j + 1) * k] = WT
         MQT[:, j * k:(j + 1) * k] = MWT
         rhs = np.asfortranarray(MWT.reshape(ns * k, n).T)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import re
 import sys
 from collections.abc import Sequence
@@ -15,10 +16,10 @@ from pathlib import Path
 
 import numpy as np
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import MAX_MESSAGE, InputError, shorten
 from eigenupdate.identify.identifiability import check
 from eigenupdate.identify.updating import METHODS, update
-from eigenupdate.io.atomic import write_text
+from eigenupdate.io.atomic import transaction, write_text
 from eigenupdate.io.measurements import Measurement, write_measurements
 from eigenupdate.io.study import Study, load_study
 from eigenupdate.io.uff import Mode, read_frf_files, read_modes, write_frfs, write_modes
@@ -42,6 +43,22 @@ def _output_file(path: str | None, flag: str) -> None:
     if not p.resolve().parent.is_dir():
         raise InputError(f"directory {str(p.parent)!r} does not exist", source=str(path),
                          field=flag)
+
+
+def _not_inputs(outputs: dict[str, str | Path | None], inputs: Sequence[Path]) -> None:
+    """Refuse an output that is an input of the same run, or two outputs in one file."""
+    def key(p: str | Path) -> str:
+        return os.path.normcase(os.path.realpath(p))
+
+    seen = {key(p): "an input of this run" for p in inputs}
+    for flag, path in outputs.items():
+        if path is None:
+            continue
+        what = seen.get(key(path))
+        if what is not None:
+            raise InputError(f"is {what}; choose another output file", source=str(path),
+                             field=flag)
+        seen[key(path)] = f"also the output of {flag}"
 
 
 def _output_dir(path: str | None, flag: str) -> None:
@@ -106,6 +123,7 @@ def cmd_simulate(args) -> int:
     _finite(args.noise_hz, "--noise-hz")
     _finite(args.std_hz, "--std-hz", positive=True)
     study = load_study(args.study)
+    _not_inputs({"-o": args.output}, study.inputs())
     modes = study.require_modes()
     std = args.std_hz if args.std_hz is not None else (args.noise_hz or None)
     sols = solve_configurations(study.model, study.configurations, max(modes))
@@ -137,6 +155,7 @@ def cmd_check(args) -> int:
 def cmd_update(args) -> int:
     _output_file(args.save, "--save")
     study = load_study(args.study)
+    _not_inputs({"--save": args.save}, study.inputs(measurements=True))
     method = args.method or study.method
     res = update(
         study.model, study.configurations, study.require_modes(), study.measurements(),
@@ -144,14 +163,29 @@ def cmd_update(args) -> int:
         source=str(study.frequencies),
     )
     doc = report.update_doc(res)
-    if args.save:
+    kept = None
+    if args.save and (res.converged or args.force or _unconverged_result(args.save)):
         write_text(args.save, report.dumps({"study": str(study.path), **doc}) + "\n")
+    elif args.save:
+        kept = f"; {shorten(args.save)} kept (it is not an unconverged result; --force replaces it)"
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
     print(report.dumps(doc) if args.json else report.update_text(res, initial, study.title))
     if not res.converged:
-        print(f"eigenupdate: not converged: {res.message}", file=sys.stderr)
+        print(f"eigenupdate: not converged: {res.message}{kept or ''}", file=sys.stderr)
         return 1
     return 0
+
+
+def _unconverged_result(path: str) -> bool:
+    """True if ``path`` does not exist or holds a result saved with converged false: only
+    those may be replaced by an unconverged result."""
+    try:
+        doc = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        return True
+    except (OSError, ValueError):
+        return False
+    return isinstance(doc, dict) and doc.get("converged") is False
 
 
 def _progress(msg: str) -> None:
@@ -201,6 +235,7 @@ def cmd_extract(args) -> int:
     _output_file(args.uff55, "--uff55")
     _output_dir(args.plots, "--plots")
     study = load_study(args.study)
+    _not_inputs({"-o": args.output, "--uff55": args.uff55}, study.inputs(frf=True))
     modes = study.require_modes()
     bands, low = _frf_options(study)
     missing = [c.name for c in study.configurations if not study.frf.get(c.name)]
@@ -267,6 +302,8 @@ def cmd_simulate_frf(args) -> int:
     for c in study.configurations:
         sets.append((c, synthetic_frfs(study.model, c, f, args.input, args.outputs,
                                        args.loss_factor, noise=args.noise, seed=rng)))
+    _not_inputs({f"-o {c.name!r}": out / f"{_safe_name(c.name)}.uff" for c, _ in sets},
+                study.inputs(measurements=True, frf=True))
     out.mkdir(parents=True, exist_ok=True)
     for c, frfs in sets:
         name = f"{_safe_name(c.name)}.uff"
@@ -309,6 +346,8 @@ def cmd_frf(args) -> int:
     _finite(args.fmax, "--fmax", positive=True)
     _finite(args.loss_factor, "--loss-factor")
     study = load_study(args.study)
+    _not_inputs({"-o": args.o}, [*study.inputs(), *(Path(p) for p in
+                                  (args.measured, args.updated, args.damping) if p)])
     config = _configuration(study, args.configuration)
     kind = study.model_type
     measured = None
@@ -374,6 +413,7 @@ def cmd_sweep(args) -> int:
     if args.modes is not None and args.modes < 1:
         raise InputError(f"{args.modes} must be >= 1", field="--modes")
     study = load_study(args.study)
+    _not_inputs({"-o": args.o}, study.inputs())
     n = args.modes or max(study.modes or [3])
     plot_mass_sweep(args.o, study.model, args.coordinate, args.max_mass, n,
                     configuration=_configuration(study, args.configuration),
@@ -386,7 +426,8 @@ class _Parser(argparse.ArgumentParser):
     """Usage errors in one line, like every other bad input (exit status 2)."""
 
     def error(self, message: str):
-        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+        self.exit(2, f"{self.prog}: error: {shorten(message, MAX_MESSAGE)} "
+                     f"(see {self.prog} --help)\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -421,6 +462,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--method", choices=METHODS)
     s.add_argument("--json", action="store_true")
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
+    s.add_argument("--force", action="store_true",
+                   help="let an unconverged result replace an existing --save file")
     s.set_defaults(func=cmd_update)
 
     s = sub.add_parser("extract", help="natural frequencies from the study's measured FRFs")
@@ -480,14 +523,17 @@ def _located(exc: InputError, args) -> str:
     """
     study = getattr(args, "study", None)
     if exc.source is None and study and not (exc.field or "").startswith("-"):
-        return f"{study}: {exc}"
+        return f"{shorten(study)}: {exc}"
     return str(exc)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return args.func(args)
+        # every output is renamed into place only if the command returns; floating-point
+        # warnings are not printed: results are checked to be finite instead
+        with transaction(), np.errstate(all="ignore"):
+            return args.func(args)
     except InputError as exc:
         print(f"eigenupdate: error: {_located(exc, args)}", file=sys.stderr)
         return 2
@@ -495,8 +541,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stderr.close()
         return 0
     except OSError as exc:  # a file that cannot be read or written, named by the OS
-        where = f"{exc.filename}: " if exc.filename else ""
-        print(f"eigenupdate: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        where = f"{shorten(exc.filename)}: " if exc.filename else ""
+        print(f"eigenupdate: error: {where}{shorten(exc.strerror or exc, MAX_MESSAGE)}",
+              file=sys.stderr)
         return 2
 
 

@@ -24,6 +24,9 @@ from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
 
 MODEL_TYPES = ("spring-mass", "beam", "matrices")
+LIMIT = 1e100
+"""Numbers of a study are 0 or of magnitude 1/LIMIT to LIMIT: beyond, products of a few
+of them (K = EI/L^3, lambda = k/m, (2 pi f)^2) leave the floating-point range."""
 
 
 @dataclass
@@ -42,6 +45,17 @@ class Study:
     tolerance: float = 1e-8
     frf: dict[str, list[Path]] = field(default_factory=dict)
     frf_options: dict[str, Any] = field(default_factory=dict)
+    model_files: list[Path] = field(default_factory=list)
+
+    def inputs(self, *, measurements: bool = False, frf: bool = False) -> list[Path]:
+        """Files a run reads: the study, its model files and, if asked, its measurement
+        CSV and FRF files (a run must not write over any of them)."""
+        out = [self.path, *self.model_files]
+        if measurements and self.frequencies is not None:
+            out.append(self.frequencies)
+        if frf:
+            out += [f for files in self.frf.values() for f in files]
+        return out
 
     def measurements(self) -> dict[tuple[str, int], Measurement]:
         """Read the measurement CSV; configuration names must be those of the study."""
@@ -89,6 +103,7 @@ class _Reader:
             "int": lambda x: isinstance(x, int) and not isinstance(x, bool),
             "float": lambda x: (
                 isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x)
+                and (x == 0 or 1 / LIMIT <= abs(x) <= LIMIT)
             ),
             "bool": lambda x: isinstance(x, bool),
             "list": lambda x: isinstance(x, list),
@@ -99,7 +114,7 @@ class _Reader:
             names = {
                 "str": "a string",
                 "int": "an integer",
-                "float": "a finite number",
+                "float": f"0 or a number of magnitude {1 / LIMIT:g} to {LIMIT:g}",
                 "bool": "true or false",
                 "list": "a list",
                 "table": "a table",
@@ -116,9 +131,11 @@ class _Reader:
             else self.get(key, "float", default)
         )
         if isinstance(v, list):
-            bad = [x for x in v if isinstance(x, bool) or not isinstance(x, int | float)]
+            bad = [x for x in v if isinstance(x, bool) or not isinstance(x, int | float)
+                   or not math.isfinite(x) or (x != 0 and not 1 / LIMIT <= abs(x) <= LIMIT)]
             if bad or not v:
-                raise self.error(key, "must be a number or a non-empty list of numbers")
+                raise self.error(key, "must be a number or a non-empty list of numbers (0 or "
+                                      f"of magnitude {1 / LIMIT:g} to {LIMIT:g})")
             return [float(x) for x in v]
         return v
 
@@ -213,7 +230,15 @@ def load_study(path: str | Path) -> Study:
         tolerance=tol,
         frf=frf,
         frf_options=frf_options,
+        model_files=_model_files(data["model"], path.parent) if mtype == "matrices" else [],
     )
+
+
+def _model_files(table: dict, base: Path) -> list[Path]:
+    """The Matrix Market files of a (validated) matrices model."""
+    files = [table["K0"], table["M0"]]
+    files += [t[k] for t in table.get("parameter", []) for k in ("K", "M") if k in t]
+    return [base / f for f in files]
 
 
 def _parameter(r: _Reader, seen: dict[str, str], default_value: Any = ...) -> Parameter:
@@ -253,7 +278,8 @@ def _spring_mass(m: _Reader, _base: Path) -> ParametricModel:
         p = _parameter(r, seen)
         _positive(r, p)
         cs = r.get("coordinates", "list")
-        if len(cs) != 2 or not all(isinstance(c, int) and c >= 0 for c in cs) or cs[0] == cs[1]:
+        if len(cs) != 2 or cs[0] == cs[1] or not all(
+                isinstance(c, int) and not isinstance(c, bool) and c >= 0 for c in cs):
             raise r.error(
                 "coordinates", f"must be two different coordinates (0 = ground), got {cs}"
             )
@@ -263,12 +289,19 @@ def _spring_mass(m: _Reader, _base: Path) -> ParametricModel:
                           "coordinate of a spring-mass model needs one)")
         r.finish()
         springs.append(Spring(p, (cs[0], cs[1])))
-    n = max([x.coordinate for x in masses], default=0)  # springs only join these
-    massless = sorted(set(range(1, n + 1)) - {x.coordinate for x in masses})
-    if massless:
-        raise m.error("mass", f"coordinate(s) {massless} have no mass")
     if not masses:
         raise m.error("mass", "a spring-mass model needs at least one [[model.mass]]")
+    if not springs:  # K = 0: every mode is a rigid-body mode at 0 Hz
+        raise m.error("spring", "a spring-mass model needs at least one [[model.spring]]")
+    # coordinates are 1..n with a mass at each: n is the number of distinct coordinates,
+    # so a typo (coordinate = 100000) is found without building anything of its size
+    n = len({x.coordinate for x in masses})
+    for i, x in enumerate(masses):
+        if x.coordinate > n:
+            raise InputError(
+                f"{x.coordinate} is beyond the {n} coordinates of this model (coordinates are "
+                f"1..{n}, each with a mass)", source=m.source,
+                field=f"model.mass[{i + 1}].coordinate")
     return spring_mass_model(masses, springs, n)
 
 

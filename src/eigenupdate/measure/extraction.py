@@ -157,8 +157,12 @@ def extract_configuration(
             # band k is mode k: bands out of order or overlapping would mislabel modes
             raise InputError(f"bands {bands} must be ascending and must not overlap "
                              f"(band k holds elastic mode k)", field=f"{where} bands_hz")
-    per_frf = [_dobson(x, bands, where) for x in frfs]
-    checks = [_rational_fraction(x, bands) for x in frfs] if cross_check else []
+    try:
+        per_frf = [_dobson(x, bands, where) for x in frfs]
+        checks = [_rational_fraction(x, bands) for x in frfs] if cross_check else []
+    except np.linalg.LinAlgError as exc:  # e.g. SVD of a corrupted FRF did not converge
+        raise InputError(f"{where}: the modal fit failed ({exc}); the FRF data cannot be "
+                         f"fitted (corrupted file?)", source=_sources(frfs)) from None
     out = []
     for k in range(1, len(bands) + 1):
         fits = tuple(p[k - 1] for p in per_frf)
@@ -174,6 +178,12 @@ def extract_configuration(
         ck = [c[k - 1] for c in checks if c is not None and c[k - 1] is not None]
         cf, cs = combine([c.frequency_hz for c in ck], [c.frequency_std_hz for c in ck]) \
             if ck else (None, None)
+        if not np.all(np.isfinite([f, s, eta, eta_s])):
+            raise InputError(f"{where}: elastic mode {k}: the fit gave f = {f:.6g} Hz, std "
+                             f"{s:.3g}, loss factor {eta:.3g} (corrupted FRF data?)",
+                             source=_sources(frfs))
+        if cf is not None and not np.isfinite([cf, cs]).all():
+            cf, cs = None, None  # the cross-check failed: report the Dobson fit alone
         out.append(ExtractedMode(configuration, k, f, s, eta, eta_s, bands[k - 1], fits, cf, cs))
     return out
 
@@ -246,3 +256,9 @@ def extraction_csv(modes: Sequence[ExtractedMode]) -> str:
                     "" if m.check_hz is None else repr(m.check_hz),
                     "" if m.check_std_hz is None else repr(m.check_std_hz)])
     return buf.getvalue()
+
+
+def _sources(frfs: Sequence[FRF]) -> str | None:
+    """The file(s) the FRFs came from, for messages."""
+    names = sorted({x.source for x in frfs if x.source})
+    return ", ".join(names) or None

@@ -16,7 +16,13 @@ import numpy as np
 from eigenupdate.errors import InputError
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
-from eigenupdate.solve.eigen import DENSE_LIMIT, EigenSolution, base_operator, solve_elastic
+from eigenupdate.solve.eigen import (
+    DENSE_LIMIT,
+    EigenSolution,
+    base_operator,
+    massless_hint,
+    solve_elastic,
+)
 from eigenupdate.solve.sensitivity import eigenvalue_derivatives
 
 
@@ -62,7 +68,8 @@ def solve_configurations(
     try:
         base_op, base_sol = base_operator(K, M, n_modes) if sparse else (None, None)
     except InputError as exc:
-        raise InputError(str(exc), field="the bare structure") from None
+        raise InputError(f"{exc}{massless_hint(K, M, model.coordinates)}",
+                         field="the bare structure") from None
     for c in configurations:
         try:
             if not c.additions and base_sol is not None:
@@ -80,7 +87,8 @@ def solve_configurations(
             out.append(solve_elastic(K + dk, M + dm, n_modes, operator=op, dense=not sparse,
                                      n_rigid=hint))
         except InputError as exc:
-            raise InputError(str(exc), field=f"configuration {c.name!r}") from None
+            raise InputError(f"{exc}{massless_hint(K, M, model.coordinates)}",
+                             field=f"configuration {c.name!r}") from None
     return out
 
 

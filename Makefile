@@ -16,7 +16,7 @@ demo: $(BIN)/.installed
 	$(BIN)/eigenupdate update examples/paper_beam/study.toml
 
 test: $(BIN)/.installed
-	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/ruff check src tests benchmarks tools
 	$(BIN)/python -m pytest -q
 
 bench: $(BIN)/.installed

@@ -49,6 +49,7 @@ HOSTILE = ["0", "-1", "1e300", "-1e300", "5e-324", "nan", "inf", "-inf", "1e9", 
            "999999999999", "0.0", "[]", "[true, 2]", "1e308", "-0", "1e15", "2.5"]
 NUMBER = re.compile(rb"-?\d+(?:\.\d*)?(?:[eE][-+]?\d+)?")
 PROGRESS = re.compile(r"^(\[\d+/\d+\] |  warning: |wrote )")
+ERROR = re.compile(r"^eigenupdate( [a-z-]+)?: error: ")  # subcommand usage errors name it
 NAN = re.compile(r"\b(nan|inf|infinity)\b", re.IGNORECASE)
 
 
@@ -276,7 +277,7 @@ def run_case(seed: int, index: int, base: Path, cache: dict[str, Path]) -> tuple
     if code not in (0, 1, 2):
         return "bad exit status", f"{what}: {code!r}"
     if code == 2:
-        if len(err_lines) != 1 or not err_lines[0].startswith("eigenupdate: error: "):
+        if len(err_lines) != 1 or not ERROR.match(err_lines[0]):
             return "exit 2 not one line", f"{what}\n{err[:2000]}"
         line = err_lines[0]
         if len(line) > MAX_LINE:

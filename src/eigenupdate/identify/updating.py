@@ -29,6 +29,7 @@ import numpy as np
 from scipy.optimize import lsq_linear
 
 from eigenupdate.errors import InputError
+from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.io.measurements import Measurement, eigenvalue_std, select, to_eigenvalue
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
@@ -119,6 +120,7 @@ def update(
     names = [model.names[j] for j in upd]
     rows = [(c.name, k) for c in configurations for k in sorted(set(modes))]
     f_meas, f_std = select(measurements, rows, weighted, source)
+    check_measured_frequencies(configurations, measurements, source=source)
     lam_meas = to_eigenvalue(f_meas)
     w = 1.0 / eigenvalue_std(f_meas, f_std) if weighted else np.ones_like(lam_meas)
 

@@ -100,7 +100,7 @@ def _number(text: str, kind, src: str, where: str, name: str):
     try:
         return parse_int(text) if kind is int else parse_float(text)
     except ValueError:
-        what = "an integer" if kind is int else "a plain decimal number"
+        what = "an integer" if kind is int else "a number (plain ASCII, e.g. 42.5 or 4.25e1)"
         raise InputError(f"{where}: {name} {shorten(text.strip(), 40)!r} is not {what}",
                          source=src) from None
 

@@ -157,6 +157,13 @@ def extract_configuration(
             # band k is mode k: bands out of order or overlapping would mislabel modes
             raise InputError(f"bands {bands} must be ascending and must not overlap "
                              f"(band k holds elastic mode k)", field=f"{where} bands_hz")
+    for x in frfs:
+        big = np.abs(x.receptance) > MAX_RECEPTANCE
+        if big.any():  # finite, but its square or fourth power overflows in the fits
+            i = int(np.flatnonzero(big)[0])
+            raise InputError(f"{where}: |receptance| {abs(x.receptance[i]):.3g} m/N at "
+                             f"{x.frequency_hz[i]:g} Hz is beyond any real one (corrupted "
+                             f"data?)", source=x.source or None)
     try:
         per_frf = [_dobson(x, bands, where) for x in frfs]
         checks = [_rational_fraction(x, bands) for x in frfs] if cross_check else []
@@ -186,6 +193,10 @@ def extract_configuration(
             cf, cs = None, None  # the cross-check failed: report the Dobson fit alone
         out.append(ExtractedMode(configuration, k, f, s, eta, eta_s, bands[k - 1], fits, cf, cs))
     return out
+
+
+MAX_RECEPTANCE = 1e30
+"""Largest |receptance| (m/N) fitted; real ones are many orders of magnitude below."""
 
 
 def _finite(frf: FRF) -> tuple[np.ndarray, np.ndarray]:

@@ -214,6 +214,9 @@ def solve_elastic(
     n = K.shape[0]
     if n_modes < 1:
         raise InputError("at least one mode is required")
+    for name, a in (("stiffness", K), ("mass", M)):
+        if not np.all(np.isfinite(a.data if sp.issparse(a) else np.asarray(a, dtype=float))):
+            raise InputError(f"{name} matrix has non-finite entries (values out of range?)")
     if dense is None:
         dense = n <= DENSE_LIMIT and operator is None
     if dense:

@@ -293,3 +293,13 @@ def test_a_skipped_mode_is_caught(dense):
     skipped = EigenSolution(np.delete(sol.eigenvalues, 2), sol.modes, 2, sol.next_eigenvalue)
     with pytest.raises(InputError, match="missed-mode check"):
         sturm_check(K, M, np.delete(lam, 4), skipped)
+
+
+@pytest.mark.parametrize("literal, fragment", [
+    ("1" * 5000, "invalid TOML"),        # tomllib: int of over 4300 digits (ValueError)
+    ("1" + "0" * 400, "model.mass[1].value"),  # math.isfinite(10**400): OverflowError
+])
+def test_huge_toml_integers(tmp_path, run_cli, literal, fragment):
+    s = write(tmp_path, FIG2.replace("value = 9.7  # kg", f"value = {literal}", 1))
+    line = assert_bad(run_cli, ["check", s], "study.toml", fragment)
+    assert len(line) < 400

@@ -540,6 +540,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into `head` and the like
         sys.stderr.close()
         return 0
+    except (np.linalg.LinAlgError, MemoryError) as exc:  # a last resort, not a traceback
+        why = "out of memory" if isinstance(exc, MemoryError) else f"numerical failure ({exc})"
+        print(f"eigenupdate: error: {shorten(getattr(args, 'study', None) or '')}: {why}; "
+              f"input values or sizes out of range?", file=sys.stderr)
+        return 2
     except OSError as exc:  # a file that cannot be read or written, named by the OS
         where = f"{shorten(exc.filename)}: " if exc.filename else ""
         print(f"eigenupdate: error: {where}{shorten(exc.strerror or exc, MAX_MESSAGE)}",

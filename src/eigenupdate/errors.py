@@ -7,7 +7,7 @@ import re
 MAX_NAME = 120
 """File and field names longer than this are cut in the middle."""
 
-MAX_MESSAGE = 400
+MAX_MESSAGE = 300
 """Messages longer than this are cut (the CLI prints one readable line)."""
 
 
@@ -37,7 +37,7 @@ class InputError(ValueError):
     def __init__(self, message: str, *, source: str | None = None, field: str | None = None):
         parts = [shorten(p) for p in (source, field) if p]
         prefix = ": ".join(parts)
-        message = shorten(message, MAX_MESSAGE)
+        message = shorten(message, max(80, MAX_MESSAGE - len(prefix) - 2))
         super().__init__(f"{prefix}: {message}" if prefix else message)
         self.source = source
         self.field = field

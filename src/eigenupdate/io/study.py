@@ -7,7 +7,6 @@ errors too, so a misspelt option is not silently ignored.
 
 from __future__ import annotations
 
-import math
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -100,10 +99,10 @@ class _Reader:
         v = self.data[key]
         check = {
             "str": lambda x: isinstance(x, str),
-            "int": lambda x: isinstance(x, int) and not isinstance(x, bool),
+            "int": lambda x: isinstance(x, int) and not isinstance(x, bool) and abs(x) < 2**31,
             "float": lambda x: (
-                isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x)
-                and (x == 0 or 1 / LIMIT <= abs(x) <= LIMIT)
+                isinstance(x, int | float) and not isinstance(x, bool)
+                and (x == 0 or 1 / LIMIT <= abs(x) <= LIMIT)  # no float(x): ints may be huge
             ),
             "bool": lambda x: isinstance(x, bool),
             "list": lambda x: isinstance(x, list),
@@ -113,7 +112,7 @@ class _Reader:
         if not check(v):
             names = {
                 "str": "a string",
-                "int": "an integer",
+                "int": "an integer of magnitude below 2**31",
                 "float": f"0 or a number of magnitude {1 / LIMIT:g} to {LIMIT:g}",
                 "bool": "true or false",
                 "list": "a list",
@@ -132,7 +131,7 @@ class _Reader:
         )
         if isinstance(v, list):
             bad = [x for x in v if isinstance(x, bool) or not isinstance(x, int | float)
-                   or not math.isfinite(x) or (x != 0 and not 1 / LIMIT <= abs(x) <= LIMIT)]
+                   or (x != 0 and not 1 / LIMIT <= abs(x) <= LIMIT)]
             if bad or not v:
                 raise self.error(key, "must be a number or a non-empty list of numbers (0 or "
                                       f"of magnitude {1 / LIMIT:g} to {LIMIT:g})")
@@ -156,10 +155,10 @@ def load_study(path: str | Path) -> Study:
         data = tomllib.loads(path.read_bytes().decode("utf-8-sig"))
     except OSError as exc:
         raise InputError(f"cannot read study file: {exc.strerror or exc}", source=src) from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"invalid TOML: {exc}", source=src) from None
     except UnicodeDecodeError as exc:
         raise InputError(f"not UTF-8 text: {exc}", source=src) from None
+    except ValueError as exc:  # TOMLDecodeError, or an integer of over 4300 digits
+        raise InputError(f"invalid TOML: {exc}", source=src) from None
     top = _Reader(data, "", src)
     title = top.get("title", "str", path.stem)
     m = _Reader(top.get("model", "table"), "model", src)
@@ -195,7 +194,7 @@ def load_study(path: str | Path) -> Study:
 
     meas = _Reader(top.get("measurement", "table", {}), "measurement", src)
     modes = meas.get("modes", "list", [])
-    if any(isinstance(k, bool) or not isinstance(k, int) or k < 1 for k in modes):
+    if any(isinstance(k, bool) or not isinstance(k, int) or not 1 <= k < 2**31 for k in modes):
         raise meas.error("modes", f"must be elastic mode numbers >= 1, got {modes}")
     if len(set(modes)) != len(modes):
         raise meas.error("modes", f"repeated mode number in {modes}")
@@ -210,8 +209,8 @@ def load_study(path: str | Path) -> Study:
     if method not in METHODS:
         raise up.error("method", f"unknown method {method!r}; expected one of {list(METHODS)}")
     max_it = up.get("max_iterations", "int", 20)
-    if max_it < 1:
-        raise up.error("max_iterations", "must be >= 1")
+    if not 1 <= max_it <= 10_000:
+        raise up.error("max_iterations", f"must be 1 to 10000, got {max_it}")
     tol = up.get("tolerance", "float", 1e-8)
     if not 0 < tol <= 1e-2:  # the largest relative parameter change still called converged
         raise up.error("tolerance", f"{tol!r} must be > 0 and <= 0.01 (a relative step)")

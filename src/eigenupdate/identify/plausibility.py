@@ -90,19 +90,13 @@ def check_measured_frequencies(
         r = len({a.coordinate for a in c.additions})
         what = "adds mass" if masses else "adds grounded springs"
         for k, m in sorted(by_config.get(c.name, {}).items()):
-            above = base.get(k if masses else k + r)
-            below = base.get(k - r)
-            if above is not None and m.frequency_hz > above.frequency_hz + _tolerance(
-                    m, above, n_std, rtol):
-                raise InputError(
-                    f"configuration {c.name!r} {what} at {r} coordinate(s), yet its mode {k} "
-                    f"at {m.frequency_hz:.6g} Hz is above mode {above.mode} of the bare "
-                    f"structure at {above.frequency_hz:.6g} Hz (interlacing); a swapped or "
-                    f"missed mode in one of them?", source=source)
-            if below is not None and m.frequency_hz < below.frequency_hz - _tolerance(
-                    m, below, n_std, rtol):
-                raise InputError(
-                    f"configuration {c.name!r} {what} at {r} coordinate(s), yet its mode {k} "
-                    f"at {m.frequency_hz:.6g} Hz is below mode {below.mode} of the bare "
-                    f"structure at {below.frequency_hz:.6g} Hz (interlacing); a swapped or "
-                    f"missed mode in one of them?", source=source)
+            bounds = ((base.get(k if masses else k + r), 1.0, "above"),
+                      (base.get(k - r), -1.0, "below"))
+            for b, sign, word in bounds:
+                if b is not None and sign * (m.frequency_hz - b.frequency_hz) > _tolerance(
+                        m, b, n_std, rtol):
+                    raise InputError(
+                        f"configuration {c.name!r} {what} at {r} coordinate(s), yet its mode "
+                        f"{k} at {m.frequency_hz:.6g} Hz is {word} mode {b.mode} of the bare "
+                        f"structure at {b.frequency_hz:.6g} Hz (interlacing); a swapped or "
+                        f"missed mode in one of them?", source=source)

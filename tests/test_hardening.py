@@ -303,3 +303,18 @@ def test_huge_toml_integers(tmp_path, run_cli, literal, fragment):
     s = write(tmp_path, FIG2.replace("value = 9.7  # kg", f"value = {literal}", 1))
     line = assert_bad(run_cli, ["check", s], "study.toml", fragment)
     assert len(line) < 400
+
+
+def test_nan_frequencies_never_printed_or_written(tmp_path, run_cli):
+    """A subnormal mass in a Matrix Market file: before, `frequencies` printed and
+    `simulate` wrote NaN with exit 0."""
+    scipy.io.mmwrite(tmp_path / "K0.mtx", sp.coo_matrix(np.array([[2.0, -1.0], [-1.0, 2.0]])))
+    scipy.io.mmwrite(tmp_path / "M0.mtx", sp.coo_matrix(np.diag([1.0, 5e-324])))
+    study = write(tmp_path, '[model]\ntype = "matrices"\nK0 = "K0.mtx"\nM0 = "M0.mtx"\n'
+                            '[[model.parameter]]\nname = "a"\nvalue = 1.0\nK = "K0.mtx"\n'
+                            '[measurement]\nmodes = [1, 2]\n')
+    assert_bad(run_cli, ["frequencies", study], "study.toml", "non-finite")
+    assert_bad(run_cli, ["simulate", study, "-o", tmp_path / "m.csv"], "non-finite")
+    assert not (tmp_path / "m.csv").exists()
+    with pytest.raises(InputError, match="non-finite"):  # the library too
+        solve_elastic(np.array([[2.0, -1.0], [-1.0, 2.0]]), np.diag([1.0, 5e-324]), 2)

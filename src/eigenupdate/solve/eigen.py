@@ -65,7 +65,8 @@ def rigid_mask(K, M, lam: np.ndarray) -> np.ndarray:
     """
     k, m = np.asarray(K.diagonal()), np.asarray(M.diagonal())
     ok = m > 0
-    scale = float(np.max(k[ok] / m[ok])) if ok.any() else 1.0
+    with np.errstate(over="ignore"):  # a subnormal mass: the eigenvalues are checked below
+        scale = float(np.max(k[ok] / m[ok])) if ok.any() else 1.0
     if not scale > 0:  # K = 0 (e.g. a spring-mass model without springs): all rigid
         return np.ones(np.shape(lam), dtype=bool)
     rigid = np.abs(lam) < RIGID_RTOL * scale

@@ -318,3 +318,15 @@ def test_nan_frequencies_never_printed_or_written(tmp_path, run_cli):
     assert not (tmp_path / "m.csv").exists()
     with pytest.raises(InputError, match="non-finite"):  # the library too
         solve_elastic(np.array([[2.0, -1.0], [-1.0, 2.0]]), np.diag([1.0, 5e-324]), 2)
+
+
+def test_too_few_peaks_names_the_frf_file(tmp_path, run_cli):
+    """tools/fuzz.py seed 10 case 64: a mode number beyond the peaks of the FRF; before,
+    the message named neither the study nor the FRF file."""
+    text = (EXAMPLES / "paper_beam_frf" / "study.toml").read_text()
+    i = text.index("[[perturbation]]")
+    uff = EXAMPLES / "paper_beam_frf" / "frf" / "base.uff"
+    write(tmp_path, text[:i] + f'[measurement]\nmodes = [1, 16]\n[measurement.frf]\n'
+                               f'"base" = "{uff}"\n')
+    code, _, err = run_cli("extract", tmp_path / "study.toml", "-o", tmp_path / "x.csv")
+    assert code == 2 and "base.uff" in err.splitlines()[-1], err

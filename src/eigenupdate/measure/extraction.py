@@ -145,7 +145,9 @@ def extract_configuration(
         raise InputError(f"{where} has no FRF")
     n = max(modes)
     if bands_hz is None:
-        bands = find_bands(frfs, n, exclude_below_hz=exclude_below_hz, source=where)
+        files = _sources(frfs)
+        bands = find_bands(frfs, n, exclude_below_hz=exclude_below_hz,
+                           source=f"{files}: {where}" if files else where)
     else:
         bands = [tuple(map(float, b)) for b in bands_hz]
         if len(bands) < n:

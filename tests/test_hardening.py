@@ -330,3 +330,17 @@ def test_too_few_peaks_names_the_frf_file(tmp_path, run_cli):
                                f'"base" = "{uff}"\n')
     code, _, err = run_cli("extract", tmp_path / "study.toml", "-o", tmp_path / "x.csv")
     assert code == 2 and "base.uff" in err.splitlines()[-1], err
+
+
+@pytest.mark.parametrize("tail", [b"\xff" * 140_000, b"9" * 140_000])
+def test_matrix_market_body_checked_before_scipy(tmp_path, run_cli, tail):
+    """tools/fuzz.py seed 10 case 4855: 140,000 bytes of 0xFF after an entry crashed the
+    fuzzing process inside scipy's compiled reader (SIGSEGV); the body is now checked for
+    ASCII and line length first."""
+    scipy.io.mmwrite(tmp_path / "K0.mtx", sp.coo_matrix(np.array([[2.0, -1.0], [-1.0, 2.0]])))
+    (tmp_path / "M0.mtx").write_bytes(b"%%MatrixMarket matrix coordinate real symmetric\n"
+                                      b"2 2 2\n1 1 1\n2 2 1" + tail + b"\n")
+    study = write(tmp_path, '[model]\ntype = "matrices"\nK0 = "K0.mtx"\nM0 = "M0.mtx"\n'
+                            '[[model.parameter]]\nname = "a"\nvalue = 1.0\nK = "K0.mtx"\n')
+    assert_bad(run_cli, ["frequencies", study, "--modes", 1], "M0.mtx", "line 4" if tail[0] == 57
+               else "not ASCII")

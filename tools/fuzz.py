@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import faulthandler
 import hashlib
 import io
 import random
@@ -322,15 +323,18 @@ def run_case(seed: int, index: int, base: Path, cache: dict[str, Path]) -> tuple
 EXPECTED = ("exit 0", "exit 1 (not converged)", "exit 2 (input error)")
 
 
-def run(cases: int, seed: int = 0, keep: Path | None = None, progress: bool = False
-        ) -> tuple[Counter, dict[str, list[str]]]:
-    """Run ``cases`` cases; returns the count of each class and the details of violations."""
+def run(cases: int, seed: int = 0, keep: Path | None = None, progress: bool = False,
+        first: int = 0) -> tuple[Counter, dict[str, list[str]]]:
+    """Run cases ``first`` to ``first + cases - 1``; returns the count of each class and
+    the details of violations."""
     counts: Counter = Counter()
     examples: dict[str, list[str]] = {}
     with tempfile.TemporaryDirectory(prefix="eigenupdate-fuzz-") as tmp:
         base, cache = Path(tmp), {}
         start = time.monotonic()
-        for i in range(cases):
+        for i in range(first, first + cases):
+            if progress == "each":
+                print(f"case {i}", file=sys.stderr, flush=True)
             cls, detail = run_case(seed, i, base, cache)
             counts[cls] += 1
             if cls not in EXPECTED:
@@ -338,8 +342,8 @@ def run(cases: int, seed: int = 0, keep: Path | None = None, progress: bool = Fa
                 if keep is not None:
                     shutil.copytree(base / f"case_{i}", keep / f"case_{i}", dirs_exist_ok=True)
             shutil.rmtree(base / f"case_{i}")
-            if progress and (i + 1) % 100 == 0:
-                print(f"{i + 1} cases, {time.monotonic() - start:.0f} s: {dict(counts)}",
+            if progress and (i + 1 - first) % 100 == 0:
+                print(f"{i + 1 - first} cases, {time.monotonic() - start:.0f} s: {dict(counts)}",
                       file=sys.stderr, flush=True)
     return counts, examples
 
@@ -349,14 +353,19 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--cases", type=int, default=1000)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--keep", type=Path, help="copy the directory of every violating case here")
+    p.add_argument("--first", type=int, default=0, help="number of the first case")
+    p.add_argument("--verbose", action="store_true", help="print every case number first")
     args = p.parse_args(argv)
+    faulthandler.enable()  # a crash in compiled code still says where
     # a case that tries to allocate tens of GiB fails here instead of swapping the machine
     resource.setrlimit(resource.RLIMIT_AS, (8 << 30, resource.RLIM_INFINITY))
     if args.keep:
         args.keep.mkdir(parents=True, exist_ok=True)
     start = time.monotonic()
-    counts, examples = run(args.cases, args.seed, args.keep, progress=True)
-    print(f"{args.cases} cases, seed {args.seed}, {time.monotonic() - start:.0f} s")
+    counts, examples = run(args.cases, args.seed, args.keep,
+                           progress="each" if args.verbose else True, first=args.first)
+    print(f"{args.cases} cases from {args.first}, seed {args.seed}, "
+          f"{time.monotonic() - start:.0f} s")
     for cls in (*EXPECTED, *sorted(set(counts) - set(EXPECTED))):
         print(f"  {cls:28s} {counts.get(cls, 0)}")
     for cls, details in examples.items():

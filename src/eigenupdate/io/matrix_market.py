@@ -3,6 +3,7 @@ K0, M0 and, per parameter, dK/ds_j and/or dM/ds_j."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -15,6 +16,7 @@ from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
 
 SYMMETRY_RTOL = 1e-10
+MAX_LINE = 1024
 MAX_SIZE = 10_000_000
 """Largest number of rows of a matrix file (its index arrays alone take ~80 bytes a row)."""
 
@@ -64,6 +66,16 @@ def _check_header(path: Path, n: int | None) -> None:
     if rows > MAX_SIZE:
         raise InputError(f"the header declares {rows} x {rows}; at most {MAX_SIZE} "
                          f"coordinates are supported", source=src)
+    # scipy's compiled reader trusts its input: a 140,000-byte token crashes it (SIGSEGV)
+    data = path.read_bytes()
+    if not data.isascii():
+        i = next(i for i, b in enumerate(data) if b > 127)
+        raise InputError(f"byte {i + 1} is not ASCII (Matrix Market files are ASCII text)",
+                         source=src)
+    long = re.search(rb"[^\n]{%d}" % (MAX_LINE + 1), data)
+    if long:
+        line = data.count(b"\n", 0, long.start()) + 1
+        raise InputError(f"line {line} is longer than {MAX_LINE} characters", source=src)
     per_entry = 2 if fmt == "array" else 6
     if entries * per_entry > size:
         raise InputError(f"the header declares {entries} {fmt} entries but the file has only "

@@ -227,14 +227,25 @@ def _snapshot(d: Path) -> dict[str, str]:
             for p in sorted(d.rglob("*")) if p.is_file()}
 
 
-def _title(path: Path) -> str | None:
+def _strings(path: Path) -> list[str]:
+    """The strings of a TOML file that contain 'nan' or 'inf', longest first: a run
+    echoes them (titles, configuration names), it did not compute them."""
     import tomllib
 
     try:
-        title = tomllib.loads(path.read_text(encoding="utf-8-sig")).get("title")
+        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))
     except (OSError, ValueError):
-        return None
-    return title if isinstance(title, str) and title else None
+        return []
+    out, todo = [], [data]
+    while todo:
+        x = todo.pop()
+        if isinstance(x, dict):
+            todo += list(x.values())
+        elif isinstance(x, list):
+            todo += x
+        elif isinstance(x, str) and NAN.search(x):  # only these could look like a NaN
+            out.append(x)
+    return sorted(set(out), key=len, reverse=True)
 
 
 def run_case(seed: int, index: int, base: Path, cache: dict[str, Path]) -> tuple[str, str]:
@@ -310,9 +321,9 @@ def run_case(seed: int, index: int, base: Path, cache: dict[str, Path]) -> tuple
         return "clobbered", f"{what}: {changed}"
     texts = [out] + [(d / c).read_text(encoding="utf-8", errors="replace") for c in changed
                      if (d / c).exists()]
-    title = _title(Path(argv[1])) if len(argv) > 1 else None
-    if title:  # a mutated title may itself say "inf"; it is echoed, not computed
-        texts = [t.replace(title, "") for t in texts]
+    # a mutated title or configuration name may itself say "inf": echoed, not computed
+    for s in _strings(Path(argv[1])) if len(argv) > 1 else []:
+        texts = [t.replace(s, "") for t in texts]
     if any(NAN.search(t) for t in texts):
         return "NaN in output", what
     if err_lines and argv[0] not in ("simulate",):

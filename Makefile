@@ -25,7 +25,7 @@ demo: $(BIN)/.installed
 	$(BIN)/eigenupdate update examples/paper_beam/study.toml
 
 test: $(BIN)/.installed $(NBIN)/.installed
-	$(BIN)/ruff check src tests benchmarks
+	$(BIN)/ruff check src tests benchmarks tools
 	$(BIN)/python -m pytest -q
 	# NASTRAN tests for real: a missing pyNastran or OpenSees is a failure here, not a skip
 	EIGENUPDATE_REQUIRE_NASTRAN=1 $(NBIN)/python -m pytest -q -m nastran tests

@@ -250,7 +250,7 @@ def test_unknown_ordinate_type_needs_default_kind(tmp_path: Path):
     h = sdof_receptance(f)
     path = tmp_path / "unk.uff"
     pyuff_58(path, -(w**2) * h, f, ordinate_spec_data_type=0)
-    with pytest.raises(InputError, match="does not say whether") as info:
+    with pytest.raises(InputError, match="says whether the FRF is") as info:
         read_frfs(path)
     assert info.value.field == "ordinate_spec_data_type" and str(path) in str(info.value)
     (frf,) = read_frfs(path, default_kind="accelerance")

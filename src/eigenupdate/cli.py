@@ -8,6 +8,8 @@ eigenvalue (a one-line message naming the file and the field; no traceback).
 from __future__ import annotations
 
 import argparse
+import json
+import os
 import re
 import sys
 import time
@@ -24,9 +26,9 @@ from eigenupdate.design.montecarlo_io import write_montecarlo
 from eigenupdate.design.plan import design_plan
 from eigenupdate.design.plan_io import plan_study_text
 from eigenupdate.design.plan_report import design_doc, design_text
-from eigenupdate.errors import EigenupdateWarning, InputError, NumericalError
+from eigenupdate.errors import MAX_MESSAGE, EigenupdateWarning, InputError, NumericalError, shorten
 from eigenupdate.identify.weights import ESTIMATORS
-from eigenupdate.io.atomic import write_text
+from eigenupdate.io.atomic import transaction, write_text
 from eigenupdate.io.measurements import write_measurements
 from eigenupdate.io.nastran import save_updated_bdf
 from eigenupdate.io.study import load_study
@@ -50,6 +52,22 @@ def _output_file(path: str | None, flag: str) -> None:
     if not p.resolve().parent.is_dir():
         raise InputError(f"directory {str(p.parent)!r} does not exist", source=str(path),
                          field=flag)
+
+
+def _not_inputs(outputs: dict[str, str | Path | None], inputs: Sequence[Path]) -> None:
+    """Refuse an output that is an input of the same run, or two outputs in one file."""
+    def key(p: str | Path) -> str:
+        return os.path.normcase(os.path.realpath(p))
+
+    seen = {key(p): "an input of this run" for p in inputs}
+    for flag, path in outputs.items():
+        if path is None:
+            continue
+        what = seen.get(key(path))
+        if what is not None:
+            raise InputError(f"is {what}; choose another output file", source=str(path),
+                             field=flag)
+        seen[key(path)] = f"also the output of {flag}"
 
 
 def _output_dir(path: str | None, flag: str) -> None:
@@ -101,6 +119,7 @@ def cmd_frequencies(args) -> int:
 def cmd_simulate(args) -> int:
     _output_file(args.output, "-o")
     study = load_study(args.study)
+    _not_inputs({"-o": args.output}, study.inputs())
     rows = workflow.simulate_study(study, args.noise_hz, args.std_hz, args.seed)
     write_measurements(args.output, rows)
     print(f"wrote {len(rows)} frequencies of {len(study.configurations)} configurations to "
@@ -121,16 +140,21 @@ def cmd_update(args) -> int:
     study = load_study(args.study)
     if args.save_bdf and study.nastran is None:
         raise InputError("needs a study whose [model] type is \"nastran\"", field="--save-bdf")
+    _not_inputs({"--save": args.save, "--save-bdf": args.save_bdf},
+                study.inputs(measurements=True))
     res = workflow.update_study(study, args.method)
     doc = res.to_dict()
-    if args.save:
+    kept = None
+    if args.save and (res.converged or args.force or _unconverged_result(args.save)):
         write_text(args.save, report.dumps({"study": str(study.path), **doc}) + "\n")
+    elif args.save:
+        kept = f"; {shorten(args.save)} kept (it is not an unconverged result; --force replaces it)"
     if args.save_bdf and res.converged:
         save_updated_bdf(study, res, args.save_bdf)
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
     print(report.dumps(doc) if args.json else report.update_text(res, initial, study.title))
     if not res.converged:
-        print(f"eigenupdate: not converged: {res.message}", file=sys.stderr)
+        print(f"eigenupdate: not converged: {res.message}{kept or ''}", file=sys.stderr)
         return 1
     return 0
 
@@ -202,6 +226,18 @@ def _progress_bar(done: int, total: int) -> None:
     print(f"\r[{'#' * n}{'.' * (30 - n)}] {done}/{total}", end=end, file=sys.stderr, flush=True)
 
 
+def _unconverged_result(path: str) -> bool:
+    """True if ``path`` does not exist or holds a result saved with converged false: only
+    those may be replaced by an unconverged result."""
+    try:
+        doc = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        return True
+    except (OSError, ValueError):
+        return False
+    return isinstance(doc, dict) and doc.get("converged") is False
+
+
 def _progress(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
 
@@ -220,9 +256,11 @@ def cmd_extract(args) -> int:
             raise InputError("goes with FRF files; a study says kind in "
                              "[measurement.frf_options]", field="--kind")
         study = load_study(inputs[0], require_model=False)
+        _not_inputs({"-o": args.output, "--uff55": args.uff55}, study.inputs(frf=True))
         done = workflow.extract_study(study, progress=_progress)
         label = study.model.coordinate_table.point_label if study.model is not None else None
     else:  # FRF files on the command line: one configuration per file, named by its stem
+        _not_inputs({"-o": args.output, "--uff55": args.uff55}, [Path(p) for p in inputs])
         done = workflow.extract_files(inputs, args.kind, progress=_progress)
         label = None
     res = done.result
@@ -269,6 +307,8 @@ def cmd_simulate_frf(args) -> int:
     sets = workflow.simulate_study_frfs(study, f, args.input, args.outputs, args.loss_factor,
                                noise=args.noise, seed=args.seed)
     out = Path(args.output)
+    _not_inputs({f"-o {c.name!r}": out / f"{_safe_name(c.name)}.uff" for c, _ in sets},
+                study.inputs(measurements=True, frf=True))
     out.mkdir(parents=True, exist_ok=True)
     lines = ["[measurement.frf]"]
     for c, frfs in sets:
@@ -284,6 +324,8 @@ def cmd_frf(args) -> int:
     _finite(args.fmax, "--fmax", positive=True)
     _finite(args.loss_factor, "--loss-factor")
     study = load_study(args.study)
+    _not_inputs({"-o": args.o}, [*study.inputs(), *(Path(p) for p in
+                                  (args.measured, args.updated, args.damping) if p)])
     c = workflow.compare_frf(study, args.input, args.output, configuration=args.configuration,
                     measured=args.measured, updated=args.updated, loss_factor=args.loss_factor,
                     damping=args.damping, fmax_hz=args.fmax)
@@ -300,6 +342,7 @@ def cmd_sweep(args) -> int:
     if args.modes is not None and args.modes < 1:
         raise InputError(f"{args.modes} must be >= 1", field="--modes")
     study = load_study(args.study)
+    _not_inputs({"-o": args.o}, study.inputs())
     n = args.modes or max(study.modes or [3])
     sweep = mass_sweep(study.model, args.coordinate, args.max_mass, n,
                        configuration=study.configuration(args.configuration))
@@ -312,7 +355,8 @@ class _Parser(argparse.ArgumentParser):
     """Usage errors in one line, like every other bad input (exit status 2)."""
 
     def error(self, message: str):
-        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+        self.exit(2, f"{self.prog}: error: {shorten(message, MAX_MESSAGE)} "
+                     f"(see {self.prog} --help)\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -352,6 +396,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
     s.add_argument("--save-bdf", metavar="UPDATED.bdf",
                    help="NASTRAN model: write its BDF with the updated values in their cards")
+    s.add_argument("--force", action="store_true",
+                   help="let an unconverged result replace an existing --save file")
     s.set_defaults(func=cmd_update)
 
     s = sub.add_parser("design", help="choose the added masses from the study's [design] table")
@@ -444,7 +490,7 @@ def _located(exc: InputError | NumericalError, args) -> str:
     if study is None and len(inputs) == 1 and str(inputs[0]).endswith(".toml"):
         study = inputs[0]  # extract on a study
     if exc.source is None and study and not (exc.field or "").startswith("-"):
-        return f"{study}: {exc}"
+        return f"{shorten(study)}: {exc}"
     return str(exc)
 
 
@@ -455,7 +501,9 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        with warnings.catch_warnings():
+        # every output is renamed into place only if the command returns; floating-point
+        # warnings are not printed: results are checked to be finite instead
+        with transaction(), np.errstate(all="ignore"), warnings.catch_warnings():
             warnings.simplefilter("always", EigenupdateWarning)
             warnings.showwarning = _show_warning  # one line, no source location
             return args.func(args)
@@ -466,9 +514,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into `head` and the like
         sys.stderr.close()
         return 0
+    except (np.linalg.LinAlgError, MemoryError) as exc:  # a last resort, not a traceback
+        why = "out of memory" if isinstance(exc, MemoryError) else f"numerical failure ({exc})"
+        print(f"eigenupdate: error: {shorten(getattr(args, 'study', None) or '')}: {why}; "
+              f"input values or sizes out of range?", file=sys.stderr)
+        return 2
     except OSError as exc:  # a file that cannot be read or written, named by the OS
-        where = f"{exc.filename}: " if exc.filename else ""
-        print(f"eigenupdate: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        where = f"{shorten(exc.filename)}: " if exc.filename else ""
+        print(f"eigenupdate: error: {where}{shorten(exc.strerror or exc, MAX_MESSAGE)}",
+              file=sys.stderr)
         return 2
 
 

@@ -35,6 +35,7 @@ from scipy.optimize import lsq_linear
 
 from eigenupdate.errors import InputError
 from eigenupdate.identify.identifiability import IdentifiabilityReport, identifiability
+from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.identify.weights import estimator_weights
 from eigenupdate.io.measurements import Measurement, select, to_eigenvalue
 from eigenupdate.model.configurations import Configuration
@@ -209,6 +210,7 @@ def update(
     rows = [(c.name, k) for c in configurations for k in sorted(set(modes))]
     weights = estimator_weights(model, method, rows, measurements, source)
     f_meas, _ = select(measurements, rows, False, source)
+    check_measured_frequencies(configurations, measurements, source=source)
     lam_meas = to_eigenvalue(f_meas)
     w = np.ones_like(lam_meas) if weights.rows is None else weights.rows
 

@@ -1,23 +1,39 @@
 """Outputs are written whole or not at all: a temporary file in the target's directory,
-then a rename over the target."""
+then a rename over the target.
+
+Inside :func:`transaction` the renames are deferred: every output of a run is written to
+its temporary file first and all are renamed only when the run has succeeded, so a run
+that fails leaves every pre-existing file as it was.
+"""
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import os
 import secrets
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 PathLike = str | os.PathLike
+
+_PENDING: contextvars.ContextVar[list[tuple[Path, Path]] | None] = contextvars.ContextVar(
+    "eigenupdate_pending_outputs", default=None)
+
+
+def _unlink(path: Path) -> None:
+    with contextlib.suppress(OSError):
+        os.unlink(path)
 
 
 def atomic_write(path: PathLike, write: Callable[[str], None]) -> None:
     """Create ``path`` atomically: ``write(tmp)`` fills a temporary file, then it is renamed.
 
     The temporary file is created empty (honouring the umask) in the directory of
-    ``path``, passed to ``write`` by name, flushed to disk and moved over ``path`` with
-    :func:`os.replace`.  On any error the temporary file is removed and ``path`` is left
-    untouched.
+    ``path`` with the same suffix (so writers that go by the extension work), passed to
+    ``write`` by name, flushed to disk and moved over ``path`` with :func:`os.replace`,
+    at once or, inside :func:`transaction`, when the transaction commits. On any error
+    the temporary file is removed and ``path`` is left untouched.
 
     Parameters
     ----------
@@ -27,20 +43,65 @@ def atomic_write(path: PathLike, write: Callable[[str], None]) -> None:
         Called with the temporary file name; must write the complete content.
     """
     target = Path(path)
-    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp")
+    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp{target.suffix}")
     fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
     os.close(fd)
     try:
         write(str(tmp))
         with open(tmp, "rb+") as fh:
             os.fsync(fh.fileno())
-        os.replace(tmp, target)
+        pending = _PENDING.get()
+        if pending is None:
+            os.replace(tmp, target)
+        else:
+            pending.append((tmp, target))
     except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
+        _unlink(tmp)
         raise
+
+
+@contextlib.contextmanager
+def transaction() -> Iterator[None]:
+    """Defer the renames of :func:`atomic_write` to the end of the block.
+
+    If the block raises, every temporary file is removed and no target is touched;
+    otherwise all targets are replaced, in the order they were written.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> write_text(d / "a.txt", "old")
+    >>> try:
+    ...     with transaction():
+    ...         write_text(d / "a.txt", "new")
+    ...         raise ValueError("the second output failed")
+    ... except ValueError:
+    ...     pass
+    >>> (d / "a.txt").read_text(), sorted(p.name for p in d.iterdir())
+    ('old', ['a.txt'])
+    """
+    outer = _PENDING.get()
+    pending: list[tuple[Path, Path]] = []
+    token = _PENDING.set(pending)
+    try:
+        yield
+    except BaseException:
+        for tmp, _ in pending:
+            _unlink(tmp)
+        raise
+    finally:
+        _PENDING.reset(token)
+    if outer is not None:  # nested: the outermost transaction commits
+        outer.extend(pending)
+        return
+    for i, (tmp, target) in enumerate(pending):
+        try:
+            os.replace(tmp, target)
+        except BaseException:
+            for t, _ in pending[i:]:
+                _unlink(t)
+            raise
 
 
 def write_text(path: PathLike, text: str) -> None:

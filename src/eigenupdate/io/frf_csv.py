@@ -20,6 +20,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.atomic import atomic_write
+from eigenupdate.io.numbers import parse_float
 from eigenupdate.measure.frf import FRF, dof_label
 
 __all__ = ["CSV_COLUMNS", "read_frf_csv", "write_frf_csv"]
@@ -93,6 +94,8 @@ def read_frf_csv(path: PathLike) -> FRF:
         for name, cell in zip(CSV_COLUMNS, cells, strict=True):
             try:
                 value = float(cell)
+                if math.isfinite(value):  # and plain ASCII: no '1_000', no Unicode digits
+                    value = parse_float(cell)
             except ValueError:
                 raise InputError(
                     f"column {name}: non-numeric value {cell!r}", source=src, field=f"line {lineno}"

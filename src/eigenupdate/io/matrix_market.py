@@ -3,6 +3,7 @@ K0, M0 and, per parameter, dK/ds_j and/or dM/ds_j."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -16,14 +17,18 @@ from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
 
 SYMMETRY_RTOL = 1e-10
+MAX_LINE = 1024
+MAX_SIZE = 10_000_000
+"""Largest number of rows of a matrix file (its index arrays alone take ~80 bytes a row)."""
 
 
 def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
     """Read one square, symmetric, real matrix from a Matrix Market file."""
     path = Path(path)
+    _check_header(path, n)
     try:
         a = scipy.io.mmread(path)
-    except (OSError, ValueError, TypeError, IndexError) as exc:
+    except (OSError, ValueError, TypeError, IndexError, OverflowError, MemoryError) as exc:
         raise InputError(f"cannot read Matrix Market file: {exc}", source=str(path)) from None
     if scipy.io.mminfo(path)[4] == "pattern":
         raise InputError("matrix is a pattern (no values); a real matrix is required",
@@ -42,6 +47,40 @@ def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
     if asym > SYMMETRY_RTOL * (abs(a).max() if a.nnz else 1.0):
         raise InputError(f"matrix is not symmetric (max |A - A^T| = {asym:.3g})", source=str(path))
     return a
+
+
+def _check_header(path: Path, n: int | None) -> None:
+    """Sizes the header declares, checked before anything of that size is allocated:
+    square, n x n when K0 is, at most MAX_SIZE rows, and no more entries than the file
+    can hold (a value takes at least 2 bytes, a coordinate entry at least 6)."""
+    src = str(path)
+    try:
+        rows, cols, entries, fmt, _, _ = scipy.io.mminfo(path)
+        size = path.stat().st_size
+    except (OSError, ValueError, TypeError, IndexError, OverflowError) as exc:
+        raise InputError(f"cannot read Matrix Market header: {exc}", source=src) from None
+    if rows != cols:
+        raise InputError(f"matrix is not square: the header declares {rows} x {cols}",
+                         source=src)
+    if n is not None and rows != n:
+        raise InputError(f"the header declares {rows} x {rows}, K0 is {n} x {n}", source=src)
+    if rows > MAX_SIZE:
+        raise InputError(f"the header declares {rows} x {rows}; at most {MAX_SIZE} "
+                         f"coordinates are supported", source=src)
+    # scipy's compiled reader trusts its input: a 140,000-byte token crashes it (SIGSEGV)
+    data = path.read_bytes()
+    if not data.isascii():
+        i = next(i for i, b in enumerate(data) if b > 127)
+        raise InputError(f"byte {i + 1} is not ASCII (Matrix Market files are ASCII text)",
+                         source=src)
+    long = re.search(rb"[^\n]{%d}" % (MAX_LINE + 1), data)
+    if long:
+        line = data.count(b"\n", 0, long.start()) + 1
+        raise InputError(f"line {line} is longer than {MAX_LINE} characters", source=src)
+    per_entry = 2 if fmt == "array" else 6
+    if entries * per_entry > size:
+        raise InputError(f"the header declares {entries} {fmt} entries but the file has only "
+                         f"{size} bytes (truncated, or a wrong header)", source=src)
 
 
 def read_matrix_model(

@@ -6,17 +6,20 @@ from __future__ import annotations
 
 import csv
 import io
-import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, shorten
 from eigenupdate.io.atomic import write_text
+from eigenupdate.io.numbers import parse_float, parse_int
 
 COLUMNS = ("configuration", "mode", "frequency_hz", "std_hz")
+MAX_LINE_CHARS = 10_000
+"""Longer lines are refused (the csv module's own field limit is 131,072)."""
+MAX_FILE_BYTES = 100 * 2**20
 
 
 @dataclass(frozen=True)
@@ -37,10 +40,17 @@ def read_measurements(
     path = Path(path)
     src = str(path)
     try:
+        if path.stat().st_size > MAX_FILE_BYTES:
+            raise InputError(f"file is {path.stat().st_size} bytes; a measurement file is at "
+                             f"most {MAX_FILE_BYTES}", source=src)
         text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read measurement file: {exc}", source=src) from None
     lines = [(i, ln) for i, ln in enumerate(text.splitlines(), 1) if ln.strip()]
+    for i, ln in lines:
+        if len(ln) > MAX_LINE_CHARS:
+            raise InputError(f"line {i} has {len(ln)} characters (at most {MAX_LINE_CHARS})",
+                             source=src)
     lines = [(i, ln) for i, ln in lines if not ln.lstrip().startswith("#")]
     if not lines:
         raise InputError("measurement file is empty", source=src)
@@ -65,7 +75,7 @@ def read_measurements(
             raise InputError(f"{where}: {len(row)} fields, expected {len(header)}", source=src)
         cfg = row[col["configuration"]].strip()
         if known is not None and cfg not in known:
-            raise InputError(f"{where}: configuration {cfg!r} is not in the study "
+            raise InputError(f"{where}: configuration {shorten(cfg, 60)!r} is not in the study "
                              f"(known: {sorted(known)})", source=src)
         mode = _number(row[col["mode"]], int, src, where, "mode")
         f = _number(row[col["frequency_hz"]], float, src, where, "frequency_hz")
@@ -88,13 +98,11 @@ def read_measurements(
 
 def _number(text: str, kind, src: str, where: str, name: str):
     try:
-        v = kind(text.strip())
+        return parse_int(text) if kind is int else parse_float(text)
     except ValueError:
-        what = "an integer" if kind is int else "a number"
-        raise InputError(f"{where}: {name} {text.strip()!r} is not {what}", source=src) from None
-    if not math.isfinite(v):
-        raise InputError(f"{where}: {name} is not finite", source=src)
-    return v
+        what = "an integer" if kind is int else "a number (plain ASCII, e.g. 42.5 or 4.25e1)"
+        raise InputError(f"{where}: {name} {shorten(text.strip(), 40)!r} is not {what}",
+                         source=src) from None
 
 
 def write_measurements(path: str | Path, rows: Iterable[Measurement]) -> None:

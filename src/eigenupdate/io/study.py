@@ -26,6 +26,9 @@ from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
 
 MODEL_TYPES = ("spring-mass", "beam", "matrices", "nastran")
+LIMIT = 1e100
+"""Numbers of a study are 0 or of magnitude 1/LIMIT to LIMIT: beyond, products of a few
+of them (K = EI/L^3, lambda = k/m, (2 pi f)^2) leave the floating-point range."""
 
 
 @dataclass
@@ -48,6 +51,9 @@ class Study:
     exclude_below_hz: float | None = None
     frf_kinds: dict[Path, str] = field(default_factory=dict)
     """[measurement.frf_options] kind by FRF file, for files whose header does not say."""
+    design: DesignSpec | None = None
+    nastran: Any = None  # io.nastran.NastranModel of a type = "nastran" model (write-back)
+    model_files: list[Path] = field(default_factory=list)
 
     def configuration(self, name: str | None = None) -> Configuration:
         """The configuration called ``name``; the bare structure if None."""
@@ -58,8 +64,16 @@ class Study:
                 return c
         raise InputError(f"no configuration {name!r} (have "
                          f"{[c.name for c in self.configurations]})", source=str(self.path))
-    design: DesignSpec | None = None
-    nastran: Any = None  # io.nastran.NastranModel of a type = "nastran" model (write-back)
+
+    def inputs(self, *, measurements: bool = False, frf: bool = False) -> list[Path]:
+        """Files a run reads: the study, its model files and, if asked, its measurement
+        CSV and FRF files (a run must not write over any of them)."""
+        out = [self.path, *self.model_files]
+        if measurements and self.frequencies is not None:
+            out.append(self.frequencies)
+        if frf:
+            out += [f for files in self.frf.values() for f in files]
+        return out
 
     def measurements(self) -> dict[tuple[str, int], Measurement]:
         """Read the measurement CSV; configuration names must be those of the study."""
@@ -104,9 +118,10 @@ class _Reader:
         v = self.data[key]
         check = {
             "str": lambda x: isinstance(x, str),
-            "int": lambda x: isinstance(x, int) and not isinstance(x, bool),
+            "int": lambda x: isinstance(x, int) and not isinstance(x, bool) and abs(x) < 2**31,
             "float": lambda x: (
-                isinstance(x, int | float) and not isinstance(x, bool) and math.isfinite(x)
+                isinstance(x, int | float) and not isinstance(x, bool)
+                and (x == 0 or 1 / LIMIT <= abs(x) <= LIMIT)  # no float(x): ints may be huge
             ),
             "bool": lambda x: isinstance(x, bool),
             "list": lambda x: isinstance(x, list),
@@ -116,8 +131,8 @@ class _Reader:
         if not check(v):
             names = {
                 "str": "a string",
-                "int": "an integer",
-                "float": "a finite number",
+                "int": "an integer of magnitude below 2**31",
+                "float": f"0 or a number of magnitude {1 / LIMIT:g} to {LIMIT:g}",
                 "bool": "true or false",
                 "list": "a list",
                 "table": "a table",
@@ -134,9 +149,11 @@ class _Reader:
             else self.get(key, "float", default)
         )
         if isinstance(v, list):
-            bad = [x for x in v if isinstance(x, bool) or not isinstance(x, int | float)]
+            bad = [x for x in v if isinstance(x, bool) or not isinstance(x, int | float)
+                   or (x != 0 and not 1 / LIMIT <= abs(x) <= LIMIT)]
             if bad or not v:
-                raise self.error(key, "must be a number or a non-empty list of numbers")
+                raise self.error(key, "must be a number or a non-empty list of numbers (0 or "
+                                      f"of magnitude {1 / LIMIT:g} to {LIMIT:g})")
             return [float(x) for x in v]
         return v
 
@@ -162,10 +179,10 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
         data = tomllib.loads(path.read_bytes().decode("utf-8-sig"))
     except OSError as exc:
         raise InputError(f"cannot read study file: {exc.strerror or exc}", source=src) from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(f"invalid TOML: {exc}", source=src) from None
     except UnicodeDecodeError as exc:
         raise InputError(f"not UTF-8 text: {exc}", source=src) from None
+    except ValueError as exc:  # TOMLDecodeError, or an integer of over 4300 digits
+        raise InputError(f"invalid TOML: {exc}", source=src) from None
     top = _Reader(data, "", src)
     title = top.get("title", "str", path.stem)
     if "model" not in data and not require_model:
@@ -213,8 +230,8 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
     if method not in ESTIMATORS:
         raise up.error("method", f"unknown method {method!r}; expected one of {list(ESTIMATORS)}")
     max_it = up.get("max_iterations", "int", 20)
-    if max_it < 1:
-        raise up.error("max_iterations", "must be >= 1")
+    if not 1 <= max_it <= 10_000:
+        raise up.error("max_iterations", f"must be 1 to 10000, got {max_it}")
     tol = up.get("tolerance", "float", 1e-8)
     if not 0 < tol <= 1e-2:  # the largest relative parameter change still called converged
         raise up.error("tolerance", f"{tol!r} must be > 0 and <= 0.01 (a relative step)")
@@ -238,6 +255,7 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
         **_frf_settings(frf_options, names, frf, path.parent, src),
         design=design,
         nastran=nastran,
+        model_files=_model_files(data["model"], path.parent, mtype),
     )
 
 
@@ -298,7 +316,7 @@ def _measurement(top: _Reader, names: list[str] | None, path: Path
     src = str(path)
     meas = _Reader(top.get("measurement", "table", {}), "measurement", src)
     modes = meas.get("modes", "list", [])
-    if any(isinstance(k, bool) or not isinstance(k, int) or k < 1 for k in modes):
+    if any(isinstance(k, bool) or not isinstance(k, int) or not 1 <= k < 2**31 for k in modes):
         raise meas.error("modes", f"must be elastic mode numbers >= 1, got {modes}")
     if len(set(modes)) != len(modes):
         raise meas.error("modes", f"repeated mode number in {modes}")
@@ -331,6 +349,17 @@ def _study_without_model(path: Path, top: _Reader, title: str) -> Study:
                  modes=sorted(modes), frequencies=None if freq is None else path.parent / freq,
                  frf=frf, **_frf_settings(frf_options, [c.name for c in configs], frf,
                                           path.parent, src))
+
+
+def _model_files(table: dict, base: Path, model_type: str) -> list[Path]:
+    """The files of a (validated) matrices or nastran model."""
+    if model_type == "nastran":
+        return [base / table["bdf"]]
+    if model_type != "matrices":
+        return []
+    files = [table["K0"], table["M0"]]
+    files += [t[k] for t in table.get("parameter", []) for k in ("K", "M") if k in t]
+    return [base / f for f in files]
 
 
 def _parameter(r: _Reader, seen: dict[str, str], default_value: Any = ...) -> Parameter:
@@ -370,7 +399,8 @@ def _spring_mass(m: _Reader, _base: Path) -> ParametricModel:
         p = _parameter(r, seen)
         _positive(r, p)
         cs = r.get("coordinates", "list")
-        if len(cs) != 2 or not all(isinstance(c, int) and c >= 0 for c in cs) or cs[0] == cs[1]:
+        if len(cs) != 2 or cs[0] == cs[1] or not all(
+                isinstance(c, int) and not isinstance(c, bool) and c >= 0 for c in cs):
             raise r.error(
                 "coordinates", f"must be two different coordinates (0 = ground), got {cs}"
             )
@@ -380,12 +410,19 @@ def _spring_mass(m: _Reader, _base: Path) -> ParametricModel:
                           "coordinate of a spring-mass model needs one)")
         r.finish()
         springs.append(Spring(p, (cs[0], cs[1])))
-    n = max([x.coordinate for x in masses], default=0)  # springs only join these
-    massless = sorted(set(range(1, n + 1)) - {x.coordinate for x in masses})
-    if massless:
-        raise m.error("mass", f"coordinate(s) {massless} have no mass")
     if not masses:
         raise m.error("mass", "a spring-mass model needs at least one [[model.mass]]")
+    if not springs:  # K = 0: every mode is a rigid-body mode at 0 Hz
+        raise m.error("spring", "a spring-mass model needs at least one [[model.spring]]")
+    # coordinates are 1..n with a mass at each: n is the number of distinct coordinates,
+    # so a typo (coordinate = 100000) is found without building anything of its size
+    n = len({x.coordinate for x in masses})
+    for i, x in enumerate(masses):
+        if x.coordinate > n:
+            raise InputError(
+                f"{x.coordinate} is beyond the {n} coordinates of this model (coordinates are "
+                f"1..{n}, each with a mass)", source=m.source,
+                field=f"model.mass[{i + 1}].coordinate")
     return spring_mass_model(masses, springs, n)
 
 

@@ -467,10 +467,9 @@ def _frf_from_58(
         else:
             raise fail(
                 "ordinate_axis_units_lab" if y_label else "ordinate_spec_data_type",
-                f"response type {y_spec} ({_SPEC_NAMES[y_spec]}) does not say whether the FRF "
-                "is displacement (8), velocity (11) or acceleration (12) over force, and the "
-                f"units label {y_label_raw!r} does not tell either (known labels: {_KNOWN}); "
-                f"if the values are SI, {KIND_OPTION_HINT}",
+                f"neither response type {y_spec} ({_SPEC_NAMES[y_spec]}) nor units label "
+                f"{y_label_raw!r} says whether the FRF is a receptance, mobility or "
+                f"accelerance; {KIND_OPTION_HINT}",
             )
     else:
         raise fail(

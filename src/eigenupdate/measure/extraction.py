@@ -206,15 +206,26 @@ def extract_resonances(
                              f"(band k holds elastic mode k)", field=f"{where} bands_hz")
     else:
         bands = find_bands(frfs, 0, exclude_below_hz=exclude_below_hz, source=where)
+    for x in frfs:
+        big = np.abs(x.receptance) > MAX_RECEPTANCE
+        if big.any():  # finite, but its square or fourth power overflows in the fits
+            i = int(np.flatnonzero(big)[0])
+            raise InputError(f"{where}: |receptance| {abs(x.receptance[i]):.3g} m/N at "
+                             f"{x.frequency_hz[i]:g} Hz is beyond any real one (corrupted "
+                             f"data?)", source=x.source or None)
     numbers = list(range(1, len(bands) + 1))
     rejected: list[Rejected] = []
     # The global fit (one pole per band, slow with many bands) joins once the Dobson
     # tests have thrown out the spikes; if its stability test rejects more, go round again.
     with_check = False
     while True:
-        per_frf = [_dobson(x, bands, where) for x in frfs]
-        checks = [_rational_fraction(x, bands) if with_check and bands else None
-                  for x in frfs]
+        try:
+            per_frf = [_dobson(x, bands, where) for x in frfs]
+            checks = [_rational_fraction(x, bands) if with_check and bands else None
+                      for x in frfs]
+        except np.linalg.LinAlgError as exc:  # e.g. SVD of a corrupted FRF did not converge
+            raise InputError(f"{where}: the modal fit failed ({exc}); the FRF data cannot be "
+                             f"fitted (corrupted file?)", source=_sources(frfs)) from None
         verdicts = [_verdicts(x, fits, chk, bands)
                     for x, fits, chk in zip(frfs, per_frf, checks, strict=True)]
         bad = [k for k in range(len(bands))
@@ -248,6 +259,12 @@ def extract_resonances(
         ck = [c[i] for c in checks if c is not None and c[i] is not None]
         cf, cs = combine([c.frequency_hz for c in ck], [c.frequency_std_hz for c in ck]) \
             if ck else (None, None)
+        if not np.all(np.isfinite([f, s, eta, eta_s])):
+            raise InputError(f"{where}: resonance near {0.5 * sum(band):.5g} Hz: the fit gave "
+                             f"f = {f:.6g} Hz, std {s:.3g}, loss factor {eta:.3g} (corrupted "
+                             f"FRF data?)", source=_sources(frfs))
+        if cf is not None and not np.isfinite([cf, cs]).all():
+            cf, cs = None, None  # the cross-check failed: report the Dobson fit alone
         mode = ExtractedMode(
             configuration, numbers[i] if given else i + 1, f, s, eta, eta_s, band, fits, cf,
             cs, fit_quality=min(v.fit_quality for v in good),
@@ -373,6 +390,10 @@ def _despike(frf: FRF, band: tuple[float, float]) -> FRF:
     return FRF(f, h, frf.response, frf.reference, frf.source)
 
 
+MAX_RECEPTANCE = 1e30
+"""Largest |receptance| (m/N) fitted; real ones are many orders of magnitude below."""
+
+
 def _finite(frf: FRF) -> tuple[np.ndarray, np.ndarray]:
     ok = np.isfinite(frf.receptance) & (frf.frequency_hz > 0)
     return frf.frequency_hz[ok], frf.receptance[ok]
@@ -430,3 +451,9 @@ def extraction_csv(modes: Sequence[ExtractedMode]) -> str:
                     "" if m.check_hz is None else repr(m.check_hz),
                     "" if m.check_std_hz is None else repr(m.check_std_hz)])
     return buf.getvalue()
+
+
+def _sources(frfs: Sequence[FRF]) -> str | None:
+    """The file(s) the FRFs came from, for messages."""
+    names = sorted({x.source for x in frfs if x.source})
+    return ", ".join(names) or None

@@ -70,7 +70,10 @@ def rigid_mask(K, M, lam: np.ndarray) -> np.ndarray:
     """
     k, m = np.asarray(K.diagonal()), np.asarray(M.diagonal())
     ok = m > 0
-    scale = float(np.max(k[ok] / m[ok])) if ok.any() else 1.0
+    with np.errstate(over="ignore"):  # a subnormal mass: the eigenvalues are checked below
+        scale = float(np.max(k[ok] / m[ok])) if ok.any() else 1.0
+    if not scale > 0:  # K = 0 (e.g. a spring-mass model without springs): all rigid
+        return np.ones(np.shape(lam), dtype=bool)
     rigid = np.abs(lam) < RIGID_RTOL * scale
     if rigid.any() and (~rigid).any():
         worst, first = np.max(np.abs(lam[rigid])), np.min(lam[~rigid])
@@ -81,6 +84,28 @@ def rigid_mask(K, M, lam: np.ndarray) -> np.ndarray:
                 f"is too ill-conditioned (over-refined mesh or near-massless coordinates)"
             )
     return rigid
+
+
+def massless_hint(K, M, coordinates: np.ndarray) -> str:
+    """'; coordinate c has almost no mass ...' when one coordinate's K_ii / M_ii is beyond
+    1e8 times the smallest (its mode leaves the others at round-off), else ''.
+
+    >>> K, M = np.diag([1.0, 1.0, 1.0]), np.diag([1.0, 1e-30, 1.0])
+    >>> massless_hint(K, M, np.array([1, 2, 3]))
+    '; coordinate 2 has almost no mass (M_ii = 1e-30, K_ii/M_ii is 1e+30 times the smallest)'
+    """
+    k, m = np.asarray(K.diagonal(), dtype=float), np.asarray(M.diagonal(), dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(m > 0, k / m, np.where(k > 0, np.inf, 0.0))
+    finite = ratio[np.isfinite(ratio) & (ratio > 0)]
+    if finite.size == 0:
+        return ""
+    i = int(np.argmax(ratio))
+    rel = ratio[i] / np.min(finite)
+    if not rel > 1e8:
+        return ""
+    return (f"; coordinate {int(coordinates[i])} has almost no mass (M_ii = {m[i]:.3g}, "
+            f"K_ii/M_ii is {rel:.3g} times the smallest)")
 
 
 class ShiftInvert:
@@ -197,6 +222,9 @@ def solve_elastic(
     n = K.shape[0]
     if n_modes < 1:
         raise InputError("at least one mode is required")
+    for name, a in (("stiffness", K), ("mass", M)):
+        if not np.all(np.isfinite(a.data if sp.issparse(a) else np.asarray(a, dtype=float))):
+            raise InputError(f"{name} matrix has non-finite entries (values out of range?)")
     if dense is None:
         dense = n <= DENSE_LIMIT and operator is None
     if dense:
@@ -264,7 +292,73 @@ def lowest_modes(K, M, k: int, op: ShiftInvert) -> tuple[np.ndarray, np.ndarray,
 
 
 def _solve_dense(K, M, n_modes: int) -> EigenSolution:
-    return _elastic(*all_modes(K, M), n_modes, complete=True)
+    lam, phi, rigid = all_modes(K, M)
+    sol = _elastic(lam, phi, rigid, n_modes, complete=True)
+    dense = (K.toarray() if sp.issparse(K) else np.asarray(K, dtype=float),
+             M.toarray() if sp.issparse(M) else np.asarray(M, dtype=float))
+    sturm_check(*dense, lam, sol)
+    return sol
+
+
+def negative_count(A) -> int | None:
+    """Number of negative eigenvalues of the symmetric matrix A (Sylvester's inertia),
+    from a factorisation; None if the factorisation cannot tell.
+
+    Dense: ``scipy.linalg.ldl`` (Bunch-Kaufman, 1x1 and 2x2 blocks). Sparse: SuperLU with
+    a symmetric ordering and diagonal pivots; then P A P^T = L U with U = D L^T and the
+    signs of diag(U) are the inertia. That holds only if SuperLU pivoted on the diagonal
+    (row permutation = column permutation) and no pivot is zero: both are checked.
+
+    >>> negative_count(np.diag([3.0, -1.0, 2.0, -5.0]))
+    2
+    >>> negative_count(sp.csr_array(np.array([[2.0, 1.0], [1.0, -3.0]])))
+    1
+    """
+    if not sp.issparse(A):
+        _, d, _ = scipy.linalg.ldl(np.asarray(A, dtype=float), check_finite=False)
+        ev = np.linalg.eigvalsh(d)  # d is block diagonal (1x1, 2x2): eigenvalues are cheap
+        if np.any(ev == 0) or not np.all(np.isfinite(ev)):
+            return None
+        return int(np.sum(ev < 0))
+    try:
+        lu = spla.splu(sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                       options={"SymmetricMode": True})
+    except RuntimeError:  # exactly singular
+        return None
+    d = lu.U.diagonal()
+    if not np.array_equal(lu.perm_r, lu.perm_c) or np.any(d == 0) or not np.all(np.isfinite(d)):
+        return None
+    return int(np.sum(d < 0))
+
+
+def sturm_check(K, M, lam: np.ndarray, sol: EigenSolution,
+                operator: ShiftInvert | None = None) -> None:
+    """Missed-mode check: the number of eigenvalues below a shift sigma just above the
+    highest wanted one, counted from the inertia of K - sigma M (Sturm sequence, as
+    NASTRAN's Lanczos does), must equal the number the solver found below sigma
+    (``lam``: every computed eigenvalue, rigid ones included).
+
+    A mode the solver skipped would silently renumber every mode above it; that is an
+    error instead. If the factorisation cannot give the inertia (off-diagonal pivots),
+    the sparse path repeats the Lanczos solve with more eigenpairs and checks that no
+    new eigenvalue appears below sigma.
+    """
+    if sol.eigenvalues.size == 0:
+        return
+    top = float(sol.eigenvalues[-1])
+    above = lam[lam > top * (1 + 1e-6) + 1e-300]
+    # sigma halfway to the next distinct eigenvalue: far from both, the count is robust
+    sigma = 0.5 * (top + float(above[0])) if above.size else top * (1 + 1e-6)
+    expected = int(np.sum(lam < sigma))
+    count = negative_count(K - sigma * M)
+    if count is None and operator is not None:
+        more = lowest_modes(K, M, min(lam.size + 6, K.shape[0] - 1), operator)[0]
+        count = int(np.sum(more < sigma))
+    if count is not None and count != expected:
+        raise InputError(
+            f"missed-mode check failed: {count} eigenvalues lie below {sigma:.6g} (rad/s)^2 "
+            f"(Sturm count of K - sigma M) but the eigen-solver found {expected}; the mode "
+            f"numbering cannot be trusted (clustered or repeated eigenvalues?)")
 
 
 def _solve_sparse(
@@ -281,11 +375,15 @@ def _solve_sparse(
         lam, phi, rigid = lowest_modes(K, M, k, operator)
         sol = _elastic(lam, phi, rigid, n_modes, complete=k == n - 1)
         if sol.next_eigenvalue is not None or k == n - 1:
+            sturm_check(K, M, lam, sol, operator)
             return replace(sol, computed=(lam, phi))
         k *= 2
 
 
 def _elastic(lam, phi, rigid, n_modes: int, complete: bool) -> EigenSolution:
+    if not np.all(np.isfinite(lam)):
+        raise InputError("the eigen-solver returned non-finite eigenvalues (matrix entries "
+                         "out of range?)")
     if np.any(lam[~rigid] < 0):
         raise InputError("stiffness matrix is not positive semi-definite (negative eigenvalue)")
     el = np.flatnonzero(~rigid)

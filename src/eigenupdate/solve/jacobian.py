@@ -22,6 +22,7 @@ from eigenupdate.solve.eigen import (
     EigenSolution,
     ShiftInvert,
     base_operator,
+    massless_hint,
     solve_elastic,
 )
 from eigenupdate.solve.perturbed import CertificateReport
@@ -79,7 +80,8 @@ def solve_configurations(
     try:
         base_op, base_sol = base_operator(K, M, n_modes)
     except (InputError, NumericalError) as exc:
-        raise type(exc)(str(exc), field="the bare structure") from None
+        raise type(exc)(f"{exc}{massless_hint(K, M, model.coordinates)}",
+                        field="the bare structure") from None
     return solve_on_base(model, K, M, base_op, base_sol, configurations, n_modes, report)
 
 
@@ -121,7 +123,8 @@ def solve_one(model, K, M, c: Configuration, n_modes: int, base_op, n_rigid):
         return solve_elastic(K + dk, M + dm, n_modes, operator=op, dense=base_op is None,
                              n_rigid=n_rigid)
     except (InputError, NumericalError) as exc:
-        raise type(exc)(str(exc), field=f"configuration {c.name!r}") from None
+        raise type(exc)(f"{exc}{massless_hint(K, M, model.coordinates)}",
+                        field=f"configuration {c.name!r}") from None
 
 
 def modes_and_updated(

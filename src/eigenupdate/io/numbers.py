@@ -1,0 +1,46 @@
+"""Numbers in text files: plain ASCII decimal syntax only.
+
+Python's ``float()`` and ``int()`` also accept ``1_000``, Unicode digits (``'١٢'``),
+``nan``, ``inf`` and surrounding whitespace of any kind; a measurement file holding such
+text is more likely corrupted than meant, so readers use these instead.
+"""
+
+from __future__ import annotations
+
+import re
+
+_FLOAT = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
+_INT = re.compile(r"[+-]?\d+", re.ASCII)
+
+
+def parse_float(text: str) -> float:
+    """A finite float written as ``[+-]digits[.digits][e[+-]digits]``; ValueError otherwise.
+
+    >>> parse_float(" 4.25e3 "), parse_float("-.5")
+    (4250.0, -0.5)
+    >>> parse_float("1_000")
+    Traceback (most recent call last):
+    ValueError: '1_000' is not a plain decimal number
+    """
+    s = text.strip(" \t")
+    if not _FLOAT.fullmatch(s):
+        raise ValueError(f"{s!r} is not a plain decimal number")
+    value = float(s)
+    if value in (float("inf"), float("-inf")):  # 1e999
+        raise ValueError(f"{s!r} is beyond the floating-point range")
+    return value
+
+
+def parse_int(text: str) -> int:
+    """An integer written as ``[+-]digits`` (ASCII); ValueError otherwise.
+
+    >>> parse_int("12")
+    12
+    >>> parse_int("\\u0661\\u0662")
+    Traceback (most recent call last):
+    ValueError: '١٢' is not a plain integer
+    """
+    s = text.strip(" \t")
+    if not _INT.fullmatch(s) or len(s) > 18:
+        raise ValueError(f"{s!r} is not a plain integer")
+    return int(s)

@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import re
+import shlex
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -19,6 +20,7 @@ from eigenupdate.errors import InputError
 from eigenupdate.identify.identifiability import check
 from eigenupdate.identify.updating import METHODS, update
 from eigenupdate.io.atomic import write_text
+from eigenupdate.io.frf_options import frf_options
 from eigenupdate.io.measurements import Measurement, write_measurements
 from eigenupdate.io.study import Study, load_study
 from eigenupdate.io.uff import Mode, read_frf_files, read_modes, write_frfs, write_modes
@@ -27,6 +29,7 @@ from eigenupdate.measure.frf import dof_label
 from eigenupdate.measure.synthetic import synthetic_frfs
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import text as report
+from eigenupdate.report.html import write_report
 from eigenupdate.solve.jacobian import solve_configurations
 from eigenupdate.solve.response import receptance, uff_point
 
@@ -162,47 +165,13 @@ def _safe_name(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9.-]+", "_", name).strip("_") or "configuration"
 
 
-def _frf_options(study: Study) -> tuple[dict, float | None]:
-    """[measurement.frf_options]: bands_hz (list, or table by configuration), exclude_below_hz."""
-    opts = dict(study.frf_options)
-    src, field = str(study.path), "measurement.frf_options"
-    bands = opts.pop("bands_hz", None)
-    low = opts.pop("exclude_below_hz", None)
-    if opts:
-        raise InputError(f"unknown key(s) {sorted(opts)}", source=src, field=field)
-    names = [c.name for c in study.configurations]
-    if bands is None:
-        table = {}
-    elif isinstance(bands, list):
-        table = {n: bands for n in names}
-    elif isinstance(bands, dict):
-        unknown = set(bands) - set(names)
-        if unknown:
-            raise InputError(f"unknown configuration(s) {sorted(unknown)}", source=src,
-                             field=f"{field}.bands_hz")
-        table = bands
-    else:
-        raise InputError("must be a list of [low, high] pairs or a table of them", source=src,
-                         field=f"{field}.bands_hz")
-    for name, b in table.items():
-        ok = isinstance(b, list) and all(
-            isinstance(x, list) and len(x) == 2 and all(isinstance(v, int | float) for v in x)
-            and 0 <= x[0] < x[1] for x in b)
-        if not ok:
-            raise InputError(f"{name!r}: bands must be [low, high] pairs in Hz, 0 <= low < high",
-                             source=src, field=f"{field}.bands_hz")
-    if low is not None and not (isinstance(low, int | float) and low >= 0):
-        raise InputError("must be a number >= 0", source=src, field=f"{field}.exclude_below_hz")
-    return table, low
-
-
 def cmd_extract(args) -> int:
     _output_file(args.output, "-o")
     _output_file(args.uff55, "--uff55")
     _output_dir(args.plots, "--plots")
     study = load_study(args.study)
     modes = study.require_modes()
-    bands, low = _frf_options(study)
+    bands, low = frf_options(study)
     missing = [c.name for c in study.configurations if not study.frf.get(c.name)]
     if missing:
         raise InputError(f"no FRF file for configuration(s) {missing}", source=str(study.path),
@@ -382,6 +351,19 @@ def cmd_sweep(args) -> int:
     return 0
 
 
+def cmd_report(args) -> int:
+    _output_file(args.o, "-o")
+    files = {"--result": args.result, "--extracted": args.extracted, "--design": args.design,
+             "--montecarlo": args.montecarlo}
+    command = ["eigenupdate", "report", args.study, *[x for k, v in files.items() if v
+                                                      for x in (k, v)], "-o", args.o]
+    out = write_report(args.study, output=args.o, result=args.result, extracted=args.extracted,
+                       design=args.design, montecarlo=args.montecarlo,
+                       command=shlex.join(command))
+    _progress(f"wrote {out} ({out.stat().st_size / 1024:.0f} kB)")
+    return 0
+
+
 class _Parser(argparse.ArgumentParser):
     """Usage errors in one line, like every other bad input (exit status 2)."""
 
@@ -469,6 +451,17 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--configuration", help="configuration to add the mass to (default: base)")
     s.add_argument("-o", required=True, metavar="FIG")
     s.set_defaults(func=cmd_sweep)
+
+    s = sub.add_parser("report", help="self-contained HTML report of the study (print to PDF)")
+    s.add_argument("study")
+    s.add_argument("--result", metavar="RESULT.json", help="result of 'update --save' (default: "
+                   "the report runs the update)")
+    s.add_argument("--extracted", metavar="CSV", help="extraction CSV of 'extract -o'")
+    s.add_argument("--design", metavar="PLAN.json", help="test design, any JSON object")
+    s.add_argument("--montecarlo", metavar="SUMMARY.json", help="Monte Carlo summary, any JSON "
+                   "object")
+    s.add_argument("-o", required=True, metavar="REPORT.html")
+    s.set_defaults(func=cmd_report)
     return p
 
 

@@ -54,7 +54,7 @@ def parameter_change_figure(
 
     >>> fig = parameter_change_figure(["k", "m"], {"k": 100.0, "m": 2.0},
     ...                               {"k": 110.0, "m": 2.0}, {"k": 5.0, "m": None})
-    >>> [round(p.get_height(), 6) for p in fig.axes[0].patches]
+    >>> [float(round(p.get_height(), 6)) for p in fig.axes[0].patches]
     [10.0, 0.0]
     """
     shown = [n for n in names if initial[n] != 0]
@@ -119,28 +119,26 @@ def frequency_error_figure(
     initial_hz: Sequence[float],
     updated_hz: Sequence[float] | None = None,
 ) -> Figure:
-    """Error of the initial (and updated) model frequencies against the measured ones, in %,
-    one bar group per (configuration, mode).
+    """Error of the initial (and, in a second panel with its own scale, the updated) model
+    frequencies against the measured ones in %, one bar per (configuration, mode).
 
     >>> fig = frequency_error_figure(["base 1"], [100.0], [102.0], [100.5])
-    >>> [round(p.get_height(), 6) for p in fig.axes[0].patches]
-    [2.0, 0.5]
+    >>> [[float(round(p.get_height(), 6)) for p in ax.patches] for ax in fig.axes]
+    [[2.0], [0.5]]
     """
     m = np.asarray(measured_hz, dtype=float)
     curves = {"initial model": np.asarray(initial_hz, dtype=float)}
     if updated_hz is not None:
         curves["updated model"] = np.asarray(updated_hz, dtype=float)
     colours = {"initial model": "tab:blue", "updated model": "tab:red"}
-    fig = _figure(max(6.5, 0.22 * len(labels) * len(curves) + 1.5), 3.6)
-    ax = fig.subplots()
+    fig = _figure(max(6.5, 0.25 * len(labels) + 1.5), 2.0 + 1.6 * len(curves))
+    axes = np.atleast_1d(fig.subplots(len(curves), 1, sharex=True, squeeze=False)[:, 0])
     x = np.arange(len(labels))
-    w = 0.8 / len(curves)
-    for i, (name, f) in enumerate(curves.items()):
-        ax.bar(x + (i - (len(curves) - 1) / 2) * w, 100.0 * (f - m) / m, w, label=name,
-               color=colours[name], alpha=0.85)
-    ax.axhline(0.0, color="black", lw=0.8)
-    ax.set_xticks(x, labels, rotation=90, fontsize="x-small" if len(labels) > 12 else None)
-    ax.set_ylabel("model - measured (% of measured)")
-    ax.grid(True, axis="y", alpha=0.3)
-    ax.legend(loc="best", fontsize="small")
+    for ax, (name, f) in zip(axes, curves.items(), strict=True):
+        ax.bar(x, 100.0 * (f - m) / m, 0.7, color=colours[name], alpha=0.85)
+        ax.axhline(0.0, color="black", lw=0.8)
+        ax.set_ylabel(f"{name}\nerror (%)")
+        ax.grid(True, axis="y", alpha=0.3)
+    axes[-1].set_xticks(x, labels, rotation=90,
+                        fontsize="x-small" if len(labels) > 12 else None)
     return fig

@@ -196,16 +196,19 @@ def _study_section(study: Study) -> Section:
 
 
 def _weakest_in_words(r: IdentifiabilityReport) -> str:
-    big = {k: v for k, v in r.weakest.items() if abs(v) >= 0.05}
+    big = {k: v for k, v in r.weakest.items() if abs(v) >= 0.2} or dict(
+        list(r.weakest.items())[:1])
     terms = " ".join(f"{'-' if v < 0 else '+'} {abs(v):.2f} {k}" for k, v in big.items())
     up = [k for k, v in big.items() if v > 0]
     down = [k for k, v in big.items() if v < 0]
-    move = f"raising {', '.join(up)}"
+    move = f"raising {', '.join(up)}" if up else ""
     if down:
-        move += f" while lowering {', '.join(down)}"
-    return (f"The combination the plan determines worst is {terms.lstrip('+ ')} "
-            f"(parameters relative to their initial values; weights below 0.05 left out): "
-            f"{move} in these proportions changes the eigenvalues least.")
+        move += f"{' while ' if up else ''}lowering {', '.join(down)}"
+    rest = len(r.weakest) - len(big)
+    others = f", plus {rest} smaller weights in the table" if rest else ""
+    return (f"The combination the plan determines worst is {terms.lstrip('+ ')}{others} "
+            f"(parameters relative to their initial values): {move} in these proportions "
+            f"changes the eigenvalues least.")
 
 
 def _identifiability_section(study: Study) -> Section | None:
@@ -377,10 +380,14 @@ def _update_section(study: Study, doc: dict, origin: str) -> Section:
             "(parameters starting at 0 are in the table only)", "parameter changes"))
     steps = doc.get("steps") or [{} for _ in doc["history"]]
     sec.tables.append(_table(
-        "Iteration history (iteration 0 is the initial model)",
-        ["iteration", "objective", "step", "note", *names],
-        [[i, s.get("objective"), s.get("step"), s.get("note") or None, *[h[n] for n in names]]
-         for i, (s, h) in enumerate(zip(steps, doc["history"], strict=True))], "history"))
+        "Iterations (0 is the initial model): objective, fraction of the Gauss-Newton step "
+        "taken, note", ["iteration", "objective", "step", "note"],
+        [[i, s.get("objective"), s.get("step"), s.get("note") or None]
+         for i, s in enumerate(steps)], "steps"))
+    sec.tables.append(_table(
+        "Parameter values at each iteration",
+        ["parameter", *[f"it. {i}" for i in range(len(doc["history"]))]],
+        [[n, *[h[n] for h in doc["history"]]] for n in names], "history"))
     sec.images.append(_figure_image(
         figures.history_figure([s.get("objective") for s in steps], doc["history"], names),
         "Objective and parameters (relative to initial) against iteration", "history"))
@@ -398,7 +405,8 @@ def _update_section(study: Study, doc: dict, origin: str) -> Section:
             [f"{r['configuration']} / {r['mode']}" for r in fr],
             [r["measured_hz"] for r in fr], [r["initial_hz"] for r in fr],
             [r["updated_hz"] for r in fr]),
-        "Model minus measured frequency, initial and updated model", "frequency errors"))
+        "Model minus measured frequency in % of measured: initial model, updated model "
+        "(each panel on its own scale)", "frequency errors"))
     return sec
 
 
@@ -542,7 +550,7 @@ def render_report(
     --------
     >>> page = render_report("examples/paper_fig2/study.toml", now=datetime(2026, 1, 1))
     >>> page.startswith("<!DOCTYPE html>"), page.count("<table"), "http" in page
-    (True, 7, False)
+    (True, 10, False)
     """
     study = load_study(study_path)
     res = read_result(result, study.model) if result is not None else None

@@ -84,6 +84,7 @@ class Table:
     header: list[str]
     rows: list[list[tuple[str, bool]]]
     name: str = ""  # data-name attribute, for tests and styling
+    kind: str = "table"
 
 
 @dataclass
@@ -93,18 +94,18 @@ class Image:
     uri: str
     caption: str
     alt: str
+    kind: str = "image"
 
 
 @dataclass
 class Section:
-    """One section of the page: paragraphs, key facts, tables and figures, in that order."""
+    """One section of the page: paragraphs, key facts, then tables and figures in order."""
 
     id: str
     title: str
     paragraphs: list[str] = field(default_factory=list)
     facts: list[tuple[str, str]] = field(default_factory=list)
-    tables: list[Table] = field(default_factory=list)
-    images: list[Image] = field(default_factory=list)
+    blocks: list[Table | Image] = field(default_factory=list)
     parts: list[Section] = field(default_factory=list)  # sub-sections (one per configuration)
 
 
@@ -178,7 +179,7 @@ def _study_section(study: Study) -> Section:
         ("method", f"{study.method}, at most {study.max_iterations} iterations, "
                    f"tolerance {study.tolerance:g}"),
     ]
-    sec.tables.append(_table(
+    sec.blocks.append(_table(
         "Parameters of the initial model (SI units)",
         ["parameter", "initial value", "prior std", "updated"],
         [[p.name, p.value, p.std, p.update] for p in model.parameters], "parameters"))
@@ -188,7 +189,7 @@ def _study_section(study: Study) -> Section:
             rows.append([c.name, "-", None, None])
         for a in c.additions:
             rows.append([c.name, a.coordinate, a.mass or None, a.stiffness or None])
-    sec.tables.append(_table(
+    sec.blocks.append(_table(
         "Test configurations: known masses (kg; kg m^2 on a rotation) and grounded "
         "springs (N/m) added", ["configuration", "coordinate", "added mass", "added stiffness"],
         rows, "configurations"))
@@ -219,8 +220,8 @@ def _identifiability_section(study: Study) -> Section | None:
     sec = Section("identifiability", "Identifiability of the test plan")
     verdict = ("every updated parameter is identifiable (J^T J has full rank)"
                if r.identifiable else
-               f"NOT identifiable: rank {r.rank} < {p} parameters; the update would be "
-               "refused")
+               f"NOT identifiable: rank {r.rank} < {p} parameters; only the prior std of "
+               "the Bayesian estimator can make up for it, other methods refuse the update")
     sec.paragraphs = [
         f"{r.equations} equations (configurations x modes) for {p} updated parameters: "
         f"{verdict}. J is the sensitivity of the eigenvalues to the parameters normalised by "
@@ -234,11 +235,11 @@ def _identifiability_section(study: Study) -> Section | None:
         ("condition of J", f"{r.condition_J:.3g}"),
         ("condition of J^T J", f"{r.condition_JTJ:.3g}"),
     ]
-    sec.images.append(_figure_image(
+    sec.blocks.append(_figure_image(
         figures.singular_values_figure(r.singular_values),
         "Singular values of J, descending ((rad/s)^2 per unit relative change)",
         "singular values"))
-    sec.tables.append(_table(
+    sec.blocks.append(_table(
         "Weakest combination: right singular vector of the smallest singular value",
         ["parameter", "weight"], [[k, v] for k, v in r.weakest.items()], "weakest"))
     return sec
@@ -319,7 +320,7 @@ def _extraction_section(
             table_rows.append([r.mode, r.frequency_hz, r.std_hz, r.loss_factor,
                                r.loss_factor_std, r.check_hz, d, "; ".join(flags) or None])
         if table_rows:
-            part.tables.append(_table(
+            part.blocks.append(_table(
                 f"{c.name}: fitted modes",
                 ["mode", "f Hz", "std Hz", "loss factor", "loss factor std", "check f Hz",
                  "diff/std", "remarks"], table_rows, "extraction"))
@@ -332,8 +333,8 @@ def _extraction_section(
                 plot_extraction_fit, f"{title}: fitted modes against the measured receptance",
                 f"extraction fit {title}", x.frequency_hz, x.receptance,
                 [m.fits[j] for m in shown], mode_numbers=[m.mode for m in shown], title=title)
-            part.images.append(img)
-        if part.tables or part.images:
+            part.blocks.append(img)
+        if part.blocks:
             sec.parts.append(part)
     if notes:
         sec.paragraphs.append("WARNING: the extraction file does not match the study's FRF "
@@ -347,9 +348,13 @@ def _update_doc(study: Study, result: dict | None) -> tuple[dict | None, str]:
         return result, "read from the saved result"
     if study.frequencies is None or not study.modes:
         return None, ""
-    res = update(study.model, study.configurations, study.modes, study.measurements(),
-                 method=study.method, max_iterations=study.max_iterations,
-                 xtol=study.tolerance, source=str(study.frequencies))
+    measurements = study.measurements()  # a bad file stops the report
+    try:
+        res = update(study.model, study.configurations, study.modes, measurements,
+                     method=study.method, max_iterations=study.max_iterations,
+                     xtol=study.tolerance, source=str(study.frequencies))
+    except InputError as exc:  # e.g. a rank-deficient plan: the page says why
+        return None, f"The update was not run: {exc}"
     return update_doc(res), ("computed by this report (no saved result was given), with the "
                              "study's settings")
 
@@ -361,8 +366,8 @@ def _update_section(study: Study, doc: dict, origin: str) -> Section:
     sec = Section("update", "The update")
     status = "converged" if doc["converged"] else "DID NOT CONVERGE"
     sec.paragraphs = [
-        f"{doc['method']}: {status} ({doc['message']}) after {doc['iterations']} "
-        f"iteration(s); {origin}.",
+        f"{doc['method']}, {status} after {doc['iterations']} iteration(s) "
+        f"({doc['message'].removeprefix('converged: ')}); {origin}.",
         "Change % is relative to the initial value; the posterior std is that of the "
         "estimator (a parameter without a defined std shows '-').",
     ]
@@ -370,29 +375,29 @@ def _update_section(study: Study, doc: dict, origin: str) -> Section:
     for n in names:
         v0, v = initial[n], doc["parameters"][n]
         rows.append([n, v0, v, None if v0 == 0 else 100.0 * (v - v0) / v0, doc["std"].get(n)])
-    sec.tables.append(_table("Parameters: initial, updated, change and posterior std",
+    sec.blocks.append(_table("Parameters: initial, updated, change and posterior std",
                              ["parameter", "initial", "updated", "change %", "posterior std"],
                              rows, "parameters-updated"))
     if any(initial[n] != 0 for n in names):
-        sec.images.append(_figure_image(
+        sec.blocks.append(_figure_image(
             figures.parameter_change_figure(names, initial, doc["parameters"], doc["std"]),
             "Change of each updated parameter (% of initial) with +-1 posterior std "
             "(parameters starting at 0 are in the table only)", "parameter changes"))
     steps = doc.get("steps") or [{} for _ in doc["history"]]
-    sec.tables.append(_table(
+    sec.blocks.append(_table(
         "Iterations (0 is the initial model): objective, fraction of the Gauss-Newton step "
         "taken, note", ["iteration", "objective", "step", "note"],
         [[i, s.get("objective"), s.get("step"), s.get("note") or None]
          for i, s in enumerate(steps)], "steps"))
-    sec.tables.append(_table(
+    sec.blocks.append(_table(
         "Parameter values at each iteration",
         ["parameter", *[f"it. {i}" for i in range(len(doc["history"]))]],
         [[n, *[h[n] for h in doc["history"]]] for n in names], "history"))
-    sec.images.append(_figure_image(
+    sec.blocks.append(_figure_image(
         figures.history_figure([s.get("objective") for s in steps], doc["history"], names),
         "Objective and parameters (relative to initial) against iteration", "history"))
     fr = doc["frequencies"]
-    sec.tables.append(_table(
+    sec.blocks.append(_table(
         "Natural frequencies: measured, initial and updated model (Hz), errors in %",
         ["configuration", "mode", "measured", "initial", "updated", "initial error %",
          "updated error %"],
@@ -400,7 +405,7 @@ def _update_section(study: Study, doc: dict, origin: str) -> Section:
           100 * (r["initial_hz"] - r["measured_hz"]) / r["measured_hz"],
           100 * (r["updated_hz"] - r["measured_hz"]) / r["measured_hz"]] for r in fr],
         "frequencies"))
-    sec.images.append(_figure_image(
+    sec.blocks.append(_figure_image(
         figures.frequency_error_figure(
             [f"{r['configuration']} / {r['mode']}" for r in fr],
             [r["measured_hz"] for r in fr], [r["initial_hz"] for r in fr],
@@ -454,7 +459,7 @@ def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Se
                              f"FRF comparison {out}/{inp}", None, measured=x,
                              initial=curves["initial"], updated=curves.get("updated"),
                              title=title)
-        sec.images.append(img)
+        sec.blocks.append(img)
     intro = ["Receptance of the base configuration at every measured response point: "
              "measured, initial model" + (" and updated model" if doc else "") + "."]
     if skipped:
@@ -473,7 +478,7 @@ def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Se
                              f"mass sweep {cd}", study.model, cd, 2.0 * m, n_modes,
                              values=sweep_values,
                              title="updated model" if sweep_values else "initial model")
-        sec.images.append(img)
+        sec.blocks.append(img)
     if biggest:
         intro.append("Mass sweeps (paper Fig. 4): natural frequencies of the "
                      + ("updated" if sweep_values else "initial")
@@ -501,14 +506,14 @@ def _summary_section(key: str, title: str, doc: dict, name: str) -> Section:
                or (isinstance(v, list) and not all(isinstance(i, dict) for i in v))
                or (isinstance(v, list) and not v)]
     if scalars:
-        sec.tables.append(_table(title, ["key", "value"], scalars, "summary"))
+        sec.blocks.append(_table(title, ["key", "value"], scalars, "summary"))
     for k, v in doc.items():
         if isinstance(v, list) and v and all(isinstance(i, dict) for i in v):
             cols = list(dict.fromkeys(c for i in v for c in i))
-            sec.tables.append(_table(k, cols, [[text(i.get(c)) for c in cols] for i in v],
+            sec.blocks.append(_table(k, cols, [[text(i.get(c)) for c in cols] for i in v],
                                      "summary"))
         elif isinstance(v, dict):
-            sec.tables.append(_table(k, ["key", "value"], [[a, text(b)] for a, b in v.items()],
+            sec.blocks.append(_table(k, ["key", "value"], [[a, text(b)] for a, b in v.items()],
                                      "summary"))
     return sec
 
@@ -567,7 +572,8 @@ def render_report(
     for s in (_identifiability_section(study),
               _extraction_section(study, fitted, ext,
                                   Path(extracted).name if extracted is not None else None),
-              _update_section(study, doc, origin) if doc is not None else None,
+              _update_section(study, doc, origin) if doc is not None else
+              (Section("update", "The update", paragraphs=[origin]) if origin else None),
               _comparison_section(study, doc, fitted, ext)):
         if s is not None:
             sections.append(s)

@@ -279,6 +279,21 @@ def test_extraction_mismatch_and_refused_update_are_said(tmp_path):
     assert len(named(parse(page), "extraction")) == 2
 
 
+def test_configurations_without_frf_files(tmp_path):
+    """FRF files for the base only: its fits and Fig. 7 are shown, the others are named."""
+    study = _two_configurations(tmp_path)
+    study.write_text("\n".join(ln for ln in study.read_text().splitlines()
+                               if not ln.startswith('"0.2 kg at 1"')))
+    text = (FRF.parent / "extracted.csv").read_text().splitlines()
+    rows = [ln for ln in text[1:] if ln.startswith(("base,", "0.2 kg at 1,"))]
+    (tmp_path / "measured.csv").write_text("\n".join([text[0], *rows]) + "\n")
+    page = render_report(study, command="test")
+    doc = parse(page)
+    assert "No FRF files for 0.2 kg at 1" in page
+    assert [t["caption"] for t in named(doc, "extraction")] == ["base: fitted modes"]
+    assert sum(i["alt"].startswith("FRF comparison") for i in doc.images) == 2
+
+
 # ----------------------------------------------------------------- in a browser
 
 

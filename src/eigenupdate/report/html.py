@@ -246,14 +246,13 @@ def _identifiability_section(study: Study) -> Section | None:
 
 
 def _extract_all(study: Study) -> dict[str, tuple[list[FRF], list[ExtractedMode]]]:
-    """Every configuration's FRFs and extracted modes, as ``eigenupdate extract``."""
-    missing = [c.name for c in study.configurations if not study.frf.get(c.name)]
-    if missing:
-        raise InputError(f"no FRF file for configuration(s) {missing}", source=str(study.path),
-                         field="measurement.frf")
+    """FRFs and extracted modes of every configuration that has FRF files, as
+    ``eigenupdate extract`` (which needs them for all)."""
     bands, low = frf_options(study)
     out = {}
     for c in study.configurations:
+        if not study.frf.get(c.name):
+            continue
         frfs = read_frf_files(study.frf[c.name])
         out[c.name] = (frfs, extract_configuration(frfs, study.require_modes(), c.name,
                                                    bands_hz=bands.get(c.name),
@@ -286,6 +285,9 @@ def _extraction_section(
                  f"standard deviations; above {DISAGREEMENT_LIMIT:g} the mode is flagged. "
                  "'not used' marks fitted modes the study does not use; 'no peak in' lists "
                  "the FRFs in which a mode was not fitted (a response point near its node).")
+    no_files = [c.name for c in study.configurations if fitted is not None and c.name not in fitted]
+    if no_files:
+        intro.append(f"No FRF files for {', '.join(no_files)}: no fit plots there.")
     sec.paragraphs = [" ".join(intro)]
     used = set(study.modes)
     by_cfg: dict[str, list[ExtractedRow]] = {}
@@ -418,12 +420,9 @@ def _update_section(study: Study, doc: dict, origin: str) -> Section:
 def _loss_factors(study: Study, fitted, extracted) -> tuple[list[float] | float, str]:
     """Per-mode loss factors of the base configuration: extracted ones when known."""
     base = study.configurations[0].name
-    if extracted is not None:
-        etas = {r.mode: r.loss_factor for r in extracted if r.configuration == base}
-    elif fitted is not None:
+    etas = {r.mode: r.loss_factor for r in extracted or [] if r.configuration == base}
+    if etas.get(1) is None and fitted and base in fitted:
         etas = {m.mode: m.loss_factor for m in fitted[base][1]}
-    else:
-        etas = {}
     k = 1
     out = []
     while etas.get(k) is not None:
@@ -442,8 +441,7 @@ def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Se
         models["updated"] = study.model.with_values(doc["parameters"])
     eta, eta_text = _loss_factors(study, fitted, extracted)
     skipped = []
-    frfs = fitted[base.name][0] if fitted else (
-        read_frf_files(study.frf[base.name]) if study.frf.get(base.name) else [])
+    frfs = fitted[base.name][0] if fitted and base.name in fitted else []
     for x in frfs:
         try:
             out = coordinate_from_uff(study.model_type, x.response)

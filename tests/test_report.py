@@ -135,11 +135,14 @@ def test_identifiability_of_the_paper_beam():
 def test_saved_result_gives_the_same_tables(tmp_path, run_cli, fig2_page):
     saved = tmp_path / "result.json"
     assert run_cli("update", FIG2, "--save", saved)[0] == 0
-    page = render_report(FIG2, result=saved, command="test")
+    code, out, err = run_cli("report", FIG2, "--result", saved, "-o", tmp_path / "r.html")
+    assert code == 0 and "wrote" in err and "kB" in err, err
+    page = (tmp_path / "r.html").read_text()
     a, b = parse(page), parse(fig2_page)
     for name in ("parameters-updated", "frequencies", "history", "steps"):
         assert named(a, name) == named(b, name)
     assert "read from the saved result" in page
+    assert "eigenupdate report" in page and "--result" in page  # the command, in provenance
 
 
 def test_design_and_montecarlo_rendered_generically(tmp_path):

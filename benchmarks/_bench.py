@@ -453,7 +453,7 @@ def bench_b(size_key: str, max_nfev: int | None, reference: bool = False) -> dic
         "ours": {"seconds": t_ours, "iterations": res.nit, "converged": res.converged,
                  "message": res.message, "linearisations": calls[0],
                  "eigsh_calls": ours_solves, "split": ours_t.as_dict(), "error": ours_err,
-                 "objective": [h["objective"] for h in res.history]},
+                 "objective": [h.objective for h in res.history]},
         "baseline": {"seconds": t_base, "nfev": int(ls.nfev), "njev": int(ls.njev or 0),
                      "residual_evaluations": n_evals, "eigsh_calls": base_solves,
                      "split": base_t.as_dict(), "status": int(ls.status),

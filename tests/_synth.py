@@ -1,4 +1,5 @@
-"""Synthetic receptance FRFs for the modal-extraction tests (imported as ``_synth``)."""
+"""Synthetic receptance FRFs shared by the tests (imported as ``_synth``): hysteretic modes,
+a viscous SDOF, the beam-like test case."""
 
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ class Mode:
 
 
 def receptance(
-    freq_hz: np.ndarray,
+    frequency_hz: np.ndarray,
     modes: Sequence[Mode],
     *,
     rigid_body: float = 0.0,
@@ -32,7 +33,7 @@ def receptance(
     Gaussian noise as a fraction of the largest resonance peak ``|alpha|``.  At 0 Hz
     the rigid-body term is left out (it is infinite there).
     """
-    freq = np.asarray(freq_hz, dtype=float)
+    freq = np.asarray(frequency_hz, dtype=float)
     x = (2.0 * np.pi * freq) ** 2
     alpha = _modal_sum(x, modes) + residual
     if rigid_body:
@@ -45,6 +46,12 @@ def receptance(
         alpha = alpha + scale * (rng.standard_normal(freq.size)
                                  + 1j * rng.standard_normal(freq.size))
     return alpha
+
+
+def viscous_sdof(frequency_hz: np.ndarray, m: float, k: float, c: float) -> np.ndarray:
+    """Receptance of m x'' + c x' + k x = F (viscous damping), m/N."""
+    w = 2.0 * np.pi * np.asarray(frequency_hz, dtype=float)
+    return 1.0 / (k - m * w**2 + 1j * c * w)
 
 
 def _modal_sum(x: np.ndarray, modes: Sequence[Mode]) -> np.ndarray:

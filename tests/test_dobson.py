@@ -152,7 +152,7 @@ def test_bad_frequency_axis_and_lengths_raise():
     swapped[[10, 11]] = swapped[[11, 10]]
     with pytest.raises(InputError, match="strictly increasing") as info:
         dobson_fit(swapped, alpha, (90.0, 110.0))
-    assert info.value.field == "freq_hz"
+    assert info.value.field == "frequency_hz"
     repeated = freq.copy()
     repeated[11] = repeated[10]
     with pytest.raises(InputError, match="strictly increasing"):

@@ -128,7 +128,7 @@ def test_frf_and_sweep_plots(chain, run_cli):
     assert b"<svg" in (chain / "fig4.svg").read_bytes()[:500]
     code, _, err = run_cli("frf", chain / "study.toml", "--input", 11, "--output", 3,
                            "--measured", chain / "frf" / "base.uff", "-o", chain / "x.png")
-    assert code == 2 and "no FRF for response 2+Z" in err
+    assert code == 2 and "no FRF for response coordinate 3 (node 2, Z)" in err
 
 
 def _bad(run_cli, args, *fragments):

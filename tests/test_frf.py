@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, SingularMatrixError
 from eigenupdate.model.beam import beam_model
 from eigenupdate.model.configurations import Addition, Configuration, mass_at
 from eigenupdate.model.parameters import Parameter
@@ -13,10 +13,7 @@ from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
 from eigenupdate.solve.eigen import solve_elastic
 from eigenupdate.solve.response import (
     configuration_matrices,
-    coordinate_from_uff,
-    infer_model_kind,
     receptance,
-    uff_point,
 )
 
 NODES = [0, 0.09, 0.19, 0.29, 0.39, 0.49, 0.59, 0.69, 0.80]
@@ -253,37 +250,31 @@ def test_bad_arguments(kwargs, field):
 
 def test_undamped_resonance_hit_exactly_by_direct_method():
     f_n = np.sqrt(800.0 / 2.0) / (2 * np.pi)
-    with pytest.raises(InputError, match="undamped natural frequency"):
+    with pytest.raises(SingularMatrixError, match="undamped natural frequency"):
         receptance(sdof(), [1.0, f_n], 1, 1, method="direct")
 
 
 # ---------------------------------------------------------------- UFF mapping
 
 
-def test_uff_mapping_round_trip():
+def test_coordinate_tables_of_the_models():
+    beam, chain = paper_beam().coordinate_table, sdof().coordinate_table
     for c in range(1, 19):
-        assert coordinate_from_uff("beam", uff_point("beam", c)) == c
-        assert coordinate_from_uff("spring-mass", uff_point("spring-mass", c)) == c
-    assert uff_point("beam", 1) == (1, 3)
-    assert uff_point("beam", 2) == (1, 5)
-    assert uff_point("beam", 15) == (8, 3)
-    assert uff_point("matrices", 7) == (7, 1)
-    assert infer_model_kind(paper_beam()) == "beam"
-    assert infer_model_kind(sdof()) == "spring-mass"
+        assert beam.from_uff(beam[c].uff_point).number == c
+    assert [beam[c].uff_point for c in (1, 2, 15)] == [(1, 3), (1, 5), (8, 3)]
+    assert beam[12].rotation and not beam[11].rotation
+    assert beam[15].label == "coordinate 15 (node 8, Z)"
+    assert chain[1].uff_point == (1, 1) and chain[1].label == "coordinate 1 (node 1, X)"
 
 
 @pytest.mark.parametrize(
-    ("call", "args"),
-    [
-        (uff_point, ("shell", 1)),
-        (uff_point, ("beam", 0)),
-        (coordinate_from_uff, ("beam", (3, 1))),
-        (coordinate_from_uff, ("beam", (3, -3))),
-        (coordinate_from_uff, ("matrices", (3, 3))),
-        (coordinate_from_uff, ("matrices", (0, 1))),
-        (coordinate_from_uff, ("matrices", "x")),
-    ],
+    ("table", "point"),
+    [("beam", (3, 1)), ("beam", (3, -3)), ("chain", (3, 3)), ("chain", (0, 1)),
+     ("chain", "x")],
 )
-def test_uff_mapping_errors(call, args):
-    with pytest.raises(InputError):
-        call(*args)
+def test_points_not_in_the_model(table, point):
+    t = {"beam": paper_beam(), "chain": sdof()}[table].coordinate_table
+    with pytest.raises(InputError, match="not a coordinate|expected a"):
+        t.from_uff(point)
+    with pytest.raises(InputError, match="unknown coordinate"):
+        t[0]

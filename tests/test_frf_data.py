@@ -1,4 +1,4 @@
-"""Tests for eigenupdate.measure.frf: the FRF type, unit conversion, CSV files."""
+"""Tests for eigenupdate.measure.frf (the FRF type, unit conversion) and io.frf_csv."""
 
 from __future__ import annotations
 
@@ -7,29 +7,22 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _synth import viscous_sdof
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from eigenupdate.errors import InputError
-from eigenupdate.measure.frf import (
-    FRF,
-    atomic_write,
-    check_same_axis,
-    dof_label,
-    is_uniform,
-    read_frf_csv,
-    to_receptance,
-    write_frf_csv,
-)
+from eigenupdate.io.atomic import atomic_write
+from eigenupdate.io.frf_csv import read_frf_csv, write_frf_csv
+from eigenupdate.measure.frf import FRF, check_same_axis, dof_label, is_uniform, to_receptance
 
 # Analytic viscously damped SDOF: m x'' + c x' + k x = F.
 M, K, C = 2.0, 8.0e4, 12.0
 
 
 def sdof_receptance(f_hz: np.ndarray) -> np.ndarray:
-    w = 2 * np.pi * f_hz
-    return 1.0 / (K - M * w**2 + 1j * C * w)
+    return viscous_sdof(f_hz, M, K, C)
 
 
 def make_frf(n: int = 8, **kw) -> FRF:

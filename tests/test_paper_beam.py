@@ -6,6 +6,8 @@ import numpy as np
 import pytest
 from conftest import EXAMPLES
 
+from eigenupdate import check, load_study, update_study
+
 BEAM = EXAMPLES / "paper_beam" / "study.toml"
 
 # Paper Table 6, updated column: EI (N m^2) and mass per length (kg/m) per element, m_L (kg).
@@ -24,21 +26,14 @@ TABLE7_ANALYTICAL = [
 
 @pytest.fixture(scope="module")
 def result():
-    import contextlib
-    import io
-
-    from eigenupdate.cli import main
-
-    buf = io.StringIO()
-    with contextlib.redirect_stdout(buf):
-        code = main(["update", str(BEAM), "--json"])
-    assert code == 0
-    return json.loads(buf.getvalue())
+    res = update_study(load_study(BEAM))
+    assert res.success
+    return res
 
 
 def test_table6_updated_parameters(result):
-    p = result["parameters"]
-    assert result["method"] == "bayesian" and result["converged"]
+    p = result.parameters
+    assert result.method == "bayesian" and result.success
     # Tolerances: the paper's own rounding (4 digits of EI, 2 decimals of rhoA).
     assert [p[f"EI{e}"] for e in range(1, 9)] == pytest.approx(TABLE6_EI, abs=10)
     assert [p[f"rhoA{e}"] for e in range(1, 9)] == pytest.approx(TABLE6_RHOA, abs=0.012)
@@ -47,13 +42,13 @@ def test_table6_updated_parameters(result):
 
 def test_converges_in_about_four_iterations(result):
     # "The convergence ... is rapid and essentially complete after two or three iterations."
-    assert result["iterations"] <= 6
-    h = result["history"]
-    assert h[3]["EI2"] == pytest.approx(h[-1]["EI2"], abs=0.5)
+    assert result.nit <= 6
+    h = result.history
+    assert h[3].parameters["EI2"] == pytest.approx(h[-1].parameters["EI2"], abs=0.5)
 
 
 def test_table7_analytical_frequencies(result):
-    got = {(f["configuration"], f["mode"]): f["initial_hz"] for f in result["frequencies"]}
+    got = dict(zip(result.rows, result.initial_hz, strict=True))
     for name, f1, f2 in TABLE7_ANALYTICAL:
         assert got[(name, 1)] == pytest.approx(f1, abs=0.2)
         assert got[(name, 2)] == pytest.approx(f2, abs=0.2)
@@ -61,21 +56,30 @@ def test_table7_analytical_frequencies(result):
 
 def test_highest_updated_frequency_used(result):
     # Section 7: "the highest natural frequency used in the updating algorithm was 545.6 Hz".
-    base2 = next(f for f in result["frequencies"] if f["configuration"] == "base"
-                 and f["mode"] == 2)
-    assert base2["updated_hz"] == pytest.approx(545.6, abs=0.05)
+    base2 = result.updated_hz[result.rows.index(("base", 2))]
+    assert base2 == pytest.approx(545.6, abs=0.05)
 
 
-def test_condition_of_plan(run_cli):
+def test_condition_of_plan():
+    # Section 7: cond(J^T J) = 3.82e9, of the plan's own (unweighted) J.
+    study = load_study(BEAM)
+    plan = check(study.model, study.configurations, study.modes)
+    assert plan.rank == 17 and plan.equations == 20 and plan.weighting == "none"
+    assert plan.condition_JTJ == pytest.approx(3.82e9, rel=0.05)
+    assert np.isclose(plan.condition_J ** 2, plan.condition_JTJ, rtol=1e-12)
+
+
+def test_check_command_weights_as_the_estimator(run_cli):
+    code, out, _ = run_cli("check", BEAM, "--json", "--method", "least-squares")
+    assert code == 0 and json.loads(out)["condition_JTJ"] == pytest.approx(3.82e9, rel=0.05)
+    # the study's Bayesian estimator: measured std and priors; the priors regularise
     code, out, _ = run_cli("check", BEAM, "--json")
     doc = json.loads(out)
-    assert code == 0 and doc["rank"] == 17 and doc["equations"] == 20
-    # Section 7: cond(J^T J) = 3.82e9.
-    assert doc["condition_JTJ"] == pytest.approx(3.82e9, rel=0.05)
-    assert np.isclose(doc["condition_J"] ** 2, doc["condition_JTJ"], rtol=1e-3)
+    assert code == 0 and doc["rank"] == 17 and doc["weighting"] == "measurement std and prior std"
+    assert doc["condition_JTJ"] < 1e4
 
 
 def test_posterior_std_below_prior(result):
-    s = result["std"]
+    s = result.std
     assert all(0 < s[f"EI{e}"] < 150 for e in range(1, 9))
     assert all(0 < s[f"rhoA{e}"] < 0.1 for e in range(1, 9))

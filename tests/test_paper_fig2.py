@@ -8,6 +8,17 @@ import numpy as np
 import pytest
 from conftest import EXAMPLES
 
+from eigenupdate import (
+    Configuration,
+    check,
+    load_study,
+    mass_at,
+    simulate_study,
+    study_frequencies,
+    update,
+    update_study,
+)
+
 FIG2 = EXAMPLES / "paper_fig2"
 
 # Paper Table 4: parameters after iterations 1..4 (k in 1e6 N/m, m in kg).
@@ -40,19 +51,26 @@ def fig2(tmp_path):
     return d
 
 
-def test_table4_iterates(fig2, run_cli):
+def test_table4_iterates():
+    truth, study = load_study(FIG2 / "truth.toml"), load_study(FIG2 / "study.toml")
+    measured = {(m.configuration, m.mode): m for m in simulate_study(truth)}
+    res = update(study.model, study.configurations, study.modes, measured)
+    assert res.success and res.method == "least-squares" and study.modes == [1, 2, 3]
+    for name, values in TABLE4.items():
+        unit = 1e6 if name.startswith("k") else 1.0
+        got = [round(h.parameters[name] / unit, 4) for h in res.history[1:5]]
+        assert got == values, name
+    # history[0] is the initial model
+    assert res.history[0].parameters["k1"] == 1.2e6 and res.history[0].parameters["m1"] == 9.7
+
+
+def test_cli_json_history_is_the_library_history(fig2, run_cli):
     code, out, _ = run_cli("simulate", fig2 / "truth.toml", "-o", fig2 / "measured.csv")
     assert code == 0
     code, out, err = run_cli("update", fig2 / "study.toml", "--json")
     assert code == 0, err
-    doc = json.loads(out)
-    assert doc["converged"] and doc["method"] == "least-squares"
-    hist = doc["history"]
-    for name, values in TABLE4.items():
-        unit = 1e6 if name.startswith("k") else 1.0
-        got = [round(h[name] / unit, 4) for h in hist[1:5]]
-        assert got == values, name
-    assert hist[0]["k1"] == 1.2e6 and hist[0]["m1"] == 9.7  # history[0] is the initial model
+    res = update_study(load_study(fig2 / "study.toml"))
+    assert json.loads(out)["history"] == [h.parameters for h in res.history]
 
 
 def test_shipped_measurements_are_the_truth_model(fig2, run_cli):
@@ -74,18 +92,15 @@ def _csv_rows(path):
 
 @pytest.mark.parametrize(("study", "table"), [("truth.toml", TABLE5_SIMULATED),
                                               ("study.toml", TABLE5_ANALYTICAL)])
-def test_table5_frequencies(run_cli, study, table):
-    code, out, _ = run_cli("frequencies", FIG2 / study, "--json")
-    assert code == 0
-    got = [np.round(c["frequencies_hz"], 2).tolist() for c in json.loads(out)["configurations"]]
-    assert got == table
+def test_table5_frequencies(study, table):
+    got = study_frequencies(load_study(FIG2 / study))
+    assert [np.round(f, 2).tolist() for f in got.values()] == table
 
 
-def test_truth_and_initial_fourth_mode(run_cli):
+def test_truth_and_initial_fourth_mode():
     # Section 5 text: 117.66 Hz (simulation), 126.63 Hz (initial model).
     for study, f4 in (("truth.toml", 117.66), ("study.toml", 126.63)):
-        _, out, _ = run_cli("frequencies", FIG2 / study, "--modes", "4", "--json")
-        assert round(json.loads(out)["configurations"][0]["frequencies_hz"][3], 2) == f4
+        assert round(study_frequencies(load_study(FIG2 / study), 4)["base"][3], 2) == f4
 
 
 @pytest.mark.parametrize(
@@ -93,19 +108,13 @@ def test_truth_and_initial_fourth_mode(run_cli):
     # Paper Table 1, 4 modes: rows "1,2,3,4", "1,2,3", "1,2,4" (rank 10), "1,2", "2,3" (rank 9).
     [((1, 2, 3, 4), 10), ((1, 2, 3), 10), ((1, 2, 4), 10), ((1, 2), 9), ((2, 3), 9)],
 )
-def test_table1_ranks(tmp_path, run_cli, coordinates, rank):
-    text = (FIG2 / "study.toml").read_text()
-    head = text.split("[[perturbation]]")[0]
-    perts = "".join(f"[[perturbation]]\ncoordinate = {c}\nmass = 0.35\n\n" for c in coordinates)
-    study = tmp_path / "plan.toml"
-    study.write_text(head + perts + "[measurement]\nmodes = [1, 2, 3, 4]\n")
-    code, out, _ = run_cli("check", study, "--json")
-    assert code == 0
-    doc = json.loads(out)
-    assert doc["rank"] == rank
-    assert doc["equations"] == 4 * (len(coordinates) + 1)
-    assert len(doc["parameters"]) == 10
+def test_table1_ranks(coordinates, rank):
+    configs = [Configuration("base")] + [mass_at(c, 0.35) for c in coordinates]
+    plan = check(load_study(FIG2 / "study.toml").model, configs, [1, 2, 3, 4])
+    assert plan.rank == rank
+    assert plan.equations == 4 * (len(coordinates) + 1)
+    assert len(plan.parameters) == 10
     if rank == 9:
-        assert doc["condition_JTJ"] > 1e15  # paper: 2.86e18, 1.53e19
+        assert plan.condition_JTJ > 1e15  # paper: 2.86e18, 1.53e19
     else:
-        assert doc["condition_JTJ"] < 1e9
+        assert plan.condition_JTJ < 1e9

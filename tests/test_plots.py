@@ -6,6 +6,8 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from _synth import Mode
+from _synth import receptance as receptance_of_modes
 
 from eigenupdate.errors import InputError
 from eigenupdate.measure.frf import FRF
@@ -13,15 +15,10 @@ from eigenupdate.model.beam import beam_model
 from eigenupdate.model.configurations import mass_at
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
-from eigenupdate.plot.plots import (
-    MassSweep,
-    mass_sweep,
-    plot_extraction_fit,
-    plot_frf_comparison,
-    plot_mass_sweep,
-)
+from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.solve.eigen import solve_elastic
 from eigenupdate.solve.response import configuration_matrices, receptance
+from eigenupdate.solve.sweep import MassSweep, mass_sweep
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 NODES = [0, 0.09, 0.19, 0.29, 0.39, 0.49, 0.59, 0.69, 0.80]
@@ -35,7 +32,7 @@ def only_file(directory, name):
 
 
 def sdof_frf(f, fr=100.0, eta=0.01, A=2.0):
-    return A / ((2 * np.pi * fr) ** 2 * (1 + 1j * eta) - (2 * np.pi * f) ** 2)
+    return receptance_of_modes(f, [Mode(fr, eta, A)])
 
 
 # ------------------------------------------------------------------ FRF comparison
@@ -95,8 +92,8 @@ def test_mass_sweep_sdof_closed_form():
 
 def test_plot_mass_sweep_paper_beam(tmp_path):
     cfg = mass_at(15, 0.2)
-    sweep = plot_mass_sweep(tmp_path / "fig4.png", BEAM, 1, 0.4, 3, configuration=cfg,
-                            n_points=5)
+    sweep = mass_sweep(BEAM, 1, 0.4, 3, configuration=cfg, n_points=5)
+    plot_mass_sweep(tmp_path / "fig4.png", sweep)
     assert only_file(tmp_path, "fig4.png").startswith(PNG_MAGIC)
     K, M = configuration_matrices(BEAM, cfg)
     assert sweep.reference_mass == pytest.approx(3.4 * 0.09 * 156 / 420)  # consistent mass
@@ -113,16 +110,20 @@ def test_plot_mass_sweep_paper_beam(tmp_path):
 
 
 def test_plot_mass_sweep_rotation_and_errors(tmp_path):
-    plot_mass_sweep(tmp_path / "rot.svg", BEAM, 2, 1e-3, 2, n_points=3)
-    assert "rotary inertia" in (tmp_path / "rot.svg").read_text()
+    plot_mass_sweep(tmp_path / "rot.svg", mass_sweep(BEAM, 2, 1e-3, 2, n_points=3))
+    text = (tmp_path / "rot.svg").read_text()
+    assert "rotary inertia" in text and "coordinate 2 (node 1, RY)" in text
     for args in ((99, 0.1, 2), (1, 0.0, 2), (1, 0.1, 0), (1, 0.1, 99)):
         with pytest.raises(InputError):
-            plot_mass_sweep(tmp_path / "bad.png", BEAM, *args)
-    assert not (tmp_path / "bad.png").exists()
+            mass_sweep(BEAM, *args)
+    with pytest.raises(InputError):
+        plot_mass_sweep(tmp_path / "bad.txt", mass_sweep(BEAM, 1, 0.1, 2, n_points=3))
+    assert not (tmp_path / "bad.txt").exists()
 
 
 def test_mass_sweep_without_reference_mass_uses_kg():
-    sweep = MassSweep(np.array([0.0, 1.0]), 0.0, np.array([[10.0], [9.0]]))
+    sweep = MassSweep(np.array([0.0, 1.0]), 0.0, np.array([[10.0], [9.0]]),
+                      BEAM.coordinate_table[1])
     assert sweep.percent is None
 
 

@@ -180,7 +180,7 @@ def test_bad_inputs_write_nothing(tmp_path, run_cli):
     other = tmp_path / "other.json"
     assert run_cli("update", BEAM, "--save", other)[0] == 0
     _one_line_error(run_cli, "report", FIG2, "--result", other, "-o", out,
-                    fragments=("other.json", "parameters", "another study"))
+                    fragments=("other.json", "parameters", "not in the study's model"))
     assert not out.exists()
     out.write_text("previous report")
     bad = tmp_path / "plan.json"
@@ -280,21 +280,6 @@ def test_extraction_mismatch_and_refused_update_are_said(tmp_path):
     assert "NOT identifiable: rank 4 &lt; 17 parameters" in page
     assert "The update was not run" in page
     assert len(named(parse(page), "extraction")) == 2
-
-
-def test_configurations_without_frf_files(tmp_path):
-    """FRF files for the base only: its fits and Fig. 7 are shown, the others are named."""
-    study = _two_configurations(tmp_path)
-    study.write_text("\n".join(ln for ln in study.read_text().splitlines()
-                               if not ln.startswith('"0.2 kg at 1"')))
-    text = (FRF.parent / "extracted.csv").read_text().splitlines()
-    rows = [ln for ln in text[1:] if ln.startswith(("base,", "0.2 kg at 1,"))]
-    (tmp_path / "measured.csv").write_text("\n".join([text[0], *rows]) + "\n")
-    page = render_report(study, command="test")
-    doc = parse(page)
-    assert "No FRF files for 0.2 kg at 1" in page
-    assert [t["caption"] for t in named(doc, "extraction")] == ["base: fitted modes"]
-    assert sum(i["alt"].startswith("FRF comparison") for i in doc.images) == 2
 
 
 # ----------------------------------------------------------------- in a browser

@@ -45,9 +45,9 @@ def test_spring_mass_labels_and_per_mode_loss_factors():
     assert frfs[0].response == (1, 1) and frfs[0].reference == (2, 1)
     np.testing.assert_array_equal(frfs[0].receptance,
                                   receptance(chain2(), f, 2, 1, loss_factor=[0.01, 0.05]))
-    # An explicit kind overrides the guess.
-    beam_labels = synthetic_frfs(chain2(), None, f, 2, 1, 0.01, noise=0.0, model_kind="beam")
-    assert beam_labels[0].response == (1, 3) and beam_labels[0].reference == (1, 5)
+    # the labels come from the model's coordinate table
+    beam = synthetic_frfs(BEAM, None, f, 12, 15, 0.01, noise=0.0)
+    assert beam[0].response == (8, 3) and beam[0].reference == (6, 5)
 
 
 def test_noise_level_and_statistics():
@@ -94,7 +94,7 @@ def test_noise_reference_ignores_low_band_and_nan():
 
 @pytest.mark.parametrize(
     "kwargs",
-    [{"noise": -0.1}, {"noise": np.nan}, {"model_kind": "plate"}, {"outputs": [1, 99]}],
+    [{"noise": -0.1}, {"noise": np.nan}, {"outputs": [0]}, {"outputs": [1, 99]}],
 )
 def test_bad_arguments(kwargs):
     args = {"outputs": [1], "noise": 0.01} | kwargs

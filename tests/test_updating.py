@@ -9,10 +9,11 @@ from models import fig2, random_network
 
 from eigenupdate.errors import InputError
 from eigenupdate.identify.identifiability import check
-from eigenupdate.identify.updating import update
+from eigenupdate.identify.updating import STATUS_MESSAGES, Step, update
+from eigenupdate.identify.weights import estimator_weights
 from eigenupdate.io.measurements import Measurement
 from eigenupdate.model.configurations import Configuration, mass_at
-from eigenupdate.solve.jacobian import solve_configurations
+from eigenupdate.solve.jacobian import linearise, solve_configurations
 
 
 def simulate(model, configs, modes, noise_hz=0.0, std_hz=None, rng=None):
@@ -99,10 +100,10 @@ def test_far_start_is_safeguarded_and_recorded():
     start = TRUTH.with_values(TRUTH.values * f)
     data = simulate(TRUTH, FIG2_CONFIGS, [1, 2, 3, 4])
     res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data, max_iterations=60)
-    notes = [h["note"] for h in res.history]
-    assert any("bounded" in n for n in notes) and any("halved" in n for n in notes), notes
-    assert all(v > 0 for h in res.history for v in h["parameters"].values())
-    objectives = [h["objective"] for h in res.history]
+    kinds = {h.kind for h in res.history}
+    assert {Step.BOUNDED, Step.HALVED} <= kinds, kinds
+    assert all(v > 0 for h in res.history for v in h.parameters.values())
+    objectives = [h.objective for h in res.history]
     assert all(b <= a for a, b in zip(objectives, objectives[1:], strict=False))
     assert res.converged
     np.testing.assert_allclose([res.parameters[n] for n in TRUTH.names], TRUTH.values, rtol=1e-6)
@@ -118,3 +119,51 @@ def test_fixed_parameters_are_not_updated():
     res = update(model, FIG2_CONFIGS, [1, 2, 3], data)
     assert res.parameters["k6"] == 0.6e6
     assert "k6" not in res.std
+
+
+def test_result_in_optimize_result_shape():
+    data = simulate(TRUTH, FIG2_CONFIGS, [1, 2, 3, 4], std_hz=0.01)
+    res = update(fig2(), FIG2_CONFIGS, [1, 2, 3, 4], data, method="weighted-least-squares")
+    assert res.success and res.status in (1, 2) and res.status in STATUS_MESSAGES
+    assert res.names == TRUTH.names and res.nfev >= res.nit + 1
+    np.testing.assert_allclose(res.x, TRUTH.values, rtol=1e-8)
+    assert res.x.tolist() == [res.parameters[n] for n in res.names]
+    assert res.jac.shape == (16, 10) and res.cov.shape == (10, 10)
+    np.testing.assert_allclose(np.sqrt(np.diag(res.cov)), [res.std[n] for n in res.names])
+    assert res.cost == pytest.approx(0.5 * res.history[-1].objective)
+    assert [h.iteration for h in res.history] == list(range(res.nit + 1))
+    doc = res.to_dict()
+    for key in ("parameters", "std", "converged", "history", "frequencies", "steps", "x",
+                "status", "nfev", "cov"):
+        assert key in doc
+    with pytest.raises(AttributeError):
+        res.nit = 0  # frozen
+
+
+def test_posterior_covariance_is_the_inverse_normal_matrix():
+    # the SVD route equals (A^T A)^-1, formed here the other way on a well-conditioned plan
+    data = simulate(TRUTH, FIG2_CONFIGS, [1, 2, 3, 4], std_hz=0.01)
+    res = update(fig2(), FIG2_CONFIGS, [1, 2, 3, 4], data, method="weighted-least-squares")
+    lin = linearise(res.model, FIG2_CONFIGS, [1, 2, 3, 4])
+    w = estimator_weights(res.model, "weighted-least-squares", res.rows, data).rows
+    A = w[:, None] * lin.J
+    np.testing.assert_allclose(res.cov, np.linalg.inv(A.T @ A), rtol=1e-6)
+
+
+def test_check_and_update_agree_with_one_tiny_std():
+    # Issue 7: with one tiny std, update took the rank of the weighted J (7 here) and check
+    # that of the unweighted J^T J (10). Both now take it from the same SVD.
+    data = simulate(TRUTH, FIG2_CONFIGS, [1, 2, 3, 4], std_hz=0.01)
+    rows = [(c.name, k) for c in FIG2_CONFIGS for k in (1, 2, 3, 4)]
+    for tiny, expected in ((1e-9, 10), (1e-15, 7)):
+        data[("base", 1)] = Measurement("base", 1, data[("base", 1)].frequency_hz, tiny)
+        w = estimator_weights(fig2(), "weighted-least-squares", rows, data)
+        plan = check(fig2(), FIG2_CONFIGS, [1, 2, 3, 4], weights=w.rows, prior=w.prior)
+        assert plan.rank == expected and plan.weighting == "measurement std"
+        if plan.identifiable:
+            res = update(fig2(), FIG2_CONFIGS, [1, 2, 3, 4], data,
+                         method="weighted-least-squares")
+            assert res.identifiability.rank == 10 and res.success
+        else:
+            with pytest.raises(InputError, match=f"rank {plan.rank} of J for 10"):
+                update(fig2(), FIG2_CONFIGS, [1, 2, 3, 4], data, method="weighted-least-squares")

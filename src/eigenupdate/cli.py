@@ -1,37 +1,41 @@
 """Command line: a thin shell over the library.
 
-Exit status: 0 success, 1 the update did not converge (the result is still printed),
-2 bad input (a one-line message naming the file and the field; no traceback).
+Exit status: 0 success, 1 the update did not converge (the result is still printed) or an
+iterative solver stopped (NotConvergedError), 2 bad input or a singular matrix or repeated
+eigenvalue (a one-line message naming the file and the field; no traceback).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import re
 import shlex
 import sys
+import time
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from eigenupdate.errors import InputError
-from eigenupdate.identify.identifiability import check
-from eigenupdate.identify.updating import METHODS, update
+from eigenupdate import workflow
+from eigenupdate.design.executor import SCHEDULER_ENV, executor_for
+from eigenupdate.design.montecarlo import montecarlo, study_setup
+from eigenupdate.design.montecarlo_io import write_montecarlo
+from eigenupdate.design.plan import design_plan
+from eigenupdate.design.plan_io import plan_study_text
+from eigenupdate.design.plan_report import design_doc, design_text
+from eigenupdate.errors import EigenupdateWarning, InputError, NumericalError
+from eigenupdate.identify.weights import ESTIMATORS
 from eigenupdate.io.atomic import write_text
-from eigenupdate.io.frf_options import frf_options
-from eigenupdate.io.measurements import Measurement, write_measurements
-from eigenupdate.io.study import Study, load_study
-from eigenupdate.io.uff import Mode, read_frf_files, read_modes, write_frfs, write_modes
-from eigenupdate.measure.extraction import extract_configuration, extraction_csv
-from eigenupdate.measure.frf import dof_label
-from eigenupdate.measure.synthetic import synthetic_frfs
+from eigenupdate.io.measurements import write_measurements
+from eigenupdate.io.study import load_study
+from eigenupdate.io.uff import Mode, write_frfs, write_modes
+from eigenupdate.measure.extraction import extraction_csv
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import text as report
 from eigenupdate.report.html import write_report
-from eigenupdate.solve.jacobian import solve_configurations
-from eigenupdate.solve.response import receptance, uff_point
+from eigenupdate.solve.sweep import mass_sweep
 
 
 def _output_file(path: str | None, flag: str) -> None:
@@ -78,75 +82,43 @@ def _seed(text: str) -> int:
     return value
 
 
-def _n_modes(study: Study, requested: int | None) -> int:
-    if requested is not None:
-        if requested < 1:
-            raise InputError(f"{requested} must be >= 1", field="--modes")
-        return requested
-    return max(study.require_modes())
-
-
 def cmd_frequencies(args) -> int:
     study = load_study(args.study)
-    n = _n_modes(study, args.modes)
-    sols = solve_configurations(study.model, study.configurations, n)
-    doc = {"configurations": [
-        {"name": c.name, "frequencies_hz": s.frequencies_hz.tolist()}
-        for c, s in zip(study.configurations, sols, strict=True)
-    ]}
+    freqs = workflow.study_frequencies(study, args.modes)
+    doc = {"configurations": [{"name": name, "frequencies_hz": f.tolist()}
+                              for name, f in freqs.items()]}
     if args.json:
         print(report.dumps(doc))
     else:
+        n = len(next(iter(freqs.values())))
         print(f"{study.title}: elastic natural frequencies (Hz)")
         print(report.table(["configuration", *[f"mode {k}" for k in range(1, n + 1)]],
-                           [[c["name"], *[round(f, 4) for f in c["frequencies_hz"]]]
-                            for c in doc["configurations"]]))
+                           [[name, *[round(float(x), 4) for x in f]] for name, f in freqs.items()]))
     return 0
 
 
 def cmd_simulate(args) -> int:
     _output_file(args.output, "-o")
-    _finite(args.noise_hz, "--noise-hz")
-    _finite(args.std_hz, "--std-hz", positive=True)
     study = load_study(args.study)
-    modes = study.require_modes()
-    std = args.std_hz if args.std_hz is not None else (args.noise_hz or None)
-    sols = solve_configurations(study.model, study.configurations, max(modes))
-    rng = np.random.default_rng(args.seed)
-    rows = []
-    for c, s in zip(study.configurations, sols, strict=True):
-        for k in modes:
-            f = float(s.frequencies_hz[k - 1])
-            if args.noise_hz > 0:
-                f += float(rng.normal(0.0, args.noise_hz))
-                if f <= 0:
-                    raise InputError(f"noise of {args.noise_hz:g} Hz made the frequency of "
-                                     f"{c.name!r} mode {k} negative; use less noise",
-                                     field="--noise-hz")
-            rows.append(Measurement(c.name, k, f, std))
+    rows = workflow.simulate_study(study, args.noise_hz, args.std_hz, args.seed)
     write_measurements(args.output, rows)
-    print(f"wrote {len(rows)} frequencies of {len(sols)} configurations to {args.output}",
-          file=sys.stderr)
+    print(f"wrote {len(rows)} frequencies of {len(study.configurations)} configurations to "
+          f"{args.output}", file=sys.stderr)
     return 0
 
 
 def cmd_check(args) -> int:
     study = load_study(args.study)
-    r = check(study.model, study.configurations, study.require_modes())
-    print(report.dumps(report.check_doc(r)) if args.json else report.check_text(r, study.title))
+    r = workflow.check_study(study, args.method)
+    print(report.dumps(r.to_dict()) if args.json else report.check_text(r, study.title))
     return 0
 
 
 def cmd_update(args) -> int:
     _output_file(args.save, "--save")
     study = load_study(args.study)
-    method = args.method or study.method
-    res = update(
-        study.model, study.configurations, study.require_modes(), study.measurements(),
-        method=method, max_iterations=study.max_iterations, xtol=study.tolerance,
-        source=str(study.frequencies),
-    )
-    doc = report.update_doc(res)
+    res = workflow.update_study(study, args.method)
+    doc = res.to_dict()
     if args.save:
         write_text(args.save, report.dumps({"study": str(study.path), **doc}) + "\n")
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
@@ -155,6 +127,73 @@ def cmd_update(args) -> int:
         print(f"eigenupdate: not converged: {res.message}", file=sys.stderr)
         return 1
     return 0
+
+
+def cmd_design(args) -> int:
+    _output_file(args.output, "-o")
+    if Path(args.output).resolve() == Path(args.study).resolve():
+        raise InputError("would overwrite the input study; give another file", field="-o")
+    study = load_study(args.study)
+    if study.design is None:
+        raise InputError("the study has no [design] table", source=str(study.path),
+                         field="design")
+    ex = None
+    if args.scheduler or args.workers:
+        if args.workers is not None and args.workers < 1:
+            raise InputError(f"{args.workers} must be >= 1", field="--workers")
+        ex = executor_for(args.scheduler, n_workers=args.workers)
+    try:
+        res = design_plan(study.model, study.design, study.method, study.configurations[1:],
+                          executor=ex)
+    finally:
+        if ex is not None:
+            ex.close()
+    write_text(args.output, plan_study_text(study.path, res.configurations, res.modes,
+                                            args.output))
+    initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
+    print(report.dumps(design_doc(res, initial)) if args.json
+          else design_text(res, initial, study.title))
+    _progress(f"wrote the plan to {args.output}")
+    return 0
+
+
+def cmd_montecarlo(args) -> int:
+    _output_dir(args.output, "-o")
+    if args.trials < 1:
+        raise InputError(f"{args.trials} must be >= 1", field="--trials")
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"{args.workers} must be >= 1", field="--workers")
+    study = load_study(args.study)
+    setup = study_setup(study, args.truth)
+    bar = _progress_bar if sys.stderr.isatty() else None
+    start = time.perf_counter()
+    with executor_for(args.scheduler, args.in_process, args.workers) as ex:
+        res = montecarlo(setup, args.trials, args.seed, ex, bar)
+        where = repr(ex)
+    wall = time.perf_counter() - start
+    doc = {**res.summary(), "executor": where, "wall_time_s": wall}
+    if args.output:
+        write_montecarlo(res, args.output, study.title)
+        write_text(Path(args.output) / "summary.json", report.dumps(doc) + "\n")
+    if args.json:
+        print(report.dumps(doc))
+    else:
+        print(f"{study.title}: {doc['trials']} virtual tests ({doc['converged']} converged, "
+              f"{doc['refused_fraction']:.1%} refused), seed entropy {doc['seed_entropy']}")
+        print(report.table(
+            ["parameter", "bias", "empirical std", "predicted std", "emp/pred", "coverage 2 std"],
+            [[n, p["bias"], p["empirical_std"], p["predicted_std"],
+              p["ratio_empirical_to_predicted"], p["coverage_2std"]]
+             for n, p in doc["parameters"].items()]))
+    _progress(f"{args.trials} trials in {wall:.1f} s ({where})"
+              + (f"; wrote {args.output}" if args.output else ""))
+    return 0
+
+
+def _progress_bar(done: int, total: int) -> None:
+    n = 30 * done // total
+    end = "\n" if done == total else ""
+    print(f"\r[{'#' * n}{'.' * (30 - n)}] {done}/{total}", end=end, file=sys.stderr, flush=True)
 
 
 def _progress(msg: str) -> None:
@@ -170,39 +209,23 @@ def cmd_extract(args) -> int:
     _output_file(args.uff55, "--uff55")
     _output_dir(args.plots, "--plots")
     study = load_study(args.study)
-    modes = study.require_modes()
-    bands, low = frf_options(study)
-    missing = [c.name for c in study.configurations if not study.frf.get(c.name)]
-    if missing:
-        raise InputError(f"no FRF file for configuration(s) {missing}", source=str(study.path),
-                         field="measurement.frf")
-    done = []  # everything is extracted before anything is written
-    n = len(study.configurations)
-    for i, c in enumerate(study.configurations, 1):
-        files = study.frf[c.name]
-        frfs = read_frf_files(files)
-        _progress(f"[{i}/{n}] {c.name}: {len(frfs)} FRF(s) from {len(files)} file(s)")
-        ex = extract_configuration(frfs, modes, c.name, bands_hz=bands.get(c.name),
-                                   exclude_below_hz=low)
-        for m in ex:
-            d = m.disagreement
-            if d is not None and d > 4:
-                _progress(f"  warning: {c.name} mode {m.mode}: Dobson {m.frequency_hz:.4f} Hz and "
-                          f"rational fraction {m.check_hz:.4f} Hz differ by {d:.1f} std")
-        done.append((c, frfs, ex))
-    results = [m for _, _, ex in done for m in ex]
+    # everything is extracted before anything is written
+    done = workflow.extract_study(study, progress=_progress)
+    results = [m for d in done for m in d.modes]
     if args.plots:
+        label = study.model.coordinate_table.point_label
         Path(args.plots).mkdir(parents=True, exist_ok=True)
-        for c, frfs, ex in done:
-            for j, x in enumerate(frfs):
-                shown = [m for m in ex if m.fits[j] is not None]
+        for d in done:
+            for j, x in enumerate(d.frfs):
+                shown = [m for m in d.modes if m.fits[j] is not None]
                 if shown:
-                    out = Path(args.plots) / f"extract_{_safe_name(c.name)}_{j + 1}.png"
+                    name = f"extract_{_safe_name(d.configuration.name)}_{j + 1}.png"
+                    out = Path(args.plots) / name
                     plot_extraction_fit(out, x.frequency_hz, x.receptance,
                                         [m.fits[j] for m in shown],
                                         mode_numbers=[m.mode for m in shown],
-                                        title=f"{c.name}: {dof_label(x.response)}/"
-                                              f"{dof_label(x.reference)}")
+                                        title=f"{d.configuration.name}: {label(x.response)} / "
+                                              f"{label(x.reference)}")
         _progress(f"wrote the fit plots to {args.plots}")
     write_text(args.output, extraction_csv(results))
     if args.uff55:
@@ -225,18 +248,14 @@ def cmd_simulate_frf(args) -> int:
     if args.fmax <= args.df or args.fmax / args.df > 1e7:
         raise InputError(f"need --df < --fmax and at most 1e7 lines, got --df {args.df:g}, "
                          f"--fmax {args.fmax:g}", field="--fmax")
-    if len(set(args.outputs)) != len(args.outputs):
-        raise InputError(f"coordinates repeated in {args.outputs}", field="--outputs")
     study = load_study(args.study)
     f = np.arange(args.df, args.fmax + 0.5 * args.df, args.df)  # 0 Hz: rigid modes are infinite
+    # everything is computed before the directory is made: no half-done output
+    sets = workflow.simulate_study_frfs(study, f, args.input, args.outputs, args.loss_factor,
+                               noise=args.noise, seed=args.seed)
     out = Path(args.output)
-    rng = np.random.default_rng(args.seed)
-    lines = ["[measurement.frf]"]
-    sets = []  # everything is computed before the directory is made: no half-done output
-    for c in study.configurations:
-        sets.append((c, synthetic_frfs(study.model, c, f, args.input, args.outputs,
-                                       args.loss_factor, noise=args.noise, seed=rng)))
     out.mkdir(parents=True, exist_ok=True)
+    lines = ["[measurement.frf]"]
     for c, frfs in sets:
         name = f"{_safe_name(c.name)}.uff"
         write_frfs(out / name, frfs, binary=args.binary)
@@ -245,96 +264,19 @@ def cmd_simulate_frf(args) -> int:
     return 0
 
 
-def _updated_values(study: Study, path: str) -> dict[str, float]:
-    try:
-        doc = json.loads(Path(path).read_text(encoding="utf-8"))
-        values = doc["parameters"]
-        if not isinstance(values, dict):
-            raise TypeError
-    except OSError as exc:
-        raise InputError(f"cannot read result: {exc.strerror or exc}", source=path) from None
-    except (ValueError, KeyError, TypeError):
-        raise InputError("not a result of 'eigenupdate update --save' (no parameters table)",
-                         source=path, field="parameters") from None
-    unknown = set(values) - set(study.model.names)
-    if unknown:
-        raise InputError(f"parameters {sorted(unknown)} are not in the study's model",
-                         source=path, field="parameters")
-    missing = [n for n in study.model.names if n not in values]
-    if missing:
-        raise InputError(f"no value for {missing} (a result of another study?)",
-                         source=path, field="parameters")
-    for p in study.model.parameters:
-        v = values[p.name]
-        ok = isinstance(v, int | float) and not isinstance(v, bool) and np.isfinite(v)
-        if not ok or v < 0 or (v == 0 and p.value > 0):
-            raise InputError(f"{v!r} is not a physical value (initial {p.value:g})",
-                             source=path, field=f"parameters.{p.name}")
-    return values
-
-
 def cmd_frf(args) -> int:
     _output_file(args.o, "-o")
     _finite(args.fmax, "--fmax", positive=True)
     _finite(args.loss_factor, "--loss-factor")
     study = load_study(args.study)
-    config = _configuration(study, args.configuration)
-    kind = study.model_type
-    measured = None
-    if args.measured:
-        frfs = read_frf_files([args.measured])
-        want = (uff_point(kind, args.output), uff_point(kind, args.input))
-        match = [x for x in frfs if (x.response, x.reference) == want]
-        if not match and len(frfs) == 1 and frfs[0].response == (0, 0):
-            match = frfs  # a CSV FRF carries no points: take it as the one asked for
-        if not match:
-            have = ", ".join(f"{dof_label(x.response)}/{dof_label(x.reference)}" for x in frfs)
-            raise InputError(f"no FRF for response {dof_label(want[0])}, reference "
-                             f"{dof_label(want[1])} (file has {have})", source=args.measured)
-        measured = match[0]
-        f = measured.frequency_hz
-    else:
-        modes = study.modes or [1]
-        top = solve_configurations(study.model, [config], max(modes))[0].frequencies_hz[-1]
-        fmax = args.fmax or 2.0 * top
-        f = np.linspace(fmax / 2000, fmax, 2000)
-    f_pos = f[f > 0]
-    eta, eta_text = args.loss_factor, f"loss factor {args.loss_factor:g}"
-    if args.damping:
-        eta = _extracted_loss_factors(args.damping, config.name)
-        eta_text = "extracted loss factors " + ", ".join(f"{e:.3g}" for e in eta)
-    curves = {}
-    models = {"initial": study.model}
-    if args.updated:
-        models["updated"] = study.model.with_values(_updated_values(study, args.updated))
-    for label, model in models.items():
-        h = receptance(model, f_pos, args.input, args.output, configuration=config,
-                       loss_factor=eta)
-        curves[label] = (f_pos, h)
+    c = workflow.compare_frf(study, args.input, args.output, configuration=args.configuration,
+                    measured=args.measured, updated=args.updated, loss_factor=args.loss_factor,
+                    damping=args.damping, fmax_hz=args.fmax)
     plot_frf_comparison(
-        args.o, None, measured=measured, initial=curves["initial"], updated=curves.get("updated"),
-        title=f"{study.title}\n{config.name}: receptance {args.output}/{args.input}, {eta_text}")
+        args.o, None, measured=c.measured, initial=(c.frequency_hz, c.initial),
+        updated=None if c.updated is None else (c.frequency_hz, c.updated), title=c.title)
     _progress(f"wrote {args.o}")
     return 0
-
-
-def _extracted_loss_factors(path: str, configuration: str) -> list[float]:
-    """Loss factors of elastic modes 1, 2, ... of a configuration from `extract --uff55`."""
-    modes = sorted((m.mode_number, m.loss_factor) for m in read_modes(path)
-                   if m.label == configuration)
-    if not modes or [k for k, _ in modes] != list(range(1, len(modes) + 1)):
-        raise InputError(f"no loss factors of modes 1, 2, ... for configuration "
-                         f"{configuration!r}", source=path)
-    return [eta for _, eta in modes]
-
-
-def _configuration(study: Study, name: str | None):
-    if name is None:
-        return study.configurations[0]
-    for c in study.configurations:
-        if c.name == name:
-            return c
-    raise InputError(f"no configuration {name!r} (have {[c.name for c in study.configurations]})")
 
 
 def cmd_sweep(args) -> int:
@@ -344,9 +286,9 @@ def cmd_sweep(args) -> int:
         raise InputError(f"{args.modes} must be >= 1", field="--modes")
     study = load_study(args.study)
     n = args.modes or max(study.modes or [3])
-    plot_mass_sweep(args.o, study.model, args.coordinate, args.max_mass, n,
-                    configuration=_configuration(study, args.configuration),
-                    title=study.title)
+    sweep = mass_sweep(study.model, args.coordinate, args.max_mass, n,
+                       configuration=study.configuration(args.configuration))
+    plot_mass_sweep(args.o, sweep, title=study.title)
     _progress(f"wrote {args.o}")
     return 0
 
@@ -395,15 +337,44 @@ def build_parser() -> argparse.ArgumentParser:
 
     s = sub.add_parser("check", help="identifiability of the test plan (condition, rank of J)")
     s.add_argument("study")
+    s.add_argument("--method", choices=ESTIMATORS,
+                   help="weight J as this estimator does (default: the study's; "
+                        "least-squares: the plan's own J, as the paper)")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_check)
 
     s = sub.add_parser("update", help="update the parameters from the measured frequencies")
     s.add_argument("study")
-    s.add_argument("--method", choices=METHODS)
+    s.add_argument("--method", choices=ESTIMATORS)
     s.add_argument("--json", action="store_true")
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
     s.set_defaults(func=cmd_update)
+
+    s = sub.add_parser("design", help="choose the added masses from the study's [design] table")
+    s.add_argument("study")
+    s.add_argument("-o", "--output", required=True, metavar="PLAN.toml",
+                   help="the plan as a study file")
+    s.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="screen the candidates on this Dask scheduler (default: in this process)")
+    s.add_argument("--workers", type=int,
+                   help="screen the candidates on a local Dask cluster of this many processes")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_design)
+
+    s = sub.add_parser("montecarlo", help="virtual tests of the study's plan: bias, std, coverage")
+    s.add_argument("study")
+    s.add_argument("--trials", type=int, required=True)
+    s.add_argument("--truth", metavar="STUDY", help="study whose model holds the true values "
+                   "(default: draw them from the priors)")
+    s.add_argument("--seed", type=_seed)
+    s.add_argument("-o", "--output", metavar="DIR", help="write trials.csv, summary.json, plots")
+    s.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help=f"existing Dask scheduler (or ${SCHEDULER_ENV}); default: a local "
+                        f"cluster, one worker process per core")
+    s.add_argument("--workers", type=int, help="worker processes of the local cluster")
+    s.add_argument("--in-process", action="store_true", help="no Dask: run here, one by one")
+    s.add_argument("--json", action="store_true")
+    s.set_defaults(func=cmd_montecarlo)
 
     s = sub.add_parser("extract", help="natural frequencies from the study's measured FRFs")
     s.add_argument("study")
@@ -465,7 +436,7 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _located(exc: InputError, args) -> str:
+def _located(exc: InputError | NumericalError, args) -> str:
     """The message, prefixed by the study file when the library could not name a file.
 
     Errors found deep in the numerics (too few elastic modes, an indefinite mass matrix)
@@ -477,13 +448,21 @@ def _located(exc: InputError, args) -> str:
     return str(exc)
 
 
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    print(f"eigenupdate: warning: {message}", file=sys.stderr, flush=True)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return args.func(args)
-    except InputError as exc:
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", EigenupdateWarning)
+            warnings.showwarning = _show_warning  # one line, no source location
+            return args.func(args)
+    except (InputError, NumericalError) as exc:
+        # exit 2: bad input, singular matrix, repeated eigenvalue; 1: not converged
         print(f"eigenupdate: error: {_located(exc, args)}", file=sys.stderr)
-        return 2
+        return exc.exit_status
     except BrokenPipeError:  # output piped into `head` and the like
         sys.stderr.close()
         return 0

@@ -1,21 +1,64 @@
-"""Errors the command line turns into a one-line message and exit status."""
+"""Errors and warnings of eigenupdate, and the exit status the command line gives each.
+
+Two families, kept apart so that a caller can tell "your input is wrong" from "the
+numbers cannot be computed":
+
+* :class:`InputError`: bad input (a file, a field, an option). Exit status 2.
+* :class:`NumericalError`: the core cannot compute a trustworthy number from valid
+  input: :class:`SingularMatrixError`, :class:`RepeatedEigenvalueError` (exit status 2:
+  the model or plan must change) and :class:`NotConvergedError` (exit status 1).
+
+Soft trouble (a result that is computed but deserves a look) is a warning of class
+:class:`EigenupdateWarning`, issued with :func:`warnings.warn`.
+
+>>> try:
+...     raise RepeatedEigenvalueError("modes 1 and 2 coincide", field="configuration 'base'")
+... except NumericalError as exc:
+...     print(exc, "-> exit", exc.exit_status)
+configuration 'base': modes 1 and 2 coincide -> exit 2
+"""
 
 from __future__ import annotations
 
 
-class InputError(ValueError):
-    """Bad input: the message names the file, the field and what is wrong.
+class _Located(Exception):
+    """One-line message ``source: field: message``; ``exit_status`` is the CLI's."""
 
-    The CLI prints ``eigenupdate: error: <message>`` and exits with status 2.
-    """
+    exit_status = 2
 
     def __init__(self, message: str, *, source: str | None = None, field: str | None = None):
-        parts = [p for p in (source, field) if p]
-        prefix = ": ".join(parts)
+        prefix = ": ".join(p for p in (source, field) if p)
         super().__init__(f"{prefix}: {message}" if prefix else message)
         self.source = source
         self.field = field
 
 
-class ConvergenceError(RuntimeError):
-    """An iteration failed to converge (CLI exit status 1)."""
+class InputError(_Located, ValueError):
+    """Bad input: the message names the file, the field and what is wrong.
+
+    The CLI prints ``eigenupdate: error: <message>`` and exits with status 2.
+    """
+
+
+class NumericalError(_Located, ArithmeticError):
+    """Valid input whose numbers cannot be computed reliably (base class)."""
+
+
+class SingularMatrixError(NumericalError):
+    """A matrix that must be factorised is exactly singular."""
+
+
+class RepeatedEigenvalueError(NumericalError):
+    """A mode used for updating has a repeated eigenvalue (e.g. a symmetric structure):
+    its derivative is not defined."""
+
+
+class NotConvergedError(NumericalError):
+    """An iterative solver stopped before it converged (CLI exit status 1)."""
+
+    exit_status = 1
+
+
+class EigenupdateWarning(UserWarning):
+    """Soft trouble: a result was computed but deserves a look (e.g. two estimates of a
+    natural frequency disagree)."""

@@ -13,6 +13,10 @@ Gauss-Newton step, in parameters normalised by their initial values:
   stacked least-squares problem rather than through the normal equations, which would
   square the condition number (paper Section 3).
 
+The weights come from :mod:`eigenupdate.identify.weights`; the rank check before the
+first step and the posterior covariance after the last come from the same SVD as
+``eigenupdate check`` (:func:`eigenupdate.identify.identifiability.identifiability`).
+
 A step that would make a parameter non-physical is replaced by the bounded
 least-squares step (parameters stay above 1e-3 of their initial value, or >= 0 when
 that is 0); a step that raises the objective is halved until it lowers it. The history
@@ -24,56 +28,142 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from enum import Enum
 
 import numpy as np
 from scipy.optimize import lsq_linear
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.measurements import Measurement, eigenvalue_std, select, to_eigenvalue
+from eigenupdate.identify.identifiability import IdentifiabilityReport, identifiability
+from eigenupdate.identify.weights import estimator_weights
+from eigenupdate.io.measurements import Measurement, select, to_eigenvalue
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.jacobian import Linearisation, linearise
 
-METHODS = ("least-squares", "weighted-least-squares", "bayesian")
 MAX_HALVINGS = 30
 FLOOR = 1e-3
 """A parameter with a positive initial value may not fall below FLOOR times it."""
 
+STATUS_MESSAGES = {
+    0: "iteration limit reached",
+    1: "converged: the largest normalised step is below xtol",
+    2: "converged: the predicted relative objective decrease is below ftol",
+    3: "stopped: no step along the Gauss-Newton direction lowers the objective",
+}
+"""Meaning of :attr:`UpdateResult.status` (``success`` for 1 and 2)."""
 
-@dataclass
+
+class Step(Enum):
+    """How an iterate was reached; the value is the note the history prints."""
+
+    INITIAL = "initial"
+    FULL = "full step"
+    BOUNDED = "step bounded: a parameter would become non-physical"
+    HALVED = "step halved: objective rose"
+    FAILED = "line search failed"
+
+
+@dataclass(frozen=True)
+class Iterate:
+    """One entry of the history: the model after ``iteration`` iterations.
+
+    ``parameters`` holds every parameter (updated and fixed) by name; ``objective`` is
+    the weighted sum of squares (plus the prior term); ``step`` the fraction of the
+    Gauss-Newton step taken; ``kind`` how it was taken.
+    """
+
+    iteration: int
+    parameters: dict[str, float]
+    objective: float
+    step: float
+    kind: Step
+
+    def to_dict(self) -> dict:
+        return {"iteration": self.iteration, "parameters": self.parameters,
+                "objective": self.objective, "step": self.step, "note": self.kind.value}
+
+
+@dataclass(frozen=True)
 class UpdateResult:
-    """Outcome of :func:`update`, read like SciPy's ``OptimizeResult``.
+    """Outcome of :func:`update`, in the shape of SciPy's ``OptimizeResult``.
 
     Attributes
     ----------
-    method, converged, message, nit : as their names say; ``nit`` counts iterations.
+    x : final physical values of the updated parameters, in the order of ``names``.
+    names : names of the updated parameters.
+    success : True if the iteration converged; ``converged`` is the same.
+    status : integer code, see :data:`STATUS_MESSAGES`.
+    message : what happened, with the numbers of the convergence test.
+    nit : iterations taken; ``nfev``: model linearisations (eigen-solutions + J).
+    cost : half the final objective, as ``scipy.optimize.least_squares``.
+    jac : d lambda / d s at the solution, physical units (equations x updated parameters).
+    cov : posterior covariance of ``x`` (physical units), None where undefined.
+    std : posterior standard deviation of each updated parameter by name, None where
+        undefined (rank-deficient A; no residual degrees of freedom).
+    method : the estimator.
     parameters : final value of every parameter (updated and fixed), by name.
-    std : posterior standard deviation of each updated parameter, None where undefined
-        (rank-deficient J without a prior; no residual degrees of freedom).
-    history : one entry per iterate; ``history[0]`` is the initial model and
-        ``history[i]`` the model after iteration i. Each holds ``parameters``,
-        ``objective``, ``step`` (fraction of the Gauss-Newton step taken) and ``note``.
+    history : one :class:`Iterate` per iterate; ``history[0]`` is the initial model.
     rows : (configuration, mode) of each equation.
     measured_hz, initial_hz, updated_hz : frequencies of each row.
+    identifiability : the SVD report at the solution (what ``check`` computes there).
     model : the updated model.
     """
 
-    method: str
-    converged: bool
+    x: np.ndarray
+    names: list[str]
+    success: bool
+    status: int
     message: str
     nit: int
-    parameters: dict[str, float]
+    nfev: int
+    cost: float
+    jac: np.ndarray = field(repr=False)
+    cov: np.ndarray | None = field(repr=False)
     std: dict[str, float | None]
-    history: list[dict] = field(repr=False)
+    method: str
+    parameters: dict[str, float]
+    history: tuple[Iterate, ...] = field(repr=False)
     rows: list[tuple[str, int]] = field(repr=False)
     measured_hz: np.ndarray = field(repr=False)
     initial_hz: np.ndarray = field(repr=False)
     updated_hz: np.ndarray = field(repr=False)
+    identifiability: IdentifiabilityReport = field(repr=False)
     model: ParametricModel = field(repr=False)
 
     @property
-    def success(self) -> bool:
-        return self.converged
+    def converged(self) -> bool:
+        return self.success
+
+    def to_dict(self) -> dict:
+        """JSON-ready dictionary (``eigenupdate update --json`` and ``--save``)."""
+        return {
+            "method": self.method,
+            "converged": self.success,
+            "success": self.success,
+            "status": self.status,
+            "message": self.message,
+            "iterations": self.nit,
+            "nit": self.nit,
+            "nfev": self.nfev,
+            "cost": self.cost,
+            "names": self.names,
+            "x": self.x.tolist(),
+            "parameters": self.parameters,
+            "std": self.std,
+            "cov": None if self.cov is None else self.cov.tolist(),
+            "rank": self.identifiability.rank,
+            "condition_J": self.identifiability.condition_J,
+            "history": [h.parameters for h in self.history],
+            "steps": [{k: v for k, v in h.to_dict().items() if k in ("objective", "step", "note")}
+                      for h in self.history],
+            "frequencies": [
+                {"configuration": c, "mode": k, "measured_hz": float(m), "initial_hz": float(i),
+                 "updated_hz": float(u)}
+                for (c, k), m, i, u in zip(self.rows, self.measured_hz, self.initial_hz,
+                                           self.updated_hz, strict=True)
+            ],
+        }
 
 
 def update(
@@ -96,7 +186,7 @@ def update(
     configurations : the bare structure and the perturbed ones.
     modes : elastic mode numbers used in every configuration.
     measurements : {(configuration name, mode): Measurement}; frequencies in Hz.
-    method : one of ``METHODS``.
+    method : one of :data:`eigenupdate.identify.weights.ESTIMATORS`.
     max_iterations : iteration limit.
     xtol : converged when the largest change of a normalised parameter s_j / s_j0 that
         the next step would make is below ``xtol``,
@@ -104,34 +194,22 @@ def update(
         the objective (with noisy data the iteration stalls at round-off otherwise).
     source : file name for error messages.
     """
-    if method not in METHODS:
-        raise InputError(
-            f"unknown method {method!r}; expected one of {', '.join(METHODS)}",
-            field="updating.method",
-        )
     if max_iterations < 1:
         raise InputError("max_iterations must be >= 1", field="updating.max_iterations")
-    weighted = method != "least-squares"
     upd = model.updated
     if upd.size == 0:
         raise InputError("no parameter is updated (every parameter has update = false)",
                          field="model")
-    names = [model.names[j] for j in upd]
     rows = [(c.name, k) for c in configurations for k in sorted(set(modes))]
-    f_meas, f_std = select(measurements, rows, weighted, source)
+    weights = estimator_weights(model, method, rows, measurements, source)
+    f_meas, _ = select(measurements, rows, False, source)
     lam_meas = to_eigenvalue(f_meas)
-    w = 1.0 / eigenvalue_std(f_meas, f_std) if weighted else np.ones_like(lam_meas)
+    w = np.ones_like(lam_meas) if weights.rows is None else weights.rows
 
     scale = np.array([model.parameters[j].scale for j in upd])
     z0 = model.values[upd] / scale
-    prior = np.zeros_like(z0)  # sqrt of W_s in normalised parameters
-    if method == "bayesian":
-        stds = [model.parameters[j].std for j in upd]
-        prior = np.array([0.0 if s is None else sc / s for s, sc in zip(stds, scale, strict=True)])
-        if not prior.any():
-            raise InputError(
-                "the bayesian method needs a std for at least one updated parameter", field="model"
-            )
+    prior = np.zeros_like(z0) if weights.prior is None else weights.prior  # sqrt W_s
+    nfev = 0
 
     def full(z: np.ndarray) -> np.ndarray:
         s = model.values.copy()
@@ -139,113 +217,115 @@ def update(
         return s
 
     def evaluate(z: np.ndarray) -> tuple[Linearisation, float]:
+        nonlocal nfev
+        nfev += 1
         lin = linearise(model, configurations, modes, full(z))
         r = w * (lam_meas - lin.eigenvalues)
         a = prior * (z - z0)
         return lin, float(r @ r + a @ a)
 
-    def snapshot(z, obj, step, note) -> dict:
-        return {
-            "parameters": dict(zip(model.names, full(z).tolist(), strict=True)),
-            "objective": obj,
-            "step": step,
-            "note": note,
-        }
+    def iterate(i, z, obj, step, kind) -> Iterate:
+        return Iterate(i, dict(zip(model.names, full(z).tolist(), strict=True)), obj, step, kind)
+
+    def report(lin: Linearisation) -> IdentifiabilityReport:
+        return identifiability(lin.normalised, lin.names, weights.rows, weights.prior)
 
     lower = FLOOR * z0  # 0 for parameters whose initial value is 0
     z = z0.copy()
     lin, obj = evaluate(z)
     lin0 = lin
-    rank = np.linalg.matrix_rank(np.vstack([w[:, None] * lin.normalised, np.diag(prior)]))
-    if rank < z.size:
+    plan = report(lin)
+    if not plan.identifiable:
         # the minimum-norm step would leave the undetermined combinations at their initial
         # values and call that converged: a silently wrong answer
         raise InputError(
-            f"the test plan does not determine the parameters: rank {rank} of J for "
+            f"the test plan does not determine the parameters: rank {plan.rank} of J for "
             f"{z.size} updated parameters (see 'eigenupdate check'); add perturbations or "
             f"modes, hold parameters fixed, or give priors and use the bayesian method",
             field="perturbation / measurement.modes",
         )
-    history = [snapshot(z, obj, 0.0, "initial")]
-    converged, message = False, f"iteration limit ({max_iterations}) reached"
+    history = [iterate(0, z, obj, 0.0, Step.INITIAL)]
+    status, message = 0, f"iteration limit ({max_iterations}) reached"
     for it in range(1, max_iterations + 1):
         A = np.vstack([w[:, None] * lin.normalised, np.diag(prior)])
         b = np.concatenate([w * (lam_meas - lin.eigenvalues), prior * (z0 - z)])
-        dz, note = _step(A, b, z, lower)
+        dz, kind = _step(A, b, z, lower)
         predicted = obj - float(np.sum((A @ dz - b) ** 2))  # decrease the linear model expects
-        if np.max(np.abs(dz)) < xtol or predicted <= ftol * obj:
-            converged = True
+        largest = float(np.max(np.abs(dz)))
+        if largest < xtol or predicted <= ftol * obj:
+            status = 1 if largest < xtol else 2
             message = (
-                f"converged: largest normalised step {np.max(np.abs(dz)):.1e}, "
+                f"converged: largest normalised step {largest:.1e}, "
                 f"predicted objective decrease {predicted / obj if obj else 0:.1e} relative"
             )
             break
         alpha = 1.0
-        while True:
-            try:
-                trial, trial_obj = evaluate(z + alpha * dz)
-            except InputError:  # e.g. the trial model has lost a mode
-                trial, trial_obj = None, np.inf
-            if trial_obj < obj:
-                break
+        trial, trial_obj = evaluate(z + alpha * dz)
+        while not trial_obj < obj and alpha > 0.5**MAX_HALVINGS:  # NaN is not lower
             alpha *= 0.5
-            note = "step halved: objective rose"
-            if alpha < 0.5**MAX_HALVINGS:
-                trial = None
-                break
-        if trial is None:
+            kind = Step.HALVED
+            trial, trial_obj = evaluate(z + alpha * dz)
+        if not trial_obj < obj:
+            status = 3
             message = (
                 f"iteration {it}: no step along the Gauss-Newton direction lowers the objective"
             )
-            history.append(snapshot(z, obj, 0.0, "line search failed"))
+            history.append(iterate(it, z, obj, 0.0, Step.FAILED))
             break
         z, lin, obj = z + alpha * dz, trial, trial_obj
-        history.append(snapshot(z, obj, alpha, note))
+        history.append(iterate(it, z, obj, alpha, kind))
     nit = len(history) - 1
 
-    lin_final = lin  # always the linearisation at the current z
-    std = _posterior_std(lin_final, w, prior, lam_meas, method) * scale
-    updated = model.with_values(full(z))
+    final = report(lin)  # lin is always the linearisation at the current z
+    cov = _posterior_cov(final, lin, w, lam_meas, method)
+    cov = None if cov is None else cov * np.outer(scale, scale)
+    std = np.full(upd.size, np.nan) if cov is None else np.sqrt(np.maximum(np.diag(cov), 0.0))
+    names = [model.names[j] for j in upd]
     return UpdateResult(
-        method=method,
-        converged=converged,
+        x=full(z)[upd],
+        names=names,
+        success=status in (1, 2),
+        status=status,
         message=message,
         nit=nit,
+        nfev=nfev,
+        cost=0.5 * obj,
+        jac=lin.J.copy(),
+        cov=cov,
+        std={n: (None if not np.isfinite(s) else float(s)) for n, s in zip(names, std,
+                                                                            strict=True)},
+        method=method,
         parameters=dict(zip(model.names, full(z).tolist(), strict=True)),
-        std={
-            n: (None if not np.isfinite(s) else float(s)) for n, s in zip(names, std, strict=True)
-        },
-        history=history,
+        history=tuple(history),
         rows=rows,
         measured_hz=f_meas,
         initial_hz=np.sqrt(lin0.eigenvalues) / (2 * np.pi),
-        updated_hz=np.sqrt(np.maximum(lin_final.eigenvalues, 0)) / (2 * np.pi),
-        model=updated,
+        updated_hz=np.sqrt(np.maximum(lin.eigenvalues, 0)) / (2 * np.pi),
+        identifiability=final,
+        model=model.with_values(full(z)),
     )
 
 
-def _step(A, b, z, lower) -> tuple[np.ndarray, str]:
+def _step(A, b, z, lower) -> tuple[np.ndarray, Step]:
     """Gauss-Newton step; if it would make a parameter non-physical, the bounded
     least-squares step instead (z + dz >= lower), so the direction stays a descent one."""
     dz = np.linalg.lstsq(A, b, rcond=None)[0]
     if np.all(z + dz >= lower):
-        return dz, "full step"
+        return dz, Step.FULL
     dz = lsq_linear(A, b, bounds=(lower - z, np.inf), method="bvls").x
-    return dz, "step bounded: a parameter would become non-physical"
+    return dz, Step.BOUNDED
 
 
-def _posterior_std(lin, w, prior, lam_meas, method) -> np.ndarray:
-    """Posterior std of the normalised parameters (NaN where undefined)."""
-    A = w[:, None] * lin.normalised
-    H = A.T @ A + np.diag(prior**2)
-    p = H.shape[0]
-    if np.linalg.matrix_rank(H) < p:
-        return np.full(p, np.nan)
-    cov = np.linalg.inv(H)
-    if method == "least-squares":
-        dof = A.shape[0] - p
-        if dof <= 0:
-            return np.full(p, np.nan)
-        r = lam_meas - lin.eigenvalues
-        cov = cov * float(r @ r) / dof
-    return np.sqrt(np.maximum(np.diag(cov), 0.0))
+def _posterior_cov(report: IdentifiabilityReport, lin: Linearisation, w: np.ndarray,
+                   lam_meas: np.ndarray, method: str) -> np.ndarray | None:
+    """Posterior covariance of the normalised parameters from the report's SVD; for plain
+    least squares scaled by the residual variance (None where undefined)."""
+    if report.cov is None:
+        return None
+    if method != "least-squares":
+        return report.cov
+    dof = lin.J.shape[0] - lin.J.shape[1]
+    if dof <= 0:
+        return None
+    r = lam_meas - lin.eigenvalues
+    return report.cov * float(r @ r) / dof

@@ -11,6 +11,7 @@ import scipy.io
 import scipy.sparse as sp
 
 from eigenupdate.errors import InputError
+from eigenupdate.model.matrices import matrix_model
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
 
@@ -43,23 +44,23 @@ def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
     return a
 
 
-def matrix_model(
+def read_matrix_model(
     k0: str | Path,
     m0: str | Path,
     parameters: Sequence[tuple[Parameter, str | Path | None, str | Path | None]],
 ) -> ParametricModel:
-    """Model K = K0 + sum s_j K_j, M = M0 + sum s_j M_j from files.
+    """Model K = K0 + sum s_j K_j, M = M0 + sum s_j M_j from Matrix Market files.
 
-    ``parameters`` holds (parameter, K_j file or None, M_j file or None); at least one file each.
+    ``parameters`` holds (parameter, K_j file or None, M_j file or None); at least one file
+    each. The model is built by :func:`eigenupdate.model.matrices.matrix_model`.
     """
     K0 = read_matrix(k0)
     n = K0.shape[0]
     M0 = read_matrix(m0, n)
-    params, kt, mt = [], [], []
+    terms = []
     for p, kf, mf in parameters:
         if kf is None and mf is None:
             raise InputError("needs a K and/or an M file", field=f"parameter {p.name}")
-        params.append(p)
-        kt.append(None if kf is None else read_matrix(kf, n))
-        mt.append(None if mf is None else read_matrix(mf, n))
-    return ParametricModel(K0, M0, tuple(params), tuple(kt), tuple(mt))
+        terms.append((p, None if kf is None else read_matrix(kf, n),
+                      None if mf is None else read_matrix(mf, n)))
+    return matrix_model(K0, M0, terms)

@@ -16,6 +16,7 @@ from typing import Any
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.measurements import read_measurements
+from eigenupdate.io.results import read_updated_values
 from eigenupdate.model.parametric import ParametricModel
 
 PathLike = str | Path
@@ -58,21 +59,9 @@ def read_result(path: PathLike, model: ParametricModel) -> dict[str, Any]:
                              field=key)
         return doc[key]
 
-    values = need("parameters", dict)
+    need("parameters", dict)
+    values = read_updated_values(path, model)
     names = list(model.names)
-    unknown = sorted(set(values) - set(names))
-    if unknown:
-        raise InputError(f"{unknown} are not parameters of the study's model (a result of "
-                         "another study?)", source=src, field="parameters")
-    missing = [n for n in names if n not in values]
-    if missing:
-        raise InputError(f"no value for {missing} (a result of another study?)", source=src,
-                         field="parameters")
-    for p in model.parameters:
-        v = values[p.name]
-        if not _is_number(v) or v < 0 or (v == 0 and p.value > 0):
-            raise InputError(f"{v!r} is not a physical value (initial {p.value:g})",
-                             source=src, field=f"parameters.{p.name}")
     std = need("std", dict)
     for k, v in std.items():
         if k not in values or not (v is None or _is_number(v) and v >= 0):

@@ -13,9 +13,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from eigenupdate.design.spec import CRITERIA, DesignSpec
 from eigenupdate.errors import InputError
-from eigenupdate.identify.updating import METHODS
-from eigenupdate.io.matrix_market import matrix_model
+from eigenupdate.identify.weights import ESTIMATORS
+from eigenupdate.io.matrix_market import read_matrix_model
 from eigenupdate.io.measurements import Measurement, read_measurements
 from eigenupdate.model.beam import beam_model, element_parameter_names
 from eigenupdate.model.configurations import BASE, Addition, Configuration
@@ -41,7 +42,20 @@ class Study:
     max_iterations: int = 20
     tolerance: float = 1e-8
     frf: dict[str, list[Path]] = field(default_factory=dict)
-    frf_options: dict[str, Any] = field(default_factory=dict)
+    bands_hz: dict[str, list[list[float]]] = field(default_factory=dict)
+    """[measurement.frf_options] bands_hz by configuration (validated; empty: automatic)."""
+    exclude_below_hz: float | None = None
+
+    def configuration(self, name: str | None = None) -> Configuration:
+        """The configuration called ``name``; the bare structure if None."""
+        if name is None:
+            return self.configurations[0]
+        for c in self.configurations:
+            if c.name == name:
+                return c
+        raise InputError(f"no configuration {name!r} (have "
+                         f"{[c.name for c in self.configurations]})", source=str(self.path))
+    design: DesignSpec | None = None
 
     def measurements(self) -> dict[tuple[str, int], Measurement]:
         """Read the measurement CSV; configuration names must be those of the study."""
@@ -190,8 +204,8 @@ def load_study(path: str | Path) -> Study:
 
     up = _Reader(top.get("updating", "table", {}), "updating", src)
     method = up.get("method", "str", "least-squares")
-    if method not in METHODS:
-        raise up.error("method", f"unknown method {method!r}; expected one of {list(METHODS)}")
+    if method not in ESTIMATORS:
+        raise up.error("method", f"unknown method {method!r}; expected one of {list(ESTIMATORS)}")
     max_it = up.get("max_iterations", "int", 20)
     if max_it < 1:
         raise up.error("max_iterations", "must be >= 1")
@@ -199,6 +213,9 @@ def load_study(path: str | Path) -> Study:
     if not 0 < tol <= 1e-2:  # the largest relative parameter change still called converged
         raise up.error("tolerance", f"{tol!r} must be > 0 and <= 0.01 (a relative step)")
     up.finish()
+    design = None
+    if "design" in top.data:
+        design = _design(_Reader(top.get("design", "table"), "design", src), model, mtype, modes)
     top.finish()
     return Study(
         path=path,
@@ -212,8 +229,42 @@ def load_study(path: str | Path) -> Study:
         max_iterations=max_it,
         tolerance=tol,
         frf=frf,
-        frf_options=frf_options,
+        **_frf_settings(frf_options, names, src),
+        design=design,
     )
+
+
+def _frf_settings(options: dict, names: list[str], src: str) -> dict[str, Any]:
+    """[measurement.frf_options]: bands_hz (list, or table by configuration), exclude_below_hz."""
+    opts = dict(options)
+    field_ = "measurement.frf_options"
+    bands = opts.pop("bands_hz", None)
+    low = opts.pop("exclude_below_hz", None)
+    if opts:
+        raise InputError(f"unknown key(s) {sorted(opts)}", source=src, field=field_)
+    if bands is None:
+        table = {}
+    elif isinstance(bands, list):
+        table = {n: bands for n in names}
+    elif isinstance(bands, dict):
+        unknown = set(bands) - set(names)
+        if unknown:
+            raise InputError(f"unknown configuration(s) {sorted(unknown)}", source=src,
+                             field=f"{field_}.bands_hz")
+        table = bands
+    else:
+        raise InputError("must be a list of [low, high] pairs or a table of them", source=src,
+                         field=f"{field_}.bands_hz")
+    for name, b in table.items():
+        ok = isinstance(b, list) and all(
+            isinstance(x, list) and len(x) == 2 and all(isinstance(v, int | float) for v in x)
+            and 0 <= x[0] < x[1] for x in b)
+        if not ok:
+            raise InputError(f"{name!r}: bands must be [low, high] pairs in Hz, 0 <= low < high",
+                             source=src, field=f"{field_}.bands_hz")
+    if low is not None and not (isinstance(low, int | float) and low >= 0):
+        raise InputError("must be a number >= 0", source=src, field=f"{field_}.exclude_below_hz")
+    return {"bands_hz": table, "exclude_below_hz": low}
 
 
 def _parameter(r: _Reader, seen: dict[str, str], default_value: Any = ...) -> Parameter:
@@ -312,7 +363,7 @@ def _matrices(m: _Reader, base: Path) -> ParametricModel:
             raise r.error("K", "a parameter needs a K and/or an M file")
         r.finish()
         params.append((p, None if kf is None else base / kf, None if mf is None else base / mf))
-    return matrix_model(k0, m0, params)
+    return read_matrix_model(k0, m0, params)
 
 
 def _perturbation(r: _Reader) -> Configuration:
@@ -369,3 +420,93 @@ def _frf_files(table: dict, names: list[str], base: Path, src: str) -> dict[str,
             )
         out[key] = [base / f for f in files]
     return out
+
+
+def _design(r: _Reader, model: ParametricModel, model_type: str,
+            study_modes: list[int]) -> DesignSpec:
+    """The [design] table of ``eigenupdate design`` (see :class:`DesignSpec`)."""
+    coords = r.data.get("coordinates")
+    if coords == "translational":
+        r.used.add("coordinates")
+        if model_type == "matrices":  # assembled matrices do not say which are rotations
+            raise r.error("coordinates", "'translational' needs a model that says which "
+                                         "coordinates are rotations; list the coordinates")
+        coords = [c.number for c in model.coordinate_table.coordinates if not c.rotation]
+    else:
+        coords = r.get("coordinates", "list")
+        if not coords or not all(isinstance(c, int) and not isinstance(c, bool) for c in coords):
+            raise r.error("coordinates", f"must be a list of coordinates or 'translational', "
+                                         f"got {coords!r}")
+        if len(set(coords)) != len(coords):
+            raise r.error("coordinates", f"repeated coordinate in {coords}")
+        for c in coords:
+            try:
+                model.index(c)
+            except InputError as exc:
+                raise r.error("coordinates", str(exc)) from None
+
+    def positive_list(key: str, default: Any = ...) -> tuple[float, ...]:
+        v = r.floats(key, default)
+        v = [] if v is None else (v if isinstance(v, list) else [v])
+        if any(x <= 0 or not math.isfinite(x) for x in v):
+            raise r.error(key, f"must be finite numbers > 0, got {v}")
+        return tuple(v)
+
+    masses = positive_list("masses", None)
+    springs = positive_list("stiffnesses", None)
+    if not masses and not springs:
+        raise r.error("masses", "is required (or stiffnesses = [...], N/m)")
+    n_conf = r.get("configurations", "int")
+    additions = r.get("additions", "int", 1)
+    if n_conf < 1 or additions < 1:
+        raise r.error("configurations", "configurations and additions must be >= 1")
+    modes = r.get("modes", "list", None)
+    fmax = r.get("max_frequency_hz", "float", None)
+    if modes is not None and fmax is not None:
+        raise r.error("modes", "give modes or max_frequency_hz, not both")
+    if modes is None and fmax is None:
+        modes = study_modes
+        if not modes:
+            raise r.error("modes", "is required (or max_frequency_hz, or measurement.modes)")
+    if modes is not None:
+        if not modes or any(isinstance(k, bool) or not isinstance(k, int) or k < 1 for k in modes):
+            raise r.error("modes", f"must be elastic mode numbers >= 1, got {modes}")
+        if len(set(modes)) != len(modes):
+            raise r.error("modes", f"repeated mode number in {modes}")
+        modes = tuple(sorted(modes))
+    elif fmax <= 0:
+        raise r.error("max_frequency_hz", f"must be > 0, got {fmax}")
+    std_hz = positive_list("frequency_std_hz", None) or None
+    rel = r.get("frequency_std_relative", "float", None)
+    if (std_hz is None) == (rel is None):
+        raise r.error("frequency_std_hz", "give frequency_std_hz (Hz, one value or one per mode) "
+                                          "or frequency_std_relative, exactly one")
+    if rel is not None and not 0 < rel < 1:
+        raise r.error("frequency_std_relative", f"must be between 0 and 1, got {rel}")
+    if std_hz is not None and len(std_hz) > 1 and (modes is None or len(std_hz) != len(modes)):
+        raise r.error("frequency_std_hz", f"{len(std_hz)} values: give one, or one per mode of "
+                                          f"design.modes")
+    criterion = r.data.get("criterion", "A")
+    r.used.add("criterion")
+    if isinstance(criterion, list):
+        updated = [model.names[j] for j in model.updated]
+        bad = [c for c in criterion if c not in updated]
+        if not criterion or bad:
+            raise r.error("criterion", f"unknown or fixed parameter(s) {bad}; updated "
+                                       f"parameters are {updated}")
+        criterion = tuple(criterion)
+    elif criterion not in CRITERIA:
+        raise r.error("criterion", f"must be one of {list(CRITERIA)} or a list of parameter "
+                                   f"names, got {criterion!r}")
+    shift = r.get("min_shift_in_std", "float", 3.0)
+    gap = r.get("min_relative_gap", "float", 0.02)
+    limit = r.get("max_added_mass", "float", None)
+    if shift < 0 or not 0 <= gap < 1 or (limit is not None and limit <= 0):
+        raise r.error("min_shift_in_std", "min_shift_in_std >= 0, 0 <= min_relative_gap < 1 and "
+                                          "max_added_mass > 0 are required")
+    r.finish()
+    return DesignSpec(
+        coordinates=tuple(coords), masses=masses, stiffnesses=springs, configurations=n_conf,
+        additions=additions, modes=modes, max_frequency_hz=fmax, frequency_std_hz=std_hz,
+        frequency_std_relative=rel, criterion=criterion, min_shift_in_std=shift,
+        min_relative_gap=gap, max_added_mass=limit)

@@ -899,9 +899,9 @@ def read_modes(path: PathLike) -> list[Mode]:
 
 
 def read_frf_files(paths: Sequence[PathLike]) -> list[FRF]:
-    """FRFs of several files: ``.csv`` files by :func:`eigenupdate.measure.frf.read_frf_csv`
+    """FRFs of several files: ``.csv`` files by :func:`eigenupdate.io.frf_csv.read_frf_csv`
     (one receptance each), anything else as a universal file (:func:`read_frfs`)."""
-    from eigenupdate.measure.frf import read_frf_csv
+    from eigenupdate.io.frf_csv import read_frf_csv
 
     out: list[FRF] = []
     for p in paths:

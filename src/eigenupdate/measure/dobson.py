@@ -70,6 +70,7 @@ from eigenupdate.errors import InputError
 from eigenupdate.measure.modal_fit import (
     MIN_BAND_POINTS,
     ModalFit,
+    NoResonance,
     mode_receptance,
     select_band,
     validate_frf,
@@ -94,7 +95,7 @@ class _Estimate:
 
 
 def dobson_fit(
-    freq_hz: np.ndarray,
+    frequency_hz: np.ndarray,
     receptance: np.ndarray,
     band_hz: tuple[float, float],
     *,
@@ -105,10 +106,10 @@ def dobson_fit(
 
     Parameters
     ----------
-    freq_hz : ndarray
+    frequency_hz : ndarray
         Frequency axis in Hz, strictly increasing.
     receptance : ndarray
-        Complex receptance in m/N at ``freq_hz``.
+        Complex receptance in m/N at ``frequency_hz``.
     band_hz : tuple of float
         ``(low, high)`` band in Hz holding one resonance peak.
     min_fraction : float, optional
@@ -145,10 +146,22 @@ def dobson_fit(
     if not 0.0 < min_fraction < 1.0:
         raise InputError(f"min_fraction must lie in (0, 1), got {min_fraction}",
                          source=source, field="min_fraction")
-    f_band, a_band = select_band(freq_hz, receptance, band_hz, source)
+    fit = _fit_band(frequency_hz, receptance, band_hz, min_fraction, source)
+    if isinstance(fit, NoResonance):
+        raise InputError(fit.message, source=source, field="band_hz")
+    return fit
+
+
+def _fit_band(frequency_hz, receptance, band_hz, min_fraction: float,
+              source: str | None) -> ModalFit | NoResonance:
+    """:func:`dobson_fit`, returning a status where the band holds no usable resonance."""
+    f_band, a_band = select_band(frequency_hz, receptance, band_hz, source)
     band = (float(band_hz[0]), float(band_hz[1]))
     rec = np.asarray(receptance, dtype=complex)
-    _check_peak(a_band, estimate_noise_std(rec[np.isfinite(rec)]), band, source)
+    if not _has_peak(a_band, estimate_noise_std(rec[np.isfinite(rec)])):
+        return NoResonance(band, f"band ({band[0]:g}, {band[1]:g}) Hz has no resonance peak "
+                                 "inside it (|receptance| does not rise clearly above its "
+                                 "values at the band edges)")
     x = (2.0 * np.pi * f_band) ** 2
 
     # First pass on the points around the measured peak, second pass on the points
@@ -158,18 +171,19 @@ def dobson_fit(
     est, x_c, x_h = _fit_points(x[used], a_band[used])
     used = _model_points(x, est, x_c, x_h, min_fraction)
     est, x_c, x_h = _fit_points(x[used], a_band[used])
-    return _to_modal_fit(est, x[used], a_band[used], x_c, x_h, band, source)
+    return _to_modal_fit(est, x[used], a_band[used], x_c, x_h, band)
 
 
 def dobson_fit_modes(
-    freq_hz: np.ndarray,
+    frequency_hz: np.ndarray,
     receptance: np.ndarray,
     bands_hz: Sequence[tuple[float, float]],
     *,
     min_fraction: float = 0.2,
     max_iterations: int = 50,
     source: str | None = None,
-) -> list[ModalFit]:
+    skip_missing: bool = False,
+) -> list[ModalFit] | list[ModalFit | None]:
     """Fit one mode per band with :func:`dobson_fit`, correcting for the other modes.
 
     After a first fit of every band, the fitted contributions of all *other* modes are
@@ -181,7 +195,7 @@ def dobson_fit_modes(
 
     Parameters
     ----------
-    freq_hz, receptance : ndarray
+    frequency_hz, receptance : ndarray
         Frequency axis (Hz, strictly increasing) and complex receptance (m/N).
     bands_hz : sequence of (float, float)
         One band per mode, e.g. from :func:`eigenupdate.measure.peaks.propose_bands`.
@@ -191,10 +205,14 @@ def dobson_fit_modes(
         Most subtract-and-refit passes (0 fits every band on the raw data).
     source : str, optional
         Name of the data source, used in error messages.
+    skip_missing : bool, optional
+        For an FRF that need not show every mode (a response point near a node): None
+        for a band without a usable resonance instead of an InputError. The neighbouring
+        modes are then subtracted only when every band fits.
 
     Returns
     -------
-    list of ModalFit
+    list of ModalFit (or None with ``skip_missing``)
         One fit per band, in the order of ``bands_hz``.
 
     Examples
@@ -207,25 +225,53 @@ def dobson_fit_modes(
     >>> fits = dobson_fit_modes(f, alpha, [(95.0, 102.5), (102.5, 110.0)])
     >>> print([f"{fit.frequency_hz:.4f}" for fit in fits])
     ['100.0000', '105.0000']
+
+    A band without a resonance, skipped:
+
+    >>> fits = dobson_fit_modes(f, alpha, [(95.0, 102.5), (150.0, 160.0)], skip_missing=True)
+    >>> print(f"{fits[0].frequency_hz:.1f}", fits[1])
+    100.0 None
     """
+    fits, failed = _fit_all(frequency_hz, receptance, bands_hz, min_fraction, max_iterations,
+                            source)
+    if skip_missing:
+        return [fit if isinstance(fit, ModalFit) else None for fit in fits]
+    if failed is not None:
+        raise InputError(failed.message, source=source, field="band_hz")
+    return fits
+
+
+def _fit_all(frequency_hz, receptance, bands_hz, min_fraction: float, max_iterations: int,
+             source: str | None) -> tuple[list, NoResonance | None]:
+    """Subtract-and-refit; on the first band without a resonance, the first-pass fits
+    (band by band on the raw data) and that band's status."""
     if max_iterations < 0:
         raise InputError(f"max_iterations must be >= 0, got {max_iterations}",
                          source=source, field="max_iterations")
-    freq, rec = validate_frf(freq_hz, receptance, source)
-    fits = [dobson_fit(freq, rec, band, min_fraction=min_fraction, source=source)
-            for band in bands_hz]
+    freq, rec = validate_frf(frequency_hz, receptance, source)
+    first = [_fit_band(freq, rec, band, min_fraction, source) for band in bands_hz]
+    failed = _first_failure(first)
+    if failed is not None:
+        return first, failed
+    fits = first
     x = (2.0 * np.pi * freq) ** 2
     for _ in range(max_iterations if len(fits) > 1 else 0):
         parts = [mode_receptance(fit, x) for fit in fits]
         total = np.sum(parts, axis=0)
-        new = [dobson_fit(freq, rec - (total - own), band, min_fraction=min_fraction,
-                          source=source)
+        new = [_fit_band(freq, rec - (total - own), band, min_fraction, source)
                for band, own in zip(bands_hz, parts, strict=True)]
+        failed = _first_failure(new)
+        if failed is not None:
+            return first, failed
         settled = all(_settled(old, fit) for old, fit in zip(fits, new, strict=True))
         fits = new
         if settled:
             break
-    return fits
+    return fits, None
+
+
+def _first_failure(fits: list) -> NoResonance | None:
+    return next((fit for fit in fits if isinstance(fit, NoResonance)), None)
 
 
 def _settled(old: ModalFit, new: ModalFit) -> bool:
@@ -236,20 +282,14 @@ def _settled(old: ModalFit, new: ModalFit) -> bool:
             and de <= max(1e-3 * new.loss_factor_std, 1e-13 * abs(new.loss_factor)))
 
 
-def _check_peak(a_band: np.ndarray, noise: float, band: tuple[float, float],
-                source: str | None) -> None:
-    """Raise unless ``|alpha|`` has an interior maximum clearly above the band edges."""
+def _has_peak(a_band: np.ndarray, noise: float) -> bool:
+    """True if ``|alpha|`` has an interior maximum clearly above the band edges."""
     mag = np.abs(a_band)
     k = int(np.argmax(mag))
     edge = max(mag[0], mag[-1])
     rise = mag[k] - edge
-    if k in (0, mag.size - 1) or rise < max((_MIN_PEAK_TO_EDGE - 1.0) * edge,
-                                            MIN_PEAK_RISE_IN_STD * noise):
-        raise InputError(
-            f"band ({band[0]:g}, {band[1]:g}) Hz has no resonance peak inside it "
-            "(|receptance| does not rise clearly above its values at the band edges)",
-            source=source, field="band_hz",
-        )
+    return not (k in (0, mag.size - 1) or rise < max((_MIN_PEAK_TO_EDGE - 1.0) * edge,
+                                                    MIN_PEAK_RISE_IN_STD * noise))
 
 
 def _points_around(k: int, keep: np.ndarray) -> np.ndarray:
@@ -342,7 +382,7 @@ def _dobson(u: np.ndarray, alpha: np.ndarray, prior: _Estimate | None) -> _Estim
 
 
 def _to_modal_fit(est: _Estimate, x: np.ndarray, alpha: np.ndarray, x_c: float, x_h: float,
-                  band: tuple[float, float], source: str | None) -> ModalFit:
+                  band: tuple[float, float]) -> ModalFit | NoResonance:
     """Convert a scaled estimate to physical units and attach standard deviations."""
     u = (x - x_c) / x_h
     modal = est.amp / (est.pole - u)
@@ -357,11 +397,9 @@ def _to_modal_fit(est: _Estimate, x: np.ndarray, alpha: np.ndarray, x_c: float, 
     pole = x_c + x_h * est.pole
     wr2 = pole.real
     if wr2 <= 0.0:
-        raise InputError(
-            f"band ({band[0]:g}, {band[1]:g}) Hz: fit gave a non-positive natural "
-            "frequency squared; the band does not hold a usable resonance",
-            source=source, field="band_hz",
-        )
+        return NoResonance(band, f"band ({band[0]:g}, {band[1]:g}) Hz: fit gave a "
+                                 "non-positive natural frequency squared; the band does not "
+                                 "hold a usable resonance")
     wr = np.sqrt(wr2)
     eta = pole.imag / wr2
     freq_std = np.sqrt(pole_var) / (2.0 * wr) / (2.0 * np.pi)

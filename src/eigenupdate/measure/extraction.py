@@ -16,17 +16,22 @@ nodes, as for any modal test.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-from eigenupdate.errors import InputError
-from eigenupdate.measure.dobson import MIN_PEAK_RISE_IN_STD, dobson_fit, dobson_fit_modes
+from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.measure.dobson import MIN_PEAK_RISE_IN_STD, dobson_fit_modes
 from eigenupdate.measure.frf import FRF, check_same_axis
-from eigenupdate.measure.modal_fit import ModalFit, mode_receptance
+from eigenupdate.measure.modal_fit import ModalFit, NoResonance, mode_receptance
 from eigenupdate.measure.peaks import estimate_noise_std, propose_bands
-from eigenupdate.measure.rational_fraction import rational_fraction_fit
+from eigenupdate.measure.rational_fraction import rational_fraction_status
+
+DISAGREEMENT_WARNING = 4.0
+"""Dobson and rational-fraction frequencies further apart than this many combined std
+raise an :class:`~eigenupdate.errors.EigenupdateWarning`."""
 
 
 @dataclass(frozen=True)
@@ -93,10 +98,7 @@ def find_bands(
     found = []
     for x in frfs:
         f, h = _finite(x)
-        try:
-            found += propose_bands(f, h, exclude_below_hz=exclude_below_hz, source=source)
-        except InputError:
-            continue  # no peak at all in this FRF: the others may have them
+        found += propose_bands(f, h, exclude_below_hz=exclude_below_hz, source=source)
     found.sort(key=lambda b: b[0] + b[1])
     clusters: list[list[tuple[float, float]]] = []
     for b in found:
@@ -157,7 +159,8 @@ def extract_configuration(
             # band k is mode k: bands out of order or overlapping would mislabel modes
             raise InputError(f"bands {bands} must be ascending and must not overlap "
                              f"(band k holds elastic mode k)", field=f"{where} bands_hz")
-    per_frf = [_dobson(x, bands, where) for x in frfs]
+    per_frf = [dobson_fit_modes(*_finite(x), bands, source=x.source or where, skip_missing=True)
+               for x in frfs]
     checks = [_rational_fraction(x, bands) for x in frfs] if cross_check else []
     out = []
     for k in range(1, len(bands) + 1):
@@ -174,29 +177,18 @@ def extract_configuration(
         ck = [c[k - 1] for c in checks if c is not None and c[k - 1] is not None]
         cf, cs = combine([c.frequency_hz for c in ck], [c.frequency_std_hz for c in ck]) \
             if ck else (None, None)
-        out.append(ExtractedMode(configuration, k, f, s, eta, eta_s, bands[k - 1], fits, cf, cs))
+        mode = ExtractedMode(configuration, k, f, s, eta, eta_s, bands[k - 1], fits, cf, cs)
+        d = mode.disagreement
+        if d is not None and d > DISAGREEMENT_WARNING:
+            warnings.warn(f"{configuration} mode {k}: Dobson {f:.4f} Hz and rational fraction "
+                          f"{cf:.4f} Hz differ by {d:.1f} std", EigenupdateWarning, stacklevel=2)
+        out.append(mode)
     return out
 
 
 def _finite(frf: FRF) -> tuple[np.ndarray, np.ndarray]:
     ok = np.isfinite(frf.receptance) & (frf.frequency_hz > 0)
     return frf.frequency_hz[ok], frf.receptance[ok]
-
-
-def _dobson(frf: FRF, bands, where: str) -> list[ModalFit | None]:
-    """Dobson fits of every band; a band without a peak in this FRF gives None."""
-    f, h = _finite(frf)
-    try:
-        return dobson_fit_modes(f, h, bands, source=frf.source or where)
-    except InputError:
-        pass
-    fits: list[ModalFit | None] = []
-    for band in bands:  # fit band by band, skipping those this FRF cannot fit
-        try:
-            fits.append(dobson_fit(f, h, band, source=frf.source or where))
-        except InputError:
-            fits.append(None)
-    return fits
 
 
 def _rational_fraction(frf: FRF, bands) -> list[ModalFit | None] | None:
@@ -207,9 +199,8 @@ def _rational_fraction(frf: FRF, bands) -> list[ModalFit | None] | None:
     k and its resonance rises above the noise as Dobson's peaks must (else None).
     """
     f, h = _finite(frf)
-    try:
-        fits = rational_fraction_fit(f, h, (bands[0][0], bands[-1][1]), len(bands))
-    except InputError:
+    fits = rational_fraction_status(f, h, (bands[0][0], bands[-1][1]), len(bands))
+    if isinstance(fits, NoResonance):
         return None
     noise = estimate_noise_std(h)
     out: list[ModalFit | None] = []

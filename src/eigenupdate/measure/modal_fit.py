@@ -51,6 +51,19 @@ class ModalFit:
     method: str
 
 
+@dataclass(frozen=True)
+class NoResonance:
+    """Status of a fit that found no usable resonance in a band (not an error: an FRF
+    whose response point is near a node of the mode shows none). ``message`` says why.
+
+    >>> NoResonance((90.0, 110.0), "band (90, 110) Hz has no resonance peak").band_hz
+    (90.0, 110.0)
+    """
+
+    band_hz: tuple[float, float]
+    message: str
+
+
 def mode_receptance(fit, x: np.ndarray | float) -> np.ndarray | complex:
     """Receptance of one fitted mode alone at ``x = w**2`` (rad/s)**2.
 
@@ -68,18 +81,18 @@ def mode_receptance(fit, x: np.ndarray | float) -> np.ndarray | complex:
 
 
 def validate_frf(
-    freq_hz: np.ndarray, receptance: np.ndarray, source: str | None = None
+    frequency_hz: np.ndarray, receptance: np.ndarray, source: str | None = None
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Return ``freq_hz`` as float and ``receptance`` as complex 1-D arrays, or raise.
+    """Return ``frequency_hz`` as float and ``receptance`` as complex 1-D arrays, or raise.
 
     Raises :class:`~eigenupdate.errors.InputError` if the arrays are not 1-D, differ
     in length, or the frequency axis is not finite and strictly increasing.
     """
-    freq = np.asarray(freq_hz, dtype=float)
+    freq = np.asarray(frequency_hz, dtype=float)
     rec = np.asarray(receptance, dtype=complex)
     if freq.ndim != 1 or rec.ndim != 1:
         raise InputError("frequency axis and receptance must be 1-D arrays", source=source,
-                         field="freq_hz")
+                         field="frequency_hz")
     if freq.size != rec.size:
         raise InputError(
             f"frequency axis has {freq.size} points but receptance has {rec.size}",
@@ -87,15 +100,15 @@ def validate_frf(
         )
     if freq.size < 2 or not np.all(np.isfinite(freq)):
         raise InputError("frequency axis needs at least 2 finite values", source=source,
-                         field="freq_hz")
+                         field="frequency_hz")
     if not np.all(np.diff(freq) > 0):
         raise InputError("frequency axis is not strictly increasing", source=source,
-                         field="freq_hz")
+                         field="frequency_hz")
     return freq, rec
 
 
 def select_band(
-    freq_hz: np.ndarray,
+    frequency_hz: np.ndarray,
     receptance: np.ndarray,
     band_hz: tuple[float, float],
     source: str | None = None,
@@ -106,7 +119,7 @@ def select_band(
     fewer than :data:`MIN_BAND_POINTS` points, a band reaching 0 Hz or below, or
     non-finite receptance values inside the band.
     """
-    freq, rec = validate_frf(freq_hz, receptance, source)
+    freq, rec = validate_frf(frequency_hz, receptance, source)
     try:
         lo, hi = (float(v) for v in band_hz)
     except (TypeError, ValueError) as exc:

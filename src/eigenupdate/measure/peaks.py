@@ -32,7 +32,7 @@ _MIN_PROMINENCE_IN_STD = 6.0
 
 
 def propose_bands(
-    freq_hz: np.ndarray,
+    frequency_hz: np.ndarray,
     receptance: np.ndarray,
     n_modes: int | None = None,
     min_prominence: float = 6.0,
@@ -50,7 +50,7 @@ def propose_bands(
 
     Parameters
     ----------
-    freq_hz : ndarray
+    frequency_hz : ndarray
         Frequency axis in Hz, strictly increasing.
     receptance : ndarray
         Complex receptance in m/N.
@@ -70,7 +70,7 @@ def propose_bands(
     Returns
     -------
     list of (float, float)
-        ``(low_hz, high_hz)`` band edges, at frequency points of ``freq_hz``.
+        ``(low_hz, high_hz)`` band edges, at frequency points of ``frequency_hz``.
 
     Raises
     ------
@@ -87,7 +87,7 @@ def propose_bands(
     >>> print(propose_bands(f, alpha))
     [(97.0, 103.0), (242.5, 257.5)]
     """
-    freq, rec = validate_frf(freq_hz, receptance, source)
+    freq, rec = validate_frf(frequency_hz, receptance, source)
     if n_modes is not None and n_modes < 1:
         raise InputError(f"n_modes must be >= 1, got {n_modes}", source=source,
                          field="n_modes")

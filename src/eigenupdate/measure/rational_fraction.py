@@ -21,10 +21,12 @@ variable ``u = (x - x_c) / x_h`` that maps the band onto [-1, 1]:
    by the residual noise level, and so the standard deviations.
 
 Limits: the number of modes in the band must be given; if ``n_modes`` is too large the
-spare pole lands outside the band or is undamped (an :class:`InputError`).  A mode just
-above the band is only approximated by ``R0 + R1 x``: for the beam-like test case (a
-mode 11 % above the band edge) the in-band frequencies are biased by < 2e-6 relative,
-but the bias grows as the mode gets closer; end the band well below such a mode.
+spare pole lands outside the band or is undamped (an :class:`InputError` from
+:func:`rational_fraction_fit`, a ``NoResonance`` status from
+:func:`rational_fraction_status`).  A mode just above the band is only approximated
+by ``R0 + R1 x``: for the beam-like test case (a mode 11 % above the band edge) the
+in-band frequencies are biased by < 2e-6 relative, but the bias grows as the mode gets
+closer; end the band well below such a mode.
 Unlike :mod:`eigenupdate.measure.dobson` it separates modes closer than their bandwidth.
 """
 
@@ -37,10 +39,10 @@ from scipy.optimize import least_squares
 from scipy.signal import find_peaks
 
 from eigenupdate.errors import InputError
-from eigenupdate.measure.modal_fit import ModalFit, select_band
+from eigenupdate.measure.modal_fit import ModalFit, NoResonance, select_band
 from eigenupdate.measure.peaks import estimate_noise_std
 
-__all__ = ["rational_fraction_fit"]
+__all__ = ["rational_fraction_fit", "rational_fraction_status"]
 
 _VF_MAX_ITERATIONS = 40
 _VF_TOLERANCE = 1e-11
@@ -59,28 +61,23 @@ class _Model:
     coefs: np.ndarray
 
 
-def rational_fraction_fit(
-    freq_hz: np.ndarray,
-    receptance: np.ndarray,
-    band_hz: tuple[float, float],
-    n_modes: int,
-    *,
-    lower_residual: bool = True,
-    upper_residual: bool = True,
-    source: str | None = None,
-) -> list[ModalFit]:
+def rational_fraction_fit(frequency_hz: np.ndarray, receptance: np.ndarray,
+                          band_hz: tuple[float, float], n_modes: int,
+                          **options: bool | str | None) -> list[ModalFit]:
     """Fit ``n_modes`` hysteretically damped modes at once over ``band_hz``.
 
     Parameters
     ----------
-    freq_hz : ndarray
+    frequency_hz : ndarray
         Frequency axis in Hz, strictly increasing.
     receptance : ndarray
-        Complex receptance in m/N at ``freq_hz``.
+        Complex receptance in m/N at ``frequency_hz``.
     band_hz : tuple of float
         ``(low, high)`` band in Hz; it must lie above 0 Hz.
     n_modes : int
         Number of modes in the band.
+    **options
+        Keywords of :func:`rational_fraction_status`:
     lower_residual : bool, optional
         Fit a ``-A0 / w**2`` term (rigid-body modes, modes far below the band).
     upper_residual : bool, optional
@@ -109,11 +106,36 @@ def rational_fraction_fit(
     >>> print([f"{fit.frequency_hz:.6f} Hz, eta = {fit.loss_factor:.6f}" for fit in fits])
     ['100.000000 Hz, eta = 0.010000', '250.000000 Hz, eta = 0.010000']
     """
+    fits = rational_fraction_status(frequency_hz, receptance, band_hz, n_modes, **options)
+    if isinstance(fits, NoResonance):
+        raise InputError(fits.message, source=options.get("source"), field="band_hz")
+    return fits
+
+
+def rational_fraction_status(
+    frequency_hz: np.ndarray,
+    receptance: np.ndarray,
+    band_hz: tuple[float, float],
+    n_modes: int,
+    *,
+    lower_residual: bool = True,
+    upper_residual: bool = True,
+    source: str | None = None,
+) -> list[ModalFit] | NoResonance:
+    """:func:`rational_fraction_fit`, with a :class:`NoResonance` status instead of an
+    error when the data do not hold ``n_modes`` damped resonances (or too few points).
+
+    >>> import numpy as np
+    >>> f = np.arange(20.0, 400.0, 0.5)
+    >>> alpha = 1.0 / ((2 * np.pi * 100.0) ** 2 * (1 + 0.01j) - (2 * np.pi * f) ** 2)
+    >>> rational_fraction_status(f, alpha, (90.0, 95.0), n_modes=2).message
+    'band (90, 95) Hz has 11 points, too few for 2 modes and the residual terms'
+    """
     if int(n_modes) != n_modes or n_modes < 1:
         raise InputError(f"n_modes must be a positive integer, got {n_modes}",
                          source=source, field="n_modes")
     n_modes = int(n_modes)
-    f_band, a_band = select_band(freq_hz, receptance, band_hz, source)
+    f_band, a_band = select_band(frequency_hz, receptance, band_hz, source)
     band = (float(band_hz[0]), float(band_hz[1]))
     x = (2.0 * np.pi * f_band) ** 2
     x_c, x_h = 0.5 * (x[0] + x[-1]), 0.5 * (x[-1] - x[0])
@@ -121,17 +143,15 @@ def rational_fraction_fit(
     basis = _residual_basis(u, -x_c / x_h, lower_residual, upper_residual)
     n_par = 4 * n_modes + 2 * basis.shape[1]
     if u.size < n_par:  # 2 * u.size real data: at least twice the parameter count
-        raise InputError(
-            f"band ({band[0]:g}, {band[1]:g}) Hz has {u.size} points, too few for "
-            f"{n_modes} modes and the residual terms",
-            source=source, field="band_hz",
-        )
+        return NoResonance(band, f"band ({band[0]:g}, {band[1]:g}) Hz has {u.size} points, "
+                                 f"too few for {n_modes} modes and the residual terms")
 
     poles = _vector_fit(u, a_band, basis, _start_poles(u, a_band, x_c, x_h, n_modes))
     model = _lsfd(u, a_band, basis, poles)
     model, cov = _refine(u, a_band, basis, model)
-    fits = [_to_modal_fit(model, cov, i, x_c, x_h, band, source) for i in range(n_modes)]
-    return sorted(fits, key=lambda fit: fit.frequency_hz)
+    fits = [_to_modal_fit(model, cov, i, x_c, x_h, band) for i in range(n_modes)]
+    failed = next((fit for fit in fits if isinstance(fit, NoResonance)), None)
+    return failed or sorted(fits, key=lambda fit: fit.frequency_hz)
 
 
 def _residual_basis(u: np.ndarray, u_zero: float, lower: bool, upper: bool) -> np.ndarray:
@@ -255,16 +275,13 @@ def _refine(u: np.ndarray, alpha: np.ndarray, basis: np.ndarray,
 
 
 def _to_modal_fit(model: _Model, cov: np.ndarray, i: int, x_c: float, x_h: float,
-                  band: tuple[float, float], source: str | None) -> ModalFit:
+                  band: tuple[float, float]) -> ModalFit | NoResonance:
     """Mode ``i`` in physical units, with standard deviations from ``cov``."""
     pole = x_c + x_h * model.poles[i]
     wr2 = pole.real
     if wr2 <= 0.0 or pole.imag <= 0.0:
-        raise InputError(
-            f"band ({band[0]:g}, {band[1]:g}) Hz: fitted pole {i + 1} is not a damped "
-            "resonance; try fewer modes or another band",
-            source=source, field="n_modes",
-        )
+        return NoResonance(band, f"band ({band[0]:g}, {band[1]:g}) Hz: fitted pole {i + 1} "
+                                 "is not a damped resonance; try fewer modes or another band")
     half = cov.shape[0] // 2
     idx = [i, half + i]  # Re and Im of pole i in the parameter vector
     cov_pole = cov[np.ix_(idx, idx)] * x_h**2  # covariance of (Re P, Im P)

@@ -2,7 +2,7 @@
 
 Used to exercise the modal-extraction and updating chain without a test rig: predict
 the receptance of a configuration with :func:`eigenupdate.solve.response.receptance`, add noise,
-and label every FRF with universal-file points (:func:`eigenupdate.solve.response.uff_point`).
+and label every FRF with the universal-file points of the model's coordinate table.
 """
 
 from __future__ import annotations
@@ -13,23 +13,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from eigenupdate.errors import InputError
+from eigenupdate.io.measurements import Measurement
 from eigenupdate.measure.frf import FRF
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
-from eigenupdate.solve.response import (
-    coordinate_from_uff,
-    infer_model_kind,
-    receptance,
-    uff_point,
-)
+from eigenupdate.solve.jacobian import solve_configurations
+from eigenupdate.solve.response import receptance
 
-__all__ = [
-    "PEAK_BAND_FRACTION",
-    "coordinate_from_uff",
-    "noise_reference",
-    "synthetic_frfs",
-    "uff_point",
-]
+__all__ = ["PEAK_BAND_FRACTION", "noise_reference", "simulate_measurements", "synthetic_frfs"]
 
 #: The noise reference peak is taken above this fraction of the highest frequency.
 PEAK_BAND_FRACTION = 0.05
@@ -62,14 +53,13 @@ def synthetic_frfs(
     model: ParametricModel,
     configuration: Configuration | None,
     frequency_hz: ArrayLike,
-    input: int,
+    excitation: int,
     outputs: int | Sequence[int],
-    loss_factors: float | Sequence[float],
+    loss_factor: float | Sequence[float],
     noise: float = 0.01,
     seed: int | np.random.Generator | None = None,
     *,
     values: Sequence[float] | Mapping[str, float] | None = None,
-    model_kind: str | None = None,
 ) -> list[FRF]:
     """Receptance FRFs of a configuration with added complex Gaussian noise.
 
@@ -82,11 +72,11 @@ def synthetic_frfs(
     frequency_hz : array_like
         Strictly increasing frequency axis in Hz, ``>= 0``. At 0 Hz a free structure
         has no receptance: that line is NaN (the FRF type allows it).
-    input : int
+    excitation : int
         Coordinate of the force.
     outputs : int or sequence of int
         Response coordinates, one FRF each.
-    loss_factors : float or sequence of float
+    loss_factor : float or sequence of float
         Hysteretic loss factor, one for all modes or one per elastic mode
         (see :func:`eigenupdate.solve.response.receptance`).
     noise : float
@@ -96,15 +86,13 @@ def synthetic_frfs(
         standard deviation ``noise * peak / sqrt(2)``, the same at every frequency.
     seed : int, Generator or None
         Random seed (reproducible noise) or a NumPy Generator.
-    model_kind : {"beam", "spring-mass", "matrices"}, optional
-        How coordinates map to universal-file ``(node, direction)`` labels; guessed by
-        :func:`eigenupdate.solve.response.infer_model_kind` if None.
 
     Returns
     -------
     list of FRF
         One per output, in order; ``response`` and ``reference`` are the UFF points
-        of the output and input coordinates, ``source`` says where it came from.
+        of the output and excitation coordinates (``model.coordinate_table``),
+        ``source`` says where it came from.
 
     Examples
     --------
@@ -125,12 +113,12 @@ def synthetic_frfs(
     freq = np.asarray(frequency_hz, dtype=float)
     if not (np.isfinite(noise) and noise >= 0):
         raise InputError(f"noise must be a finite fraction >= 0, got {noise!r}", field="noise")
-    kind = infer_model_kind(model) if model_kind is None else model_kind
     outs = [outputs] if np.ndim(outputs) == 0 else list(outputs)
-    reference = uff_point(kind, input)
-    points = [uff_point(kind, c) for c in outs]
-    H = receptance(model, freq, input, outs, configuration=configuration, values=values,
-                   loss_factor=loss_factors)
+    table = model.coordinate_table
+    reference = table[excitation].uff_point
+    points = [table[c].uff_point for c in outs]
+    H = receptance(model, freq, excitation, outs, configuration=configuration, values=values,
+                   loss_factor=loss_factor)
     H = H.reshape(freq.size, len(outs))
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     name = configuration.name if configuration is not None else "base"
@@ -140,5 +128,54 @@ def synthetic_frfs(
         if noise > 0:
             scale = noise * noise_reference(freq, h) / np.sqrt(2.0)
             h = h + scale * (rng.standard_normal(freq.size) + 1j * rng.standard_normal(freq.size))
-        out.append(FRF(freq, h, point, reference, source=f"synthetic {name}: {c}/{input}"))
+        out.append(FRF(freq, h, point, reference, source=f"synthetic {name}: {c}/{excitation}"))
     return out
+
+
+def simulate_measurements(
+    model: ParametricModel,
+    configurations: Sequence[Configuration],
+    modes: Sequence[int],
+    *,
+    noise_hz: float = 0.0,
+    std_hz: float | None = None,
+    seed: int | np.random.Generator | None = None,
+) -> list[Measurement]:
+    """The natural frequencies the model (taken as the truth) gives, with Gaussian noise.
+
+    Parameters
+    ----------
+    noise_hz : standard deviation (Hz) of the noise added to every frequency.
+    std_hz : the std recorded with each frequency; default the noise level (None if 0).
+    seed : random seed or Generator.
+
+    Examples
+    --------
+    >>> from eigenupdate.model.parameters import Parameter
+    >>> from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+    >>> from eigenupdate.model.configurations import Configuration, mass_at
+    >>> model = spring_mass_model([Mass(Parameter("m", 2.0), 1)],
+    ...                           [Spring(Parameter("k", 800.0), (0, 1))])
+    >>> rows = simulate_measurements(model, [Configuration("base"), mass_at(1, 2.0)], [1])
+    >>> [(m.configuration, round(m.frequency_hz, 6)) for m in rows]   # sqrt(k/m) / 2 pi
+    [('base', 3.183099), ('2 kg at 1', 2.250791)]
+    """
+    if not (np.isfinite(noise_hz) and noise_hz >= 0):
+        raise InputError(f"{noise_hz!r} must be a finite number >= 0", field="--noise-hz")
+    if std_hz is not None and not (np.isfinite(std_hz) and std_hz > 0):
+        raise InputError(f"{std_hz!r} must be a finite number > 0", field="--std-hz")
+    std = std_hz if std_hz is not None else (noise_hz or None)
+    sols = solve_configurations(model, configurations, max(modes))
+    rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+    rows = []
+    for c, s in zip(configurations, sols, strict=True):
+        for k in modes:
+            f = float(s.frequencies_hz[k - 1])
+            if noise_hz > 0:
+                f += float(rng.normal(0.0, noise_hz))
+                if f <= 0:
+                    raise InputError(f"noise of {noise_hz:g} Hz made the frequency of "
+                                     f"{c.name!r} mode {k} negative; use less noise",
+                                     field="--noise-hz")
+            rows.append(Measurement(c.name, k, f, std))
+    return rows

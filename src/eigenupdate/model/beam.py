@@ -15,6 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from eigenupdate.errors import InputError
+from eigenupdate.model.coordinates import CoordinateTable
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
 
@@ -158,7 +159,8 @@ def beam_model(
         kt.append(None)
         mt.append(sp.csr_array(([1.0], ([i], [i])), shape=(keep.size, keep.size)))
     zero = sp.csr_array((keep.size, keep.size))
-    return ParametricModel(zero, zero, tuple(params), tuple(kt), tuple(mt), keep, "beam")
+    return ParametricModel(zero, zero, tuple(params), tuple(kt), tuple(mt), keep,
+                           CoordinateTable.beam(len(x)))
 
 
 def _per_element(value, ne: int, name: str) -> np.ndarray | None:

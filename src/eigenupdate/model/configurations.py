@@ -59,16 +59,6 @@ class Configuration:
         return dk, dm
 
 
-def base_and(perturbations: list[Configuration]) -> list[Configuration]:
-    """The bare structure followed by the perturbations; names must be unique."""
-    configs = [Configuration(BASE), *perturbations]
-    names = [c.name for c in configs]
-    for i, name in enumerate(names):
-        if name in names[:i]:
-            raise InputError(f"duplicate configuration name {name!r}", field="perturbation")
-    return configs
-
-
 def mass_at(coordinate: int, mass: float, name: str | None = None) -> Configuration:
     """One mass added at one coordinate.
 

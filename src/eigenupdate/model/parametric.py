@@ -2,7 +2,8 @@
 
 Matrices are SciPy sparse CSR arrays. Coordinates are numbered from 1 as in the
 user's model; restrained coordinates are removed, and ``coordinates`` keeps the
-user's number of every remaining row.
+user's number of every remaining row. ``coordinate_table``
+(:class:`~eigenupdate.model.coordinates.CoordinateTable`) says what each coordinate is.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from eigenupdate.errors import InputError
+from eigenupdate.model.coordinates import CoordinateTable
 from eigenupdate.model.parameters import Parameter, check_unique
 
 
@@ -51,7 +53,7 @@ class ParametricModel:
     k_terms: tuple[sp.csr_array | None, ...]
     m_terms: tuple[sp.csr_array | None, ...]
     coordinates: np.ndarray = field(default=None)  # user coordinate number of each row
-    kind: str = "matrices"  # "beam", "spring-mass" or "matrices": how coordinates map to UFF
+    coordinate_table: CoordinateTable = field(default=None)  # node and direction of each
 
     def __post_init__(self) -> None:
         n = np.shape(self.k0)[0]
@@ -68,6 +70,11 @@ class ParametricModel:
         if coords.shape != (n,):
             raise InputError(f"{coords.size} coordinate numbers for {n} rows")
         set_(self, "coordinates", coords.astype(int))
+        if self.coordinate_table is None:
+            set_(self, "coordinate_table", CoordinateTable.translations(self.coordinates))
+        missing = [c for c in self.coordinates.tolist() if c not in self.coordinate_table]
+        if missing:
+            raise InputError(f"coordinates {missing} are not in the coordinate table")
 
     @property
     def n(self) -> int:
@@ -122,7 +129,8 @@ class ParametricModel:
         else:
             new = [p.with_value(v) for p, v in zip(self.parameters, values, strict=True)]
         return ParametricModel(
-            self.k0, self.m0, tuple(new), self.k_terms, self.m_terms, self.coordinates, self.kind
+            self.k0, self.m0, tuple(new), self.k_terms, self.m_terms, self.coordinates,
+            self.coordinate_table,
         )
 
 

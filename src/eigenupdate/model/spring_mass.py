@@ -87,4 +87,4 @@ def spring_mass_model(
         kt.append(sp.csr_array((vals, (rows, cols)), shape=(n, n)))
         mt.append(None)
     zero = sp.csr_array((n, n))
-    return ParametricModel(zero, zero, tuple(params), tuple(kt), tuple(mt), kind="spring-mass")
+    return ParametricModel(zero, zero, tuple(params), tuple(kt), tuple(mt))

@@ -17,12 +17,10 @@ from __future__ import annotations
 
 import os
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike
@@ -30,15 +28,10 @@ from numpy.typing import ArrayLike
 from eigenupdate.errors import InputError
 from eigenupdate.io.atomic import atomic_write
 from eigenupdate.measure.modal_fit import mode_receptance
-from eigenupdate.model.configurations import Configuration
-from eigenupdate.model.parametric import ParametricModel
-from eigenupdate.solve.eigen import DENSE_LIMIT, base_operator, solve_elastic
-from eigenupdate.solve.response import configuration_matrices, infer_model_kind
+from eigenupdate.solve.sweep import MassSweep
 
 __all__ = [
     "FORMATS",
-    "MassSweep",
-    "mass_sweep",
     "plot_extraction_fit",
     "plot_frf_comparison",
     "plot_mass_sweep",
@@ -226,131 +219,13 @@ def _wrapped_phase(f: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray
 # ------------------------------------------------------------------------ mass sweep
 
 
-@dataclass(frozen=True)
-class MassSweep:
-    """Elastic natural frequencies against the mass added at one coordinate.
+def plot_mass_sweep(path: str | os.PathLike[str], sweep: MassSweep, *,
+                    title: str | None = None) -> Path:
+    """Natural frequency of each elastic mode against added mass (paper Fig. 4), written
+    to ``path`` (``.png``, ``.svg`` or ``.pdf``, replaced atomically), which is returned.
 
-    Attributes
-    ----------
-    added_mass : (n_points,) added mass, kg (kg m^2 on a rotational coordinate).
-    reference_mass : diagonal term of M at the coordinate (0 if massless), the 100 %
-        of the percentage axis.
-    frequencies_hz : (n_points, n_modes) elastic natural frequencies, Hz.
-    """
-
-    added_mass: np.ndarray
-    reference_mass: float
-    frequencies_hz: np.ndarray
-
-    @property
-    def percent(self) -> np.ndarray | None:
-        """Added mass in % of ``reference_mass`` (None if that is 0)."""
-        if self.reference_mass <= 0:
-            return None
-        return 100.0 * self.added_mass / self.reference_mass
-
-    @property
-    def eigenvalue_ratio(self) -> np.ndarray:
-        """lambda / lambda(no added mass) for every point and mode."""
-        return (self.frequencies_hz / self.frequencies_hz[0]) ** 2
-
-
-def mass_sweep(
-    model: ParametricModel,
-    coordinate: int,
-    max_mass: float,
-    n_modes: int,
-    configuration: Configuration | None = None,
-    n_points: int = 41,
-    *,
-    values: Sequence[float] | Mapping[str, float] | None = None,
-) -> MassSweep:
-    """Elastic natural frequencies with 0..``max_mass`` added at ``coordinate``.
-
-    The mass is added on top of ``configuration`` (the bare structure if None).
-
-    Examples
-    --------
-    A 2 kg mass on an 800 N/m spring: f = sqrt(k / (m + dm)) / (2 pi).
-
-    >>> from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
-    >>> from eigenupdate.model.parameters import Parameter
-    >>> sdof = spring_mass_model([Mass(Parameter("m", 2.0), 1)],
-    ...                          [Spring(Parameter("k", 800.0), (0, 1))])
-    >>> sweep = mass_sweep(sdof, 1, 2.0, 1, n_points=3)
-    >>> sweep.percent.tolist(), sweep.frequencies_hz.round(4).ravel().tolist()
-    ([0.0, 50.0, 100.0], [3.1831, 2.599, 2.2508])
-    """
-    if not (np.isfinite(max_mass) and max_mass > 0):
-        raise InputError(f"must be > 0, got {max_mass!r}", field="max_mass")
-    if n_points < 2:
-        raise InputError(f"at least 2 points are needed, got {n_points}", field="n_points")
-    if n_modes < 1:
-        raise InputError(f"at least one mode is needed, got {n_modes}", field="n_modes")
-    try:
-        row = model.index(coordinate)
-    except InputError as exc:
-        raise InputError(str(exc), field="coordinate") from None
-    K, M = configuration_matrices(model, configuration, values)
-    masses = np.linspace(0.0, float(max_mass), int(n_points))
-    n = K.shape[0]
-    freqs = np.empty((masses.size, n_modes))
-    # Large models: factorise K - sigma M once; each added mass is a rank-one Woodbury update.
-    op, base = base_operator(K, M, n_modes) if n > DENSE_LIMIT else (None, None)
-    for i, dm in enumerate(masses):
-        Mi = M + dm * _diag_unit(row, n)
-        kw = {}
-        if op is not None:
-            kw["operator"] = op.updated(np.array([row]), np.array([0.0]), np.array([dm]))
-            kw["n_rigid"] = base.n_rigid
-        sol = solve_elastic(K, Mi, n_modes, **kw)
-        if sol.eigenvalues.size < n_modes:
-            raise InputError(
-                f"the model has only {sol.eigenvalues.size} elastic modes", field="n_modes"
-            )
-        freqs[i] = sol.frequencies_hz
-    return MassSweep(masses, float(M[row, row]), freqs)
-
-
-def _diag_unit(row: int, n: int) -> sp.csr_array:
-    return sp.csr_array(([1.0], ([row], [row])), shape=(n, n))
-
-
-def plot_mass_sweep(
-    path: str | os.PathLike[str],
-    model: ParametricModel,
-    coordinate: int,
-    max_mass: float,
-    n_modes: int,
-    configuration: Configuration | None = None,
-    n_points: int = 41,
-    *,
-    values: Sequence[float] | Mapping[str, float] | None = None,
-    title: str | None = None,
-) -> MassSweep:
-    """Natural frequency of each elastic mode against added mass (paper Fig. 4).
-
-    Parameters
-    ----------
-    path : str or path-like
-        Output ``.png``, ``.svg`` or ``.pdf``; replaced atomically.
-    model, configuration, values :
-        The structure (see :func:`eigenupdate.solve.response.configuration_matrices`).
-    coordinate : int
-        Coordinate the mass is added at.
-    max_mass : float
-        Largest added mass, kg (a rotary inertia in kg m^2 on a rotational coordinate).
-    n_modes : int
-        Number of elastic modes to plot.
-    n_points : int
-        Number of added-mass values from 0 to ``max_mass``.
-    title : str, optional
-        Written before the default title, which names what is added where.
-
-    Returns
-    -------
-    MassSweep
-        The plotted numbers.
+    ``sweep`` comes from :func:`eigenupdate.solve.sweep.mass_sweep`; ``title`` is written
+    before the default title, which names what is added where.
 
     Notes
     -----
@@ -374,9 +249,11 @@ def plot_mass_sweep(
 
     >>> import tempfile, os
     >>> from eigenupdate.model.beam import beam_model
+    >>> from eigenupdate.solve.sweep import mass_sweep
     >>> beam = beam_model([0, 0.09, 0.19, 0.29, 0.39, 0.49, 0.59, 0.69, 0.80], 4557.0, 3.4)
+    >>> sweep = mass_sweep(beam, 1, 0.4, 2)
     >>> with tempfile.TemporaryDirectory() as tmp:
-    ...     sweep = plot_mass_sweep(os.path.join(tmp, "sweep.svg"), beam, 1, 0.4, 2)
+    ...     out = plot_mass_sweep(os.path.join(tmp, "sweep.svg"), sweep)
     >>> print(f"M[1,1] = {sweep.reference_mass:.4f} kg; 0.2 kg = {sweep.percent[20]:.0f} %")
     M[1,1] = 0.1137 kg; 0.2 kg = 176 %
     >>> print(sweep.frequencies_hz[[0, 20]].round(1))
@@ -384,9 +261,8 @@ def plot_mass_sweep(
      [183.2 513.9]]
     """
     _format(path)
-    sweep = mass_sweep(model, coordinate, max_mass, n_modes, configuration, n_points,
-                       values=values)
-    rotational = infer_model_kind(model) == "beam" and coordinate % 2 == 0
+    coordinate = sweep.coordinate.number
+    rotational = sweep.coordinate.rotation
     what = "added rotary inertia" if rotational else "added mass"
     unit = "kg m$^2$" if rotational else "kg"
     if sweep.percent is not None:
@@ -419,8 +295,8 @@ def plot_mass_sweep(
             top.set_xlabel(f"{what} ({unit})")
     ax_f.legend(loc="best", fontsize="small")
     ax_r.legend(loc="best", fontsize="small")
-    config = f" ({configuration.name})" if configuration is not None else ""
-    heading = f"Effect of {what} at coordinate {coordinate}{config}"
+    config = f" ({sweep.configuration})" if sweep.configuration is not None else ""
+    heading = f"Effect of {what} at {sweep.coordinate.label}{config}"
     fig.suptitle(f"{title}: {heading}" if title else heading)
     _save(fig, path)
     return sweep

@@ -45,11 +45,10 @@ import matplotlib
 import numpy as np
 from matplotlib.figure import Figure
 
+from eigenupdate import workflow
 from eigenupdate.errors import InputError
-from eigenupdate.identify.identifiability import IdentifiabilityReport, check
-from eigenupdate.identify.updating import update
+from eigenupdate.identify.identifiability import IdentifiabilityReport
 from eigenupdate.io.atomic import write_text
-from eigenupdate.io.frf_options import frf_options
 from eigenupdate.io.report_inputs import (
     ExtractedRow,
     read_extracted,
@@ -57,13 +56,12 @@ from eigenupdate.io.report_inputs import (
     read_summary,
 )
 from eigenupdate.io.study import Study, load_study
-from eigenupdate.io.uff import read_frf_files
-from eigenupdate.measure.extraction import ExtractedMode, extract_configuration
-from eigenupdate.measure.frf import FRF, dof_label
+from eigenupdate.measure.extraction import ExtractedMode
+from eigenupdate.measure.frf import FRF
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import figures
-from eigenupdate.report.text import update_doc
-from eigenupdate.solve.response import coordinate_from_uff, receptance
+from eigenupdate.solve.response import receptance
+from eigenupdate.solve.sweep import mass_sweep
 
 PathLike = str | os.PathLike
 TEMPLATES = Path(__file__).with_name("templates")
@@ -215,7 +213,8 @@ def _weakest_in_words(r: IdentifiabilityReport) -> str:
 def _identifiability_section(study: Study) -> Section | None:
     if not study.modes:
         return None
-    r = check(study.model, study.configurations, study.modes)
+    r = workflow.check_study(study, "least-squares")  # the plan's own J, as the paper
+    seen = workflow.check_study(study) if study.method != "least-squares" else None
     p = len(r.parameters)
     sec = Section("identifiability", "Identifiability of the test plan")
     verdict = ("every updated parameter is identifiable (J^T J has full rank)"
@@ -235,6 +234,11 @@ def _identifiability_section(study: Study) -> Section | None:
         ("condition of J", f"{r.condition_J:.3g}"),
         ("condition of J^T J", f"{r.condition_JTJ:.3g}"),
     ]
+    if seen is not None:
+        sec.facts += [
+            (f"as the {study.method} estimator sees it",
+             f"J weighted by {seen.weighting}: rank {seen.rank}, condition of J "
+             f"{seen.condition_J:.3g}, of J^T J {seen.condition_JTJ:.3g}")]
     sec.blocks.append(_figure_image(
         figures.singular_values_figure(r.singular_values),
         "Singular values of J, descending ((rad/s)^2 per unit relative change)",
@@ -245,23 +249,9 @@ def _identifiability_section(study: Study) -> Section | None:
     return sec
 
 
-def _extract_all(study: Study) -> dict[str, tuple[list[FRF], list[ExtractedMode]]]:
-    """FRFs and extracted modes of every configuration that has FRF files, as
-    ``eigenupdate extract`` (which needs them for all)."""
-    bands, low = frf_options(study)
-    out = {}
-    for c in study.configurations:
-        if not study.frf.get(c.name):
-            continue
-        frfs = read_frf_files(study.frf[c.name])
-        out[c.name] = (frfs, extract_configuration(frfs, study.require_modes(), c.name,
-                                                   bands_hz=bands.get(c.name),
-                                                   exclude_below_hz=low))
-    return out
-
-
-def _frf_label(x: FRF) -> str:
-    return f"{dof_label(x.response)}/{dof_label(x.reference)}"
+def _frf_label(study: Study, x: FRF) -> str:
+    table = study.model.coordinate_table
+    return f"{table.point_label(x.response)} / {table.point_label(x.reference)}"
 
 
 def _extraction_section(
@@ -285,9 +275,6 @@ def _extraction_section(
                  f"standard deviations; above {DISAGREEMENT_LIMIT:g} the mode is flagged. "
                  "'not used' marks fitted modes the study does not use; 'no peak in' lists "
                  "the FRFs in which a mode was not fitted (a response point near its node).")
-    no_files = [c.name for c in study.configurations if fitted is not None and c.name not in fitted]
-    if no_files:
-        intro.append(f"No FRF files for {', '.join(no_files)}: no fit plots there.")
     sec.paragraphs = [" ".join(intro)]
     used = set(study.modes)
     by_cfg: dict[str, list[ExtractedRow]] = {}
@@ -311,7 +298,8 @@ def _extraction_section(
                 flags.append(f"methods differ by {d:.1f} std")
             m = fits.get(r.mode)
             if m is not None:
-                missing = [_frf_label(x) for x, ft in zip(frfs, m.fits, strict=True) if ft is None]
+                missing = [_frf_label(study, x)
+                           for x, ft in zip(frfs, m.fits, strict=True) if ft is None]
                 if missing:
                     flags.append("no peak in " + ", ".join(missing))
                 if extracted is not None and not math.isclose(m.frequency_hz, r.frequency_hz,
@@ -330,7 +318,7 @@ def _extraction_section(
             shown = [m for m in modes if m.fits[j] is not None and m.mode in used]
             if not shown:
                 continue
-            title = f"{c.name}: {_frf_label(x)}"
+            title = f"{c.name}: {_frf_label(study, x)}"
             img, _ = _plot_image(
                 plot_extraction_fit, f"{title}: fitted modes against the measured receptance",
                 f"extraction fit {title}", x.frequency_hz, x.receptance,
@@ -350,14 +338,12 @@ def _update_doc(study: Study, result: dict | None) -> tuple[dict | None, str]:
         return result, "read from the saved result"
     if study.frequencies is None or not study.modes:
         return None, ""
-    measurements = study.measurements()  # a bad file stops the report
+    study.measurements()  # a bad file stops the report
     try:
-        res = update(study.model, study.configurations, study.modes, measurements,
-                     method=study.method, max_iterations=study.max_iterations,
-                     xtol=study.tolerance, source=str(study.frequencies))
+        res = workflow.update_study(study)
     except InputError as exc:  # e.g. a rank-deficient plan: the page says why
         return None, f"The update was not run: {exc}"
-    return update_doc(res), ("computed by this report (no saved result was given), with the "
+    return res.to_dict(), ("computed by this report (no saved result was given), with the "
                              "study's settings")
 
 
@@ -444,15 +430,15 @@ def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Se
     frfs = fitted[base.name][0] if fitted and base.name in fitted else []
     for x in frfs:
         try:
-            out = coordinate_from_uff(study.model_type, x.response)
-            inp = coordinate_from_uff(study.model_type, x.reference)
+            out = study.model.coordinate_table.from_uff(x.response).number
+            inp = study.model.coordinate_table.from_uff(x.reference).number
         except InputError:
-            skipped.append(_frf_label(x))  # e.g. a CSV FRF, which names no points
+            skipped.append(_frf_label(study, x))  # e.g. a CSV FRF, which names no points
             continue
         f = x.frequency_hz[x.frequency_hz > 0]
         curves = {label: (f, receptance(m, f, inp, out, configuration=base, loss_factor=eta))
                   for label, m in models.items()}
-        title = f"{base.name}: receptance {out}/{inp} ({_frf_label(x)}), {eta_text}"
+        title = f"{base.name}: receptance {out}/{inp} ({_frf_label(study, x)}), {eta_text}"
         img, _ = _plot_image(plot_frf_comparison, f"Paper Fig. 7: {title}",
                              f"FRF comparison {out}/{inp}", None, measured=x,
                              initial=curves["initial"], updated=curves.get("updated"),
@@ -472,9 +458,9 @@ def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Se
         biggest[cd] = max(biggest.get(cd, 0.0), m)
     n_modes = max(study.modes or [3])
     for cd, m in biggest.items():
+        sweep = mass_sweep(study.model, cd, 2.0 * m, n_modes, values=sweep_values)
         img, _ = _plot_image(plot_mass_sweep, f"Paper Fig. 4: mass added at coordinate {cd}",
-                             f"mass sweep {cd}", study.model, cd, 2.0 * m, n_modes,
-                             values=sweep_values,
+                             f"mass sweep {cd}", sweep,
                              title="updated model" if sweep_values else "initial model")
         sec.blocks.append(img)
     if biggest:
@@ -563,7 +549,8 @@ def render_report(
                  for key, title, p in (("design", "Test design", design),
                                        ("montecarlo", "Monte Carlo summary", montecarlo))
                  if p is not None]
-    fitted = _extract_all(study) if study.frf else None
+    fitted = ({e.configuration.name: (e.frfs, e.modes) for e in workflow.extract_study(study)}
+              if study.frf else None)
     doc, origin = _update_doc(study, res)
 
     sections = [_study_section(study)]

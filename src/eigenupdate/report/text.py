@@ -44,18 +44,6 @@ def dumps(doc: dict) -> str:
     return json.dumps(_clean(doc), indent=2)
 
 
-def check_doc(r: IdentifiabilityReport) -> dict:
-    return {
-        "parameters": r.parameters,
-        "equations": r.equations,
-        "rank": r.rank,
-        "condition_J": r.condition_J,
-        "condition_JTJ": r.condition_JTJ,
-        "singular_values": r.singular_values,
-        "weakest": r.weakest,
-    }
-
-
 def check_text(r: IdentifiabilityReport, title: str) -> str:
     p = len(r.parameters)
     verdict = (
@@ -66,6 +54,7 @@ def check_text(r: IdentifiabilityReport, title: str) -> str:
         f"{title}: identifiability of the test plan",
         f"  updated parameters   {p}",
         f"  equations            {r.equations}",
+        f"  weights besides J    {r.weighting}",
         f"  rank of J^T J        {r.rank}   ({verdict})",
         f"  condition of J       {r.condition_J:.3g}",
         f"  condition of J^T J   {r.condition_JTJ:.3g}",
@@ -76,25 +65,6 @@ def check_text(r: IdentifiabilityReport, title: str) -> str:
         "Singular values of J: " + ", ".join(f"{s:.3g}" for s in r.singular_values),
     ]
     return "\n".join(lines)
-
-
-def update_doc(r: UpdateResult) -> dict:
-    return {
-        "method": r.method,
-        "converged": r.converged,
-        "message": r.message,
-        "iterations": r.nit,
-        "parameters": r.parameters,
-        "std": r.std,
-        "history": [h["parameters"] for h in r.history],
-        "steps": [{k: h[k] for k in ("objective", "step", "note")} for h in r.history],
-        "frequencies": [
-            {"configuration": c, "mode": k, "measured_hz": float(m), "initial_hz": float(i),
-             "updated_hz": float(u)}
-            for (c, k), m, i, u in zip(r.rows, r.measured_hz, r.initial_hz, r.updated_hz,
-                                       strict=True)
-        ],
-    }
 
 
 def _pct(x: float | None) -> str:
@@ -115,7 +85,7 @@ def update_text(r: UpdateResult, initial: dict[str, float], title: str) -> str:
     )
     steps = table(
         ["iteration", "objective", "step", "note"],
-        [[i, _sig3(h["objective"]), h["step"], h["note"]] for i, h in enumerate(r.history)],
+        [[h.iteration, _sig3(h.objective), h.step, h.kind.value] for h in r.history],
     )
     freqs = table(
         ["configuration", "mode", "measured Hz", "initial Hz", "updated Hz", "error %"],

@@ -22,7 +22,7 @@ import scipy.linalg
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, NotConvergedError, SingularMatrixError
 
 DENSE_LIMIT = 400
 """Models with at most this many coordinates use the dense solver."""
@@ -95,7 +95,8 @@ class ShiftInvert:
                 options={"SymmetricMode": True},
             )
         except RuntimeError as exc:  # exactly singular
-            raise InputError(f"K - sigma M is singular for sigma = {sigma:g}: {exc}") from None
+            raise SingularMatrixError(
+                f"K - sigma M is singular for sigma = {sigma:g}: {exc}") from None
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         return self._lu.solve(np.asarray(b, dtype=float))
@@ -219,8 +220,12 @@ def lowest_modes(K, M, k: int, op: ShiftInvert) -> tuple[np.ndarray, np.ndarray,
     # Ritz residuals of 1e-10 leave eigenvalue errors at round-off (they go with the
     # residual squared) and modes good to ~1e-10 / relative gap; ~20 % fewer solves than
     # ARPACK's machine-precision default.
-    lam, phi = spla.eigsh(K, k=min(k, n - 1), M=M, sigma=op.sigma, which="LM", OPinv=linop,
-                          tol=1e-10)
+    try:
+        lam, phi = spla.eigsh(K, k=min(k, n - 1), M=M, sigma=op.sigma, which="LM", OPinv=linop,
+                              tol=1e-10)
+    except spla.ArpackNoConvergence as exc:
+        raise NotConvergedError(f"Lanczos (ARPACK) did not converge for {k} eigenpairs: "
+                                f"{exc}") from None
     order = np.argsort(lam)
     lam, phi = lam[order], phi[:, order]
     phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, M @ phi))

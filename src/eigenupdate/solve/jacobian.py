@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.eigen import DENSE_LIMIT, EigenSolution, base_operator, solve_elastic
@@ -61,8 +61,8 @@ def solve_configurations(
     out = []
     try:
         base_op, base_sol = base_operator(K, M, n_modes) if sparse else (None, None)
-    except InputError as exc:
-        raise InputError(str(exc), field="the bare structure") from None
+    except (InputError, NumericalError) as exc:
+        raise type(exc)(str(exc), field="the bare structure") from None
     for c in configurations:
         try:
             if not c.additions and base_sol is not None:
@@ -79,8 +79,8 @@ def solve_configurations(
             hint = base_sol.n_rigid if base_sol is not None else None
             out.append(solve_elastic(K + dk, M + dm, n_modes, operator=op, dense=not sparse,
                                      n_rigid=hint))
-        except InputError as exc:
-            raise InputError(str(exc), field=f"configuration {c.name!r}") from None
+        except (InputError, NumericalError) as exc:
+            raise type(exc)(str(exc), field=f"configuration {c.name!r}") from None
     return out
 
 

@@ -23,21 +23,8 @@ At ``w = 0`` a structure with rigid-body modes has no static receptance: the res
 NaN there (not inf, so it can still be stored in an :class:`~eigenupdate.measure.frf.FRF`).
 Start the frequency axis above 0 Hz to avoid it.
 
-Coordinates and universal-file points
--------------------------------------
-Model coordinates are the user's 1-based numbers (:meth:`ParametricModel.index`).
-Universal files (and :class:`~eigenupdate.measure.frf.FRF`) name a point by
-``(node, direction)`` with the dataset-58 direction codes. :func:`uff_point` and
-:func:`coordinate_from_uff` map between the two:
-
-========================  ===========================  =====================
-model kind                coordinate                   UFF (node, direction)
-========================  ===========================  =====================
-``"beam"``                ``2 i - 1`` (translation)    ``(i, 3)``  (+Z)
-``"beam"``                ``2 i`` (rotation)           ``(i, 5)``  (+RY)
-``"spring-mass"``,        ``c``                        ``(c, 1)``  (+X)
-``"matrices"``
-========================  ===========================  =====================
+Coordinates are the user's 1-based numbers (:meth:`ParametricModel.index`); their node
+and direction are in the model's :class:`~eigenupdate.model.coordinates.CoordinateTable`.
 """
 
 from __future__ import annotations
@@ -51,26 +38,19 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 from numpy.typing import ArrayLike
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, SingularMatrixError
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.eigen import DENSE_LIMIT, ShiftInvert, all_modes, base_operator, lowest_modes
 
 __all__ = [
     "METHODS",
-    "MODEL_KINDS",
     "configuration_matrices",
-    "coordinate_from_uff",
-    "infer_model_kind",
     "receptance",
-    "uff_point",
 ]
 
 #: Accepted values of ``method`` in :func:`receptance`.
 METHODS: tuple[str, str, str] = ("auto", "direct", "modal")
-
-#: Model kinds known to :func:`uff_point`.
-MODEL_KINDS: tuple[str, str, str] = ("beam", "spring-mass", "matrices")
 
 # Dense complex systems solved at once by the direct method: a bound on memory (bytes).
 _BATCH_BYTES = 64 * 2**20
@@ -78,90 +58,6 @@ _BATCH_BYTES = 64 * 2**20
 # of K and M is non-zero; sparse LU otherwise.
 _DENSE_DIRECT = 64
 _DENSE_FILL = 0.2
-
-
-# ----------------------------------------------------------------------- coordinates
-
-
-def infer_model_kind(model: ParametricModel) -> str:
-    """The model's kind (``model.kind``): "beam", "spring-mass" or "matrices".
-
-    Examples
-    --------
-    >>> from eigenupdate.model.beam import beam_model
-    >>> infer_model_kind(beam_model([0.0, 0.4, 0.8], 4557.0, 3.4))
-    'beam'
-    """
-    return model.kind
-
-
-def _check_kind(model_kind: str) -> str:
-    if model_kind not in MODEL_KINDS:
-        raise InputError(
-            f"unknown model kind {model_kind!r} (expected one of {', '.join(MODEL_KINDS)})",
-            field="model_kind",
-        )
-    return model_kind
-
-
-def uff_point(model_kind: str, coordinate: int) -> tuple[int, int]:
-    """Universal-file ``(node, direction)`` of a model coordinate (see the module table).
-
-    Examples
-    --------
-    >>> uff_point("beam", 1), uff_point("beam", 15), uff_point("beam", 12)
-    ((1, 3), (8, 3), (6, 5))
-    >>> uff_point("spring-mass", 4)
-    (4, 1)
-    """
-    _check_kind(model_kind)
-    c = int(coordinate)
-    if c != coordinate or c < 1:
-        raise InputError(f"coordinate {coordinate!r} must be an integer >= 1", field="coordinate")
-    if model_kind == "beam":
-        return ((c + 1) // 2, 3) if c % 2 else (c // 2, 5)
-    return (c, 1)
-
-
-def coordinate_from_uff(model_kind: str, point: tuple[int, int]) -> int:
-    """Model coordinate of a universal-file ``(node, direction)``; inverse of :func:`uff_point`.
-
-    Only the positive direction codes of the table are accepted: a response measured
-    in a negative direction (e.g. ``-Z``) has the opposite sign, which the caller must
-    correct before comparing it with the model.
-
-    Examples
-    --------
-    >>> coordinate_from_uff("beam", (8, 3)), coordinate_from_uff("beam", (6, 5))
-    (15, 12)
-    >>> coordinate_from_uff("matrices", (3, 1))
-    3
-    """
-    _check_kind(model_kind)
-    try:
-        node, direction = (int(v) for v in point)
-    except (TypeError, ValueError):
-        raise InputError(
-            f"expected a (node, direction) pair, got {point!r}", field="point"
-        ) from None
-    if node < 1:
-        raise InputError(f"node {node} must be >= 1", field="point")
-    if model_kind == "beam":
-        if direction == 3:
-            return 2 * node - 1
-        if direction == 5:
-            return 2 * node
-        raise InputError(
-            f"direction {direction} of node {node} is not a beam coordinate "
-            "(3 = +Z translation, 5 = +RY rotation)",
-            field="point",
-        )
-    if direction != 1:
-        raise InputError(
-            f"direction {direction} of node {node}: {model_kind} coordinates use direction 1",
-            field="point",
-        )
-    return node
 
 
 # -------------------------------------------------------------------------- matrices
@@ -404,8 +300,8 @@ def _solve_one(A: np.ndarray, B: np.ndarray, f: float) -> np.ndarray:
         raise _resonance_error(f) from None
 
 
-def _resonance_error(f: float) -> InputError:
-    return InputError(
+def _resonance_error(f: float) -> SingularMatrixError:
+    return SingularMatrixError(
         f"{f:g} Hz is an undamped natural frequency (singular dynamic stiffness); "
         "use a loss factor > 0 or move the frequency",
         field="frequency_hz",

@@ -17,15 +17,13 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import RepeatedEigenvalueError
 from eigenupdate.solve.eigen import EigenSolution
+
+__all__ = ["REPEATED_RTOL", "RepeatedEigenvalueError", "check_distinct", "eigenvalue_derivatives"]
 
 REPEATED_RTOL = 1e-6
 """Eigenvalues closer than this (relative) count as repeated."""
-
-
-class RepeatedEigenvalueError(InputError):
-    """A mode used for updating has a repeated eigenvalue (e.g. a symmetric structure)."""
 
 
 def check_distinct(solution: EigenSolution, modes: Sequence[int], where: str = "") -> None:

@@ -1,0 +1,223 @@
+"""Virtual tests of a study's plan (``eigenupdate montecarlo``).
+
+Each trial draws the true parameters (from the prior N(s_0, sigma_s), truncated at 0, or
+fixed at a given truth), simulates the measured frequencies of every configuration with the
+stated noise, and runs :func:`eigenupdate.identify.updating.update` exactly as
+``eigenupdate update`` does. Trial i draws from the i-th child of ``SeedSequence(seed)``,
+so results do not depend on where or in which order the trials run.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from eigenupdate.design.covariance import posterior_covariance
+from eigenupdate.design.executor import InProcess, Progress
+from eigenupdate.design.plan import frequency_std
+from eigenupdate.design.spec import DesignSpec
+from eigenupdate.errors import InputError, NumericalError
+from eigenupdate.identify.updating import update
+from eigenupdate.io.measurements import Measurement, eigenvalue_std
+from eigenupdate.model.configurations import Configuration
+from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve.jacobian import linearise, solve_configurations
+
+
+@dataclass(frozen=True)
+class TrialSetup:
+    """Everything a trial needs; sent to each worker once."""
+
+    model: ParametricModel
+    configurations: tuple[Configuration, ...]
+    modes: tuple[int, ...]
+    std_hz: dict[tuple[str, int], float]  # noise std (and std_hz column) of each row
+    method: str
+    max_iterations: int
+    tolerance: float
+    truth: np.ndarray | None = None  # all parameter values; None: draw from the prior
+
+
+def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
+    """One virtual test; returns truth, estimate and reported std of the updated parameters."""
+    rng = np.random.default_rng(seed)
+    model = setup.model
+    upd = model.updated
+    truth = setup.truth.copy() if setup.truth is not None else _draw(model, rng)
+    out = {"truth": truth[upd], "estimate": np.full(upd.size, np.nan),
+           "std": np.full(upd.size, np.nan), "converged": False, "refused": False, "nit": 0,
+           "message": ""}
+    try:
+        sols = solve_configurations(model, setup.configurations, max(setup.modes), truth)
+        meas = {}
+        for c, sol in zip(setup.configurations, sols, strict=True):
+            for k in setup.modes:
+                std = setup.std_hz[(c.name, k)]
+                meas[(c.name, k)] = Measurement(
+                    c.name, k, float(sol.frequencies_hz[k - 1] + rng.normal(0.0, std)), std)
+        res = update(model, setup.configurations, setup.modes, meas, method=setup.method,
+                     max_iterations=setup.max_iterations, xtol=setup.tolerance)
+    except (InputError, NumericalError) as exc:  # a truth or its data the update refuses
+        out.update(refused=True, message=str(exc))
+        return out
+    names = [model.names[j] for j in upd]
+    out.update(estimate=np.array([res.parameters[n] for n in names]),
+               std=np.array([np.nan if res.std[n] is None else res.std[n] for n in names]),
+               converged=res.converged, nit=res.nit, message=res.message)
+    return out
+
+
+def _draw(model: ParametricModel, rng: np.random.Generator) -> np.ndarray:
+    values = model.values.copy()
+    for j in model.updated:
+        p = model.parameters[j]
+        if p.std is None:
+            raise InputError(f"parameter {p.name!r} has no std to draw its true value from; "
+                             f"give one, or a truth file (--truth)", field="model")
+        v = -1.0
+        while v < 0:  # physical values only: the prior truncated at 0
+            v = p.value + p.std * rng.normal()
+        values[j] = v
+    return values
+
+
+@dataclass(frozen=True)
+class MonteCarloResult:
+    """Trials and their summary.
+
+    Attributes
+    ----------
+    names : updated parameters.
+    trials : one dict per trial (see :func:`run_trial`).
+    predicted_std : linearised posterior std at the initial model with the stated noise.
+    entropy : the root seed; the same entropy repeats the run exactly.
+    """
+
+    names: list[str]
+    trials: list[dict]
+    predicted_std: np.ndarray
+    entropy: int
+
+    def summary(self) -> dict:
+        """Per parameter over the converged trials: bias, empirical std of the error,
+        predicted std, mean reported std, coverage of estimate +- 2 reported std."""
+        ok = [t for t in self.trials if t["converged"]]
+        n = len(self.trials)
+        doc = {"trials": n, "converged": len(ok),
+               "not_converged_fraction": sum(not t["converged"] and not t["refused"]
+                                             for t in self.trials) / n,
+               "refused_fraction": sum(t["refused"] for t in self.trials) / n,
+               "seed_entropy": self.entropy, "parameters": {}}
+        if not ok:
+            return doc
+        err = np.array([t["estimate"] - t["truth"] for t in ok])
+        rep = np.array([t["std"] for t in ok])
+        emp = err.std(axis=0, ddof=1) if len(ok) > 1 else np.full(len(self.names), np.nan)
+        with np.errstate(invalid="ignore"):
+            cover = np.mean(np.abs(err) <= 2 * rep, axis=0)
+        for i, name in enumerate(self.names):
+            doc["parameters"][name] = {
+                "bias": float(err[:, i].mean()), "empirical_std": float(emp[i]),
+                "predicted_std": float(self.predicted_std[i]),
+                "mean_reported_std": float(np.nanmean(rep[:, i])) if np.isfinite(
+                    rep[:, i]).any() else None,
+                "ratio_empirical_to_predicted": float(emp[i] / self.predicted_std[i]),
+                "coverage_2std": float(cover[i]),
+            }
+        return doc
+
+    def z_scores(self) -> np.ndarray:
+        """(estimate - truth) / reported std of every converged trial and parameter."""
+        ok = [t for t in self.trials if t["converged"]]
+        if not ok:
+            return np.zeros((0, len(self.names)))
+        return np.array([(t["estimate"] - t["truth"]) / t["std"] for t in ok])
+
+
+def noise_std(model: ParametricModel, configurations: Sequence[Configuration],
+              modes: Sequence[int], measured: dict | None, spec: DesignSpec | None,
+              source: str) -> dict[tuple[str, int], float]:
+    """Noise std (Hz) of every row: the measurement file's std_hz, else the [design] table's."""
+    rows = [(c.name, k) for c in configurations for k in modes]
+    if measured is not None and all(measured.get(r) is not None and measured[r].std_hz
+                                    for r in rows):
+        return {r: float(measured[r].std_hz) for r in rows}
+    if spec is None:
+        raise InputError("no noise level: give std_hz for every row of the measurement file, "
+                         "or frequency_std_hz in a [design] table", source=source,
+                         field="measurement.frequencies")
+    sols = solve_configurations(model, configurations, max(modes))
+    idx = np.asarray(modes) - 1
+    out = {}
+    for c, sol in zip(configurations, sols, strict=True):
+        s = frequency_std(spec, sol.frequencies_hz[idx])
+        out.update({(c.name, k): float(v) for k, v in zip(modes, s, strict=True)})
+    return out
+
+
+def predicted_std(setup: TrialSetup) -> np.ndarray:
+    """Linearised posterior std (physical units) at the initial model, stated noise."""
+    model = setup.model
+    lin = linearise(model, setup.configurations, setup.modes)
+    f = np.sqrt(lin.eigenvalues) / (2 * np.pi)
+    w = 1.0 / eigenvalue_std(f, np.array([setup.std_hz[r] for r in lin.rows]))
+    prior = np.array([0.0 if model.parameters[j].std is None
+                      else model.parameters[j].scale / model.parameters[j].std
+                      for j in model.updated])
+    cov = posterior_covariance(lin.normalised, w, prior, setup.method)
+    return np.sqrt(np.diag(cov)) * lin.scale
+
+
+def montecarlo(setup: TrialSetup, trials: int, seed: int | None = None, executor=None,
+               progress: Progress | None = None) -> MonteCarloResult:
+    """Run ``trials`` virtual tests of the plan in ``setup`` on ``executor``.
+
+    Examples
+    --------
+    One mass on one spring, both unknown with priors, two configurations:
+
+    >>> from eigenupdate.model.parameters import Parameter
+    >>> from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+    >>> from eigenupdate.model.configurations import Configuration, mass_at
+    >>> model = spring_mass_model([Mass(Parameter("m", 2.0, 0.1), 1)],
+    ...                           [Spring(Parameter("k", 800.0, 40.0), (0, 1))])
+    >>> configs = (Configuration("base"), mass_at(1, 1.0))
+    >>> setup = TrialSetup(model, configs, (1,), {(c.name, 1): 0.01 for c in configs},
+    ...                    "bayesian", 20, 1e-8)
+    >>> s = montecarlo(setup, 20, seed=1).summary()
+    >>> s["converged"], round(s["parameters"]["m"]["predicted_std"], 4)
+    (20, 0.0468)
+    """
+    if trials < 1:
+        raise InputError(f"{trials} must be >= 1", field="--trials")
+    if setup.truth is None:
+        _draw(setup.model, np.random.default_rng(0))  # refuses a parameter without a prior
+    root = np.random.SeedSequence(seed)
+    names = [setup.model.names[j] for j in setup.model.updated]
+    pred = predicted_std(setup)
+    results = (executor or InProcess()).map(run_trial, setup, root.spawn(trials), progress)
+    return MonteCarloResult(names, results, pred, int(root.entropy))
+
+
+def study_setup(study, truth: str | None = None) -> TrialSetup:
+    """The trial setup of a study: its plan, modes, method, noise, and optional truth study
+    (a study file whose model gives every parameter's true value, by name)."""
+    modes = tuple(study.require_modes())
+    measured = study.measurements() if study.frequencies is not None else None
+    std = noise_std(study.model, study.configurations, modes, measured, study.design,
+                    str(study.path))
+    values = None
+    if truth is not None:
+        from eigenupdate.io.study import load_study
+
+        t = load_study(truth)
+        given = dict(zip(t.model.names, t.model.values.tolist(), strict=True))
+        missing = [n for n in study.model.names if n not in given]
+        if missing:
+            raise InputError(f"no true value for parameter(s) {missing}", source=truth,
+                             field="model")
+        values = np.array([given[n] for n in study.model.names])
+    return TrialSetup(study.model, tuple(study.configurations), modes, std, study.method,
+                      study.max_iterations, study.tolerance, values)

@@ -1,0 +1,236 @@
+"""The test planner behind ``eigenupdate design``: candidates, constraints, search, and the
+predicted accuracy of the designed plan, of the study's own plan and of every candidate.
+"""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from eigenupdate.design.covariance import posterior_covariance
+from eigenupdate.design.criteria import criterion_value
+from eigenupdate.design.screen import Screened, screen_candidates, screen_on
+from eigenupdate.design.search import PlanScorer, exhaustive, greedy_exchange
+from eigenupdate.design.spec import DesignSpec
+from eigenupdate.errors import InputError
+from eigenupdate.io.measurements import eigenvalue_std
+from eigenupdate.model.configurations import Addition, Configuration
+from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve.jacobian import solve_configurations
+
+
+@dataclass(frozen=True)
+class CandidateReport:
+    """One candidate configuration and the constraints it meets.
+
+    Attributes
+    ----------
+    configuration : the candidate.
+    shifts_hz : bare minus perturbed frequency of each used mode.
+    shift_in_std : largest shift over the used modes, in measurement std.
+    relative_gap : smallest relative frequency gap of a used mode to its neighbours.
+    order_kept : the used modes keep their order (mass-weighted MAC with the bare modes).
+    admissible : every constraint is met.
+    """
+
+    configuration: Configuration
+    shifts_hz: list[float]
+    shift_in_std: float
+    relative_gap: float
+    order_kept: bool
+    admissible: bool
+
+
+@dataclass(frozen=True)
+class PlanSummary:
+    """Predicted accuracy of one plan (the bare structure is always part of it)."""
+
+    label: str
+    configurations: list[str]
+    criterion: float
+    std: dict[str, float]
+
+
+@dataclass(frozen=True)
+class DesignResult:
+    """Outcome of :func:`design_plan`.
+
+    Attributes
+    ----------
+    names, modes, method, criterion : what was designed for.
+    candidates : every candidate with its constraint report.
+    chosen : indices into ``candidates`` of the designed plan.
+    swaps : exchanges the exchange passes made after the greedy selection.
+    plans : the designed plan, the exhaustive optimum (if enumerable), the study's own plan
+        (if any) and every admissible candidate at once.
+    """
+
+    names: list[str]
+    modes: list[int]
+    method: str
+    criterion: str | tuple[str, ...]
+    candidates: list[CandidateReport]
+    chosen: list[int]
+    swaps: int
+    plans: list[PlanSummary]
+
+    @property
+    def configurations(self) -> list[Configuration]:
+        return [self.candidates[i].configuration for i in self.chosen]
+
+
+def candidate_configurations(spec: DesignSpec) -> list[Configuration]:
+    """Every candidate configuration: single additions and, if ``spec.additions`` > 1,
+    combinations of them at distinct coordinates; ``max_added_mass`` filters.
+
+    >>> from eigenupdate.design.spec import DesignSpec
+    >>> spec = DesignSpec(coordinates=(1, 2), masses=(0.1, 0.2), configurations=1, modes=(1,),
+    ...                   additions=2, max_added_mass=0.3)
+    >>> [c.name for c in candidate_configurations(spec)]      # doctest: +NORMALIZE_WHITESPACE
+    ['0.1 kg at 1', '0.2 kg at 1', '0.1 kg at 2', '0.2 kg at 2',
+     '0.1 kg at 1 + 0.1 kg at 2', '0.1 kg at 1 + 0.2 kg at 2', '0.2 kg at 1 + 0.1 kg at 2']
+    """
+    singles = [Addition(c, mass=m) for c in spec.coordinates for m in spec.masses]
+    singles += [Addition(c, stiffness=k) for c in spec.coordinates for k in spec.stiffnesses]
+    groups = [(a,) for a in singles]
+    for n in range(2, spec.additions + 1):
+        groups += [g for g in itertools.combinations(singles, n)
+                   if len({a.coordinate for a in g}) == n]
+    if spec.max_added_mass is not None:
+        limit = spec.max_added_mass * (1 + 1e-12)  # 0.1 + 0.2 is not above 0.3 kg
+        groups = [g for g in groups if sum(a.mass for a in g) <= limit]
+    return [Configuration(" + ".join(_label(a) for a in g), g) for g in groups]
+
+
+def _label(a: Addition) -> str:
+    parts = ([f"{a.mass:g} kg"] if a.mass else []) + ([f"{a.stiffness:g} N/m"] if a.stiffness
+                                                      else [])
+    return f"{' and '.join(parts)} at {a.coordinate}"
+
+
+def measured_modes(model: ParametricModel, spec: DesignSpec) -> list[int]:
+    """The spec's modes, or every elastic mode of the bare structure below its upper frequency."""
+    if spec.modes is not None:
+        return sorted(spec.modes)
+    n = model.n
+    f = solve_configurations(model, [Configuration("base")], min(n, 200))[0].frequencies_hz
+    modes = [k + 1 for k in range(f.size) if f[k] <= spec.max_frequency_hz]
+    if not modes:
+        raise InputError(f"no elastic mode below {spec.max_frequency_hz:g} Hz (mode 1 is at "
+                         f"{f[0]:.4g} Hz)", field="design.max_frequency_hz")
+    return modes
+
+
+def frequency_std(spec: DesignSpec, f_hz: np.ndarray) -> np.ndarray:
+    """Measurement std (Hz) of the used modes of one configuration."""
+    if spec.frequency_std_relative is not None:
+        return spec.frequency_std_relative * f_hz
+    s = np.asarray(spec.frequency_std_hz, dtype=float)
+    return np.broadcast_to(s, f_hz.shape).copy()
+
+
+def design_plan(model: ParametricModel, spec: DesignSpec, method: str,
+                study_plan: Sequence[Configuration] = (), executor=None) -> DesignResult:
+    """Choose ``spec.configurations`` perturbations that minimise the criterion.
+
+    Parameters
+    ----------
+    model : the initial model; the prediction linearises it at its parameter values.
+    spec : candidates, constraints, noise and criterion.
+    method : the updating method the plan will be used with (decides the covariance).
+    study_plan : the study's own perturbations, scored for comparison (may be empty).
+    executor : screen the candidates on it (:mod:`eigenupdate.design.executor`); default:
+        one direct call in this process.
+    """
+    modes = measured_modes(model, spec)
+    idx = np.asarray(modes) - 1
+    upd = model.updated
+    names = [model.names[j] for j in upd]
+    scale = np.array([model.parameters[j].scale for j in upd])
+    prior = np.zeros(len(upd))
+    if method == "bayesian":
+        prior = np.array([0.0 if model.parameters[j].std is None
+                          else model.parameters[j].scale / model.parameters[j].std for j in upd])
+    cands = candidate_configurations(spec)
+    if not cands:
+        raise InputError("no candidate configuration (max_added_mass below every mass?)",
+                         field="design")
+    if executor is None:
+        bare, screened = screen_candidates(model, [*cands, *study_plan], modes)
+    else:
+        bare, screened = screen_on(executor, model, [*cands, *study_plan], modes)
+    screened, own = screened[:len(cands)], screened[len(cands):]
+
+    def block(s: Screened) -> tuple[np.ndarray, np.ndarray]:
+        f = s.frequencies_hz[idx]
+        return s.J * scale, 1.0 / eigenvalue_std(f, frequency_std(spec, f))
+
+    f0 = bare.frequencies_hz[idx]
+    sigma0 = frequency_std(spec, f0)
+    reports = [_constraints(c, s, f0, sigma0, idx, spec) for c, s in zip(cands, screened,
+                                                                           strict=True)]
+    ok = [i for i, r in enumerate(reports) if r.admissible]
+    if len(ok) < spec.configurations:
+        raise InputError(_refusal(reports, spec), field="design")
+
+    blocks = [block(s) for s in screened]
+    scorer = PlanScorer(blocks, block(bare), prior, method, spec.criterion, names)
+    chosen, swaps = greedy_exchange(scorer, ok, spec.configurations)
+    if not np.isfinite(scorer.score(chosen)):
+        raise InputError(
+            f"no plan of {spec.configurations} configuration(s) found that determines the "
+            f"{len(names)} parameters with modes {modes} (see 'eigenupdate check'); allow more "
+            f"configurations, additions or modes, or give priors and use the bayesian method",
+            field="design.configurations")
+
+    def summary(label: str, plan_blocks, configs) -> PlanSummary:
+        J = np.vstack([block(bare)[0], *(b[0] for b in plan_blocks)])
+        w = np.concatenate([block(bare)[1], *(b[1] for b in plan_blocks)])
+        cov = posterior_covariance(J, w, prior, method)
+        std = np.sqrt(np.diag(cov)) * scale
+        return PlanSummary(label, [c.name for c in configs],
+                           criterion_value(cov, spec.criterion, names),
+                           dict(zip(names, std.tolist(), strict=True)))
+
+    plans = [summary("designed", [blocks[i] for i in chosen], [cands[i] for i in chosen])]
+    best = exhaustive(scorer, ok, spec.configurations)
+    if best is not None:
+        plans.append(summary("exhaustive optimum", [blocks[i] for i in best[0]],
+                             [cands[i] for i in best[0]]))
+    if study_plan:
+        plans.append(summary("study's plan", [block(s) for s in own], study_plan))
+    plans.append(summary("every admissible candidate", [blocks[i] for i in ok],
+                         [cands[i] for i in ok]))
+    return DesignResult(names, modes, method, spec.criterion, reports, chosen, swaps, plans)
+
+
+def _constraints(c: Configuration, s: Screened, f0: np.ndarray, sigma0: np.ndarray,
+                 idx: np.ndarray, spec: DesignSpec) -> CandidateReport:
+    f_all = s.frequencies_hz
+    if s.next_eigenvalue is not None:
+        f_all = np.append(f_all, np.sqrt(max(s.next_eigenvalue, 0.0)) / (2 * np.pi))
+    f = f_all[idx]
+    shifts = f0 - f
+    gaps = []
+    for i in idx:
+        near = [f_all[j] for j in (i - 1, i + 1) if 0 <= j < f_all.size]
+        if near:
+            gaps.append(min(abs(f_all[i] - x) for x in near) / f_all[i])
+    gap = float(min(gaps)) if gaps else float("inf")
+    in_std = float(np.max(np.abs(shifts) / sigma0))
+    ok = s.order_kept and in_std > spec.min_shift_in_std and gap >= spec.min_relative_gap
+    return CandidateReport(c, shifts.tolist(), in_std, gap, s.order_kept, bool(ok))
+
+
+def _refusal(reports: list[CandidateReport], spec: DesignSpec) -> str:
+    n = len(reports)
+    small = sum(r.shift_in_std <= spec.min_shift_in_std for r in reports)
+    order = sum(not r.order_kept or r.relative_gap < spec.min_relative_gap for r in reports)
+    return (f"only {sum(r.admissible for r in reports)} of {n} candidates are admissible, "
+            f"{spec.configurations} configurations asked for: {order} change the mode order or "
+            f"leave a relative gap below min_relative_gap = {spec.min_relative_gap:g} (masses "
+            f"too large?), {small} shift no used mode by more than min_shift_in_std = "
+            f"{spec.min_shift_in_std:g} std (masses too small?)")

@@ -1,0 +1,192 @@
+"""The commands as library functions: each takes a loaded :class:`~eigenupdate.io.study.Study`
+and returns a typed result, so a notebook does what ``eigenupdate <command>`` does.
+
+>>> from pathlib import Path
+>>> from eigenupdate.io.study import load_study
+>>> examples = Path(__file__).parents[2] / "examples"     # in the source tree
+>>> study = load_study(examples / "paper_fig2" / "study.toml")
+>>> check_study(study).rank
+10
+>>> res = update_study(study)
+>>> res.success, res.nit, round(res.parameters["k6"])
+(True, 4, 500000)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from eigenupdate.errors import InputError
+from eigenupdate.identify.identifiability import IdentifiabilityReport, check
+from eigenupdate.identify.updating import UpdateResult, update
+from eigenupdate.identify.weights import estimator_weights
+from eigenupdate.io.measurements import Measurement
+from eigenupdate.io.results import read_loss_factors, read_updated_values
+from eigenupdate.io.study import Study
+from eigenupdate.io.uff import read_frf_files
+from eigenupdate.measure.extraction import ExtractedMode, extract_configuration
+from eigenupdate.measure.frf import FRF
+from eigenupdate.measure.synthetic import simulate_measurements, synthetic_frfs
+from eigenupdate.model.configurations import Configuration
+from eigenupdate.model.coordinates import CoordinateTable
+from eigenupdate.solve.jacobian import solve_configurations
+from eigenupdate.solve.response import receptance
+
+
+def _rows(study: Study) -> list[tuple[str, int]]:
+    return [(c.name, k) for c in study.configurations for k in sorted(set(study.require_modes()))]
+
+
+def check_study(study: Study, method: str | None = None) -> IdentifiabilityReport:
+    """Identifiability of the study's plan as its estimator sees it (``eigenupdate check``).
+
+    The equations are weighted by the measured std when the method is weighted and the
+    study has a measurement file, else by 1 (a plan checked before the test); the Bayesian
+    method adds its prior rows. ``method`` defaults to the study's.
+    """
+    method = method or study.method
+    meas = study.measurements() if study.frequencies is not None else None
+    w = estimator_weights(study.model, method, _rows(study), meas, str(study.frequencies))
+    return check(study.model, study.configurations, study.require_modes(), weights=w.rows,
+                 prior=w.prior)
+
+
+def update_study(study: Study, method: str | None = None) -> UpdateResult:
+    """The update with the study's measurements and settings (``eigenupdate update``)."""
+    return update(
+        study.model, study.configurations, study.require_modes(), study.measurements(),
+        method=method or study.method, max_iterations=study.max_iterations,
+        xtol=study.tolerance, source=str(study.frequencies),
+    )
+
+
+def study_frequencies(study: Study, n_modes: int | None = None) -> dict[str, np.ndarray]:
+    """Elastic natural frequencies (Hz) of every configuration (``eigenupdate frequencies``);
+    ``n_modes`` defaults to the study's highest mode."""
+    if n_modes is not None and n_modes < 1:
+        raise InputError(f"{n_modes} must be >= 1", field="--modes")
+    n = n_modes or max(study.require_modes())
+    sols = solve_configurations(study.model, study.configurations, n)
+    return {c.name: s.frequencies_hz for c, s in zip(study.configurations, sols, strict=True)}
+
+
+def simulate_study(study: Study, noise_hz: float = 0.0, std_hz: float | None = None,
+                   seed: int | None = None) -> list[Measurement]:
+    """The measurements this study's model, taken as the truth, would give
+    (``eigenupdate simulate``); see :func:`eigenupdate.measure.synthetic.simulate_measurements`."""
+    return simulate_measurements(study.model, study.configurations, study.require_modes(),
+                                 noise_hz=noise_hz, std_hz=std_hz, seed=seed)
+
+
+@dataclass(frozen=True)
+class ConfigurationExtraction:
+    """The FRFs of one configuration and the modes extracted from them."""
+
+    configuration: Configuration
+    frfs: list[FRF]
+    modes: list[ExtractedMode]
+
+
+def extract_study(study: Study,
+                  progress: Callable[[str], None] | None = None) -> list[ConfigurationExtraction]:
+    """Natural frequencies and loss factors of every configuration from the study's FRF
+    files (``eigenupdate extract``), with the study's bands and low-frequency cut."""
+    modes = study.require_modes()
+    missing = [c.name for c in study.configurations if not study.frf.get(c.name)]
+    if missing:
+        raise InputError(f"no FRF file for configuration(s) {missing}", source=str(study.path),
+                         field="measurement.frf")
+    out = []
+    n = len(study.configurations)
+    for i, c in enumerate(study.configurations, 1):
+        files = study.frf[c.name]
+        frfs = read_frf_files(files)
+        if progress:
+            progress(f"[{i}/{n}] {c.name}: {len(frfs)} FRF(s) from {len(files)} file(s)")
+        ex = extract_configuration(frfs, modes, c.name, bands_hz=study.bands_hz.get(c.name),
+                                   exclude_below_hz=study.exclude_below_hz)
+        out.append(ConfigurationExtraction(c, frfs, ex))
+    return out
+
+
+def simulate_study_frfs(study: Study, frequency_hz: np.ndarray, excitation: int,
+                        outputs: Sequence[int], loss_factor: float | Sequence[float],
+                        noise: float = 0.01,
+                        seed: int | None = None) -> list[tuple[Configuration, list[FRF]]]:
+    """Synthetic noisy FRFs of every configuration (``eigenupdate simulate-frf``), one
+    random stream for all of them."""
+    if len(set(outputs)) != len(outputs):
+        raise InputError(f"coordinates repeated in {list(outputs)}", field="--outputs")
+    rng = np.random.default_rng(seed)
+    return [(c, synthetic_frfs(study.model, c, frequency_hz, excitation, outputs, loss_factor,
+                               noise=noise, seed=rng))
+            for c in study.configurations]
+
+
+@dataclass(frozen=True)
+class FrfComparison:
+    """Predicted receptance of the initial (and updated) model, and the measured one."""
+
+    configuration: Configuration
+    frequency_hz: np.ndarray
+    initial: np.ndarray
+    updated: np.ndarray | None
+    measured: FRF | None
+    loss_factors: list[float]
+    title: str
+
+
+def compare_frf(study: Study, excitation: int, response: int, *,
+                configuration: str | None = None, measured: str | None = None,
+                updated: str | None = None, loss_factor: float = 0.01,
+                damping: str | None = None, fmax_hz: float | None = None) -> FrfComparison:
+    """Receptance ``response``/``excitation`` of the initial and updated model against the
+    measured FRF (``eigenupdate frf``, paper Fig. 7).
+
+    ``measured`` is an FRF file (UFF 58 or CSV), ``updated`` a result of ``update --save``,
+    ``damping`` the UFF 55 of ``extract --uff55`` (per-mode loss factors; else
+    ``loss_factor`` for every mode). Without a measured FRF the axis runs to ``fmax_hz``
+    (default twice the highest mode used).
+    """
+    config = study.configuration(configuration)
+    table = study.model.coordinate_table
+    frf = None
+    if measured:
+        frf = _matching_frf(read_frf_files([measured]), table, response, excitation, measured)
+        f = frf.frequency_hz
+    else:
+        top = solve_configurations(study.model, [config], max(study.modes or [1]))[0]
+        fmax = fmax_hz or 2.0 * top.frequencies_hz[-1]
+        f = np.linspace(fmax / 2000, fmax, 2000)
+    f = f[f > 0]
+    eta = [loss_factor]
+    eta_text = f"loss factor {loss_factor:g}"
+    if damping:
+        eta = read_loss_factors(damping, config.name)
+        eta_text = "extracted loss factors " + ", ".join(f"{e:.3g}" for e in eta)
+    models = [study.model]
+    if updated:
+        models.append(study.model.with_values(read_updated_values(updated, study.model)))
+    curves = [receptance(m, f, excitation, response, configuration=config,
+                         loss_factor=eta if damping else loss_factor) for m in models]
+    return FrfComparison(
+        config, f, curves[0], curves[1] if updated else None, frf, eta,
+        f"{study.title}\n{config.name}: receptance {response}/{excitation}, {eta_text}")
+
+
+def _matching_frf(frfs: list[FRF], table: CoordinateTable, response: int, excitation: int,
+                  source: str) -> FRF:
+    """The FRF of ``response``/``excitation`` among those read from ``source``."""
+    want = (table[response].uff_point, table[excitation].uff_point)
+    match = [x for x in frfs if (x.response, x.reference) == want]
+    if not match and len(frfs) == 1 and frfs[0].response == (0, 0):
+        match = frfs  # a CSV FRF carries no points: take it as the one asked for
+    if not match:
+        have = "; ".join(f"{table.point_label(x.response)} / {table.point_label(x.reference)}"
+                         for x in frfs)
+        raise InputError(f"no FRF for response {table.label(response)}, reference "
+                         f"{table.label(excitation)} (file has {have})", source=source)
+    return match[0]

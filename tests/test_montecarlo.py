@@ -1,0 +1,127 @@
+"""Monte Carlo check of a plan (`eigenupdate montecarlo`): statistics against the
+linearised prediction, and the same numbers whatever the executor (in process, a local
+Dask cluster, a real scheduler with two worker processes reached by its address)."""
+
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import EXAMPLES
+
+from eigenupdate.design.montecarlo import TrialSetup, montecarlo
+from eigenupdate.model.configurations import Configuration, mass_at
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+
+FIG2 = EXAMPLES / "paper_fig2"
+BEAM = EXAMPLES / "paper_beam" / "study.toml"
+BIN = Path(sys.executable).parent
+
+
+def _one_dof(std_hz=0.01):
+    model = spring_mass_model([Mass(Parameter("m", 2.0, 0.1), 1)],
+                              [Spring(Parameter("k", 800.0, 40.0), (0, 1))])
+    configs = (Configuration("base"), mass_at(1, 1.0))
+    return TrialSetup(model, configs, (1,), {(c.name, 1): std_hz for c in configs},
+                      "bayesian", 20, 1e-8)
+
+
+@pytest.mark.slow
+def test_empirical_std_and_coverage_match_the_linearised_prediction():
+    # Nearly linear problem, Gaussian prior and noise: the Bayesian posterior is exact, so
+    # the error's std is the predicted one and +-2 std covers 95 % (binomial sd 1.5 % at 200)
+    r = montecarlo(_one_dof(), 200, seed=7).summary()
+    assert r["converged"] == 200
+    for p in r["parameters"].values():
+        assert p["ratio_empirical_to_predicted"] == pytest.approx(1.0, abs=0.15)
+        assert p["mean_reported_std"] == pytest.approx(p["predicted_std"], rel=0.05)
+        assert 0.9 <= p["coverage_2std"] <= 0.99
+        assert abs(p["bias"]) < 3 * p["predicted_std"] / np.sqrt(200)
+
+
+def test_seeded_runs_repeat_exactly():
+    a = montecarlo(_one_dof(), 5, seed=3)
+    b = montecarlo(_one_dof(), 5, seed=3)
+    c = montecarlo(_one_dof(), 5, seed=4)
+    assert all(np.array_equal(x["estimate"], y["estimate"]) for x, y in
+               zip(a.trials, b.trials, strict=True))
+    assert not np.array_equal(a.trials[0]["truth"], c.trials[0]["truth"])
+
+
+def test_truth_file_and_noise_from_the_design_table(tmp_path, run_cli):
+    # Fig. 2 study: no priors, so the truth study fixes the true values; the measurement
+    # file has no std_hz, so the noise is the [design] table's 0.01 Hz
+    code, out, err = run_cli("montecarlo", FIG2 / "study.toml", "--trials", 4, "--seed", 1,
+                             "--truth", FIG2 / "truth.toml", "--in-process", "--json",
+                             "-o", tmp_path / "mc")
+    assert code == 0, err
+    assert "\r" not in err  # the progress bar is for terminals only
+    doc = json.loads(out)
+    assert doc["converged"] == 4
+    truth = {"m1": 10.0, "k1": 1.0e6}
+    rows = (tmp_path / "mc" / "trials.csv").read_text().splitlines()
+    header = rows[0].split(",")
+    first = dict(zip(header, rows[1].split(","), strict=False))
+    for name, v in truth.items():
+        assert float(first[f"true_{name}"]) == pytest.approx(v)
+        assert abs(float(first[f"estimate_{name}"]) - v) < 5 * doc["parameters"][name][
+            "predicted_std"]
+    assert {p.name for p in (tmp_path / "mc").iterdir()} == {
+        "trials.csv", "summary.json", "std.png", "zscores.png"}
+
+
+def test_refusals(tmp_path, run_cli):
+    code, _, err = run_cli("montecarlo", FIG2 / "study.toml", "--trials", 2, "--in-process")
+    assert code == 2 and "has no std" in err and len(err.strip().splitlines()) == 1
+    code, _, err = run_cli("montecarlo", BEAM, "--trials", 0, "--in-process")
+    assert code == 2 and "--trials" in err
+
+
+def _csv(run_cli, out, *extra):
+    code, _, err = run_cli("montecarlo", BEAM, "--trials", 6, "--seed", 11, "-o", out, *extra)
+    assert code == 0, err
+    return (Path(out) / "trials.csv").read_bytes()
+
+
+@pytest.mark.slow
+def test_same_results_on_a_real_scheduler_and_two_worker_processes(tmp_path, run_cli,
+                                                                   monkeypatch):
+    sched_file = tmp_path / "scheduler.json"
+    procs = [subprocess.Popen(
+        [BIN / "dask", "scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+         "--scheduler-file", sched_file], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        for _ in range(300):
+            if sched_file.exists() and sched_file.stat().st_size:
+                break
+            time.sleep(0.1)
+        address = json.loads(sched_file.read_text())["address"]
+        assert address.startswith("tcp://127.0.0.1:")
+        procs.append(subprocess.Popen(
+            [BIN / "dask", "worker", "--scheduler-file", sched_file, "--nworkers", "2",
+             "--nthreads", "1", "--host", "127.0.0.1", "--no-dashboard"],
+            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        from distributed import Client
+        with Client(address, timeout="30s") as c:
+            c.wait_for_workers(2, timeout=60)
+        here = _csv(run_cli, tmp_path / "here", "--in-process")
+        remote = _csv(run_cli, tmp_path / "remote", "--scheduler", address)
+        monkeypatch.setenv("EIGENUPDATE_SCHEDULER", address)
+        from_env = _csv(run_cli, tmp_path / "env")
+        assert here == remote == from_env  # bit for bit: floats written with repr
+        summary = json.loads((tmp_path / "remote" / "summary.json").read_text())
+        assert summary["executor"] == f"Dask at {address}"
+    finally:
+        for p in reversed(procs):
+            p.terminate()
+            p.wait(timeout=30)
+
+
+@pytest.mark.slow
+def test_same_results_on_a_local_cluster(tmp_path, run_cli):
+    assert _csv(run_cli, tmp_path / "a", "--in-process") == _csv(run_cli, tmp_path / "b",
+                                                                 "--workers", "2")

@@ -154,7 +154,8 @@ def test_design_and_montecarlo_rendered_generically(tmp_path):
         "condition": {"J": 12.5, "JTJ": 156.25}}))
     mc = tmp_path / "mc.json"
     mc.write_text(json.dumps({"samples": 200, "parameters": [
-        {"name": "k1", "mean": 1.2e6, "std": 3e3}, {"name": "m1", "mean": 10.0, "std": 0.1}]}))
+        {"name": "k1", "mean": 1.2e6, "std": 3e3}, {"name": "m1", "mean": 10.0, "std": 0.1}],
+        "by_parameter": {"k1": {"bias": 1.5, "coverage": 0.95}, "m1": {"bias": -0.01}}}))
     page = render_report(FIG2, design=plan, montecarlo=mc, command="test")
     doc = parse(page)
     tables = {t["caption"]: t["rows"] for t in named(doc, "summary")}
@@ -163,6 +164,7 @@ def test_design_and_montecarlo_rendered_generically(tmp_path):
     assert tables["condition"] == [["J", "12.5"], ["JTJ", "156.25"]]
     assert tables["Monte Carlo summary"] == [["samples", "200"]]
     assert [r[0] for r in tables["parameters"]] == ["k1", "m1"]
+    assert tables["by_parameter"] == [["k1", "1.5", "0.95"], ["m1", "-0.01", "-"]]
     assert "plan.json" in page and "mc.json" in page
 
 

@@ -474,14 +474,21 @@ def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Se
 
 def _summary_section(key: str, title: str, doc: dict, name: str) -> Section:
     """A JSON object rendered generically: scalars as one key/value table, a list of
-    objects as a table (columns = their keys), an object of scalars as a key/value table,
-    anything else as compact JSON text in a cell."""
+    objects as a table (columns = their keys), an object of objects as a table (one row
+    per key), another object as a key/value table; deeper values as compact JSON text."""
     import json
+
+    def short(v: Any) -> Any:  # 6 significant digits inside nested values, as in cells
+        if isinstance(v, float):
+            return float(f"{v:.6g}")
+        if isinstance(v, dict):
+            return {k: short(x) for k, x in v.items()}
+        return [short(x) for x in v] if isinstance(v, list) else v
 
     def text(v: Any) -> Any:
         if isinstance(v, str | int | float | bool) or v is None:
             return v
-        return json.dumps(v, separators=(", ", ": "))
+        return json.dumps(short(v), separators=(", ", ": "))
 
     sec = Section(key, title)
     sec.paragraphs = [f"From {name}, shown generically: the report does not interpret this "
@@ -495,6 +502,11 @@ def _summary_section(key: str, title: str, doc: dict, name: str) -> Section:
         if isinstance(v, list) and v and all(isinstance(i, dict) for i in v):
             cols = list(dict.fromkeys(c for i in v for c in i))
             sec.blocks.append(_table(k, cols, [[text(i.get(c)) for c in cols] for i in v],
+                                     "summary"))
+        elif isinstance(v, dict) and v and all(isinstance(i, dict) for i in v.values()):
+            cols = list(dict.fromkeys(c for i in v.values() for c in i))
+            sec.blocks.append(_table(k, ["", *cols],
+                                     [[a, *[text(i.get(c)) for c in cols]] for a, i in v.items()],
                                      "summary"))
         elif isinstance(v, dict):
             sec.blocks.append(_table(k, ["key", "value"], [[a, text(b)] for a, b in v.items()],

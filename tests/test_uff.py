@@ -609,3 +609,61 @@ def test_binary_block_with_missing_bytes(tmp_path: Path):
     with pytest.raises(InputError, match="announces 10 values but 9 were read") as info:
         read_frfs(path)
     assert str(path) in str(info.value)
+
+
+# ----------------------------------------------------------------------------- issue 9 labels
+
+
+@pytest.mark.parametrize(
+    ("spec", "label", "kind"),
+    [
+        (1, "(1/N)*(m/s^2)", 2),
+        (1, "(1/N)*(m/s²)", 2),
+        (12, "(1/N)*(m/s²)", 2),
+        (1, "(m/s²)/N", 2),
+        (1, "m/s^2/N", 2),
+        (1, "(m/s^2)*(1/N)", 2),
+        (1, "(m/s)/N", 1),
+        (1, "m/N", 0),
+        (0, "g/N", 2),
+    ],
+)
+def test_units_labels_as_engineers_write_them(tmp_path: Path, spec, label, kind):
+    # function type 4, ordinate type 1 (general): the label says what the FRF is
+    f = np.arange(1, 41) * 1.0
+    w = 2 * np.pi * f
+    h = sdof_receptance(f)
+    factor = 9.80665 if label.startswith("g") else 1.0
+    values = [h, 1j * w * h, -(w**2) * h][kind] / factor
+    path = tmp_path / "u.uff"
+    pyuff_58(path, values, f, ordinate_spec_data_type=spec, ordinate_axis_units_lab=label,
+             orddenom_axis_units_lab="NONE")
+    (frf,) = read_frfs(path)
+    np.testing.assert_allclose(frf.receptance, h, rtol=1e-10)
+
+
+def test_latin1_superscript_two_reads_as_squared(tmp_path: Path):
+    """A label written by a non-UTF-8 program: the byte 0xB2 ('²' in Latin-1)."""
+    f = np.arange(1, 41) * 1.0
+    w = 2 * np.pi * f
+    h = sdof_receptance(f)
+    path = tmp_path / "l1.uff"
+    pyuff_58(path, -(w**2) * h, f, ordinate_spec_data_type=1,
+             ordinate_axis_units_lab="(1/N)*(m/s^2)", orddenom_axis_units_lab="NONE")
+    raw = path.read_bytes()
+    assert b"(1/N)*(m/s^2)" in raw
+    path.write_bytes(raw.replace(b"(1/N)*(m/s^2)", b"(1/N)*(m/s\xb2) "))
+    (frf,) = read_frfs(path)
+    np.testing.assert_allclose(frf.receptance, h, rtol=1e-10)
+
+
+def test_unknown_label_names_the_label_and_the_option(tmp_path: Path):
+    f = np.arange(1, 11) * 1.0
+    path = tmp_path / "x.uff"
+    pyuff_58(path, sdof_receptance(f), f, ordinate_spec_data_type=1,
+             ordinate_axis_units_lab="EU/EU")
+    with pytest.raises(InputError) as info:
+        read_frfs(path)
+    msg = str(info.value)
+    assert "'EU/EU'" in msg and '[measurement.frf_options] kind = "accelerance"' in msg
+    assert "\n" not in msg

@@ -29,9 +29,12 @@ from eigenupdate.errors import EigenupdateWarning, InputError, NumericalError
 from eigenupdate.identify.weights import ESTIMATORS
 from eigenupdate.io.atomic import write_text
 from eigenupdate.io.measurements import write_measurements
+from eigenupdate.io.nastran import save_updated_bdf
 from eigenupdate.io.study import load_study
 from eigenupdate.io.uff import Mode, write_frfs, write_modes
 from eigenupdate.measure.extraction import extraction_csv
+from eigenupdate.measure.frf import FRF_KINDS, dof_label
+from eigenupdate.measure.survey import extraction_doc, extraction_text
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import text as report
 from eigenupdate.report.html import write_report
@@ -116,11 +119,16 @@ def cmd_check(args) -> int:
 
 def cmd_update(args) -> int:
     _output_file(args.save, "--save")
+    _output_file(args.save_bdf, "--save-bdf")
     study = load_study(args.study)
+    if args.save_bdf and study.nastran is None:
+        raise InputError("needs a study whose [model] type is \"nastran\"", field="--save-bdf")
     res = workflow.update_study(study, args.method)
     doc = res.to_dict()
     if args.save:
         write_text(args.save, report.dumps({"study": str(study.path), **doc}) + "\n")
+    if args.save_bdf and res.converged:
+        save_updated_bdf(study, res, args.save_bdf)
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
     print(report.dumps(doc) if args.json else report.update_text(res, initial, study.title))
     if not res.converged:
@@ -208,24 +216,37 @@ def cmd_extract(args) -> int:
     _output_file(args.output, "-o")
     _output_file(args.uff55, "--uff55")
     _output_dir(args.plots, "--plots")
-    study = load_study(args.study)
-    # everything is extracted before anything is written
-    done = workflow.extract_study(study, progress=_progress)
-    results = [m for d in done for m in d.modes]
+    inputs = args.inputs
+    if len(inputs) == 1 and Path(inputs[0]).suffix.lower() == ".toml":
+        if args.kind:
+            raise InputError("goes with FRF files; a study says kind in "
+                             "[measurement.frf_options]", field="--kind")
+        study = load_study(inputs[0], require_model=False)
+        done = workflow.extract_study(study, progress=_progress)
+        label = study.model.coordinate_table.point_label if study.model is not None else None
+    else:  # FRF files on the command line: one configuration per file, named by its stem
+        done = workflow.extract_files(inputs, args.kind, progress=_progress)
+        label = None
+    res = done.result
+    print(report.dumps(extraction_doc(res)) if args.json else extraction_text(res))
+    if res.problems:  # a failed run writes nothing
+        for p in res.problems[1:]:
+            _progress(f"eigenupdate: also: {p}")
+        raise InputError(res.problems[0])
+    results = res.modes
     if args.plots:
-        label = study.model.coordinate_table.point_label
         Path(args.plots).mkdir(parents=True, exist_ok=True)
-        for d in done:
-            for j, x in enumerate(d.frfs):
-                shown = [m for m in d.modes if m.fits[j] is not None]
+        for ex in res.configurations:
+            for j, x in enumerate(done.frfs[ex.configuration]):
+                shown = [m for m in ex.modes if m.fits[j] is not None]
                 if shown:
-                    name = f"extract_{_safe_name(d.configuration.name)}_{j + 1}.png"
-                    out = Path(args.plots) / name
+                    out = Path(args.plots) / f"extract_{_safe_name(ex.configuration)}_{j + 1}.png"
+                    points = [label(p) if label else dof_label(p) for p in (x.response,
+                                                                            x.reference)]
                     plot_extraction_fit(out, x.frequency_hz, x.receptance,
                                         [m.fits[j] for m in shown],
                                         mode_numbers=[m.mode for m in shown],
-                                        title=f"{d.configuration.name}: {label(x.response)} / "
-                                              f"{label(x.reference)}")
+                                        title=f"{ex.configuration}: {points[0]} / {points[1]}")
         _progress(f"wrote the fit plots to {args.plots}")
     write_text(args.output, extraction_csv(results))
     if args.uff55:
@@ -233,10 +254,6 @@ def cmd_extract(args) -> int:
             Mode(m.frequency_hz, loss_factor=m.loss_factor, mode_number=m.mode,
                  label=m.configuration)
             for m in results])
-    print(report.table(
-        ["configuration", "mode", "f Hz", "std Hz", "loss factor", "check f Hz", "diff/std"],
-        [[m.configuration, m.mode, m.frequency_hz, m.std_hz, m.loss_factor, m.check_hz,
-          m.disagreement] for m in results]))
     _progress(f"wrote {len(results)} frequencies to {args.output}")
     return 0
 
@@ -348,6 +365,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--method", choices=ESTIMATORS)
     s.add_argument("--json", action="store_true")
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
+    s.add_argument("--save-bdf", metavar="UPDATED.bdf",
+                   help="NASTRAN model: write its BDF with the updated values in their cards")
     s.set_defaults(func=cmd_update)
 
     s = sub.add_parser("design", help="choose the added masses from the study's [design] table")
@@ -376,9 +395,13 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_montecarlo)
 
-    s = sub.add_parser("extract", help="natural frequencies from the study's measured FRFs")
-    s.add_argument("study")
+    s = sub.add_parser("extract", help="natural frequencies from the study's measured FRFs "
+                                       "(a study, or FRF files: one configuration per file)")
+    s.add_argument("inputs", nargs="+", metavar="STUDY.toml | FRF")
     s.add_argument("-o", "--output", required=True, help="measurement CSV to write")
+    s.add_argument("--kind", choices=FRF_KINDS,
+                   help="what FRF files on the command line hold if their header does not say")
+    s.add_argument("--json", action="store_true", help="print the table as JSON")
     s.add_argument("--uff55", help="also write the modes (with loss factors) as UFF 55")
     s.add_argument("--plots", metavar="DIR", help="save a plot of every fit in DIR")
     s.set_defaults(func=cmd_extract)
@@ -443,6 +466,9 @@ def _located(exc: InputError | NumericalError, args) -> str:
     come from the study's model all the same; options (``--x``) name themselves.
     """
     study = getattr(args, "study", None)
+    inputs = getattr(args, "inputs", None) or []
+    if study is None and len(inputs) == 1 and str(inputs[0]).endswith(".toml"):
+        study = inputs[0]  # extract on a study
     if exc.source is None and study and not (exc.field or "").startswith("-"):
         return f"{study}: {exc}"
     return str(exc)

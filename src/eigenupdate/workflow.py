@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -27,8 +28,8 @@ from eigenupdate.io.measurements import Measurement
 from eigenupdate.io.results import read_loss_factors, read_updated_values
 from eigenupdate.io.study import Study
 from eigenupdate.io.uff import read_frf_files
-from eigenupdate.measure.extraction import ExtractedMode, extract_configuration
 from eigenupdate.measure.frf import FRF
+from eigenupdate.measure.survey import TestExtraction, extract_test
 from eigenupdate.measure.synthetic import simulate_measurements, synthetic_frfs
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.coordinates import CoordinateTable
@@ -82,34 +83,44 @@ def simulate_study(study: Study, noise_hz: float = 0.0, std_hz: float | None = N
 
 
 @dataclass(frozen=True)
-class ConfigurationExtraction:
-    """The FRFs of one configuration and the modes extracted from them."""
+class StudyExtraction:
+    """The FRFs read for each configuration and what was extracted from them."""
 
-    configuration: Configuration
-    frfs: list[FRF]
-    modes: list[ExtractedMode]
+    frfs: dict[str, list[FRF]]
+    result: TestExtraction
 
 
-def extract_study(study: Study,
-                  progress: Callable[[str], None] | None = None) -> list[ConfigurationExtraction]:
-    """Natural frequencies and loss factors of every configuration from the study's FRF
-    files (``eigenupdate extract``), with the study's bands and low-frequency cut."""
-    modes = study.require_modes()
+def extract_study(study: Study, progress: Callable[[str], None] | None = None
+                  ) -> StudyExtraction:
+    """Validated, numbered modes of every configuration from the study's FRF files
+    (``eigenupdate extract``), with the study's bands, low-frequency cut and FRF kinds.
+    With a model, modes are numbered by the initial model's frequencies; without one, by
+    order. Problems (a used mode not found) are in ``result.problems``, not raised."""
     missing = [c.name for c in study.configurations if not study.frf.get(c.name)]
     if missing:
         raise InputError(f"no FRF file for configuration(s) {missing}", source=str(study.path),
                          field="measurement.frf")
-    out = []
-    n = len(study.configurations)
-    for i, c in enumerate(study.configurations, 1):
-        files = study.frf[c.name]
-        frfs = read_frf_files(files)
-        if progress:
-            progress(f"[{i}/{n}] {c.name}: {len(frfs)} FRF(s) from {len(files)} file(s)")
-        ex = extract_configuration(frfs, modes, c.name, bands_hz=study.bands_hz.get(c.name),
-                                   exclude_below_hz=study.exclude_below_hz)
-        out.append(ConfigurationExtraction(c, frfs, ex))
-    return out
+    frfs = {c.name: read_frf_files(study.frf[c.name],
+                                   [study.frf_kinds.get(p) for p in study.frf[c.name]])
+            for c in study.configurations}
+    res = extract_test(frfs, model=study.model, configurations=study.configurations,
+                       used_modes=study.modes, bands_hz=study.bands_hz,
+                       exclude_below_hz=study.exclude_below_hz, progress=progress)
+    return StudyExtraction(frfs, res)
+
+
+def extract_files(paths: Sequence[str | Path], kind: str | None = None,
+                  progress: Callable[[str], None] | None = None) -> StudyExtraction:
+    """Modes of FRF files without a study (``eigenupdate extract a.uff b.uff``): one
+    configuration per file, named by its stem, numbered by order; ``kind`` for files whose
+    header does not say what they hold."""
+    paths = [Path(p) for p in paths]
+    names = [p.stem for p in paths]
+    if len(set(names)) != len(names):
+        raise InputError(f"two files with one name in {[str(p) for p in paths]}",
+                         field="inputs")
+    frfs = {p.stem: read_frf_files([p], [kind]) for p in paths}
+    return StudyExtraction(frfs, extract_test(frfs, progress=progress))
 
 
 def simulate_study_frfs(study: Study, frequency_hz: np.ndarray, excitation: int,

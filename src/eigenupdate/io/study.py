@@ -18,13 +18,14 @@ from eigenupdate.errors import InputError
 from eigenupdate.identify.weights import ESTIMATORS
 from eigenupdate.io.matrix_market import read_matrix_model
 from eigenupdate.io.measurements import Measurement, read_measurements
+from eigenupdate.measure.frf import FRF_KINDS
 from eigenupdate.model.beam import beam_model, element_parameter_names
 from eigenupdate.model.configurations import BASE, Addition, Configuration
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
 
-MODEL_TYPES = ("spring-mass", "beam", "matrices")
+MODEL_TYPES = ("spring-mass", "beam", "matrices", "nastran")
 
 
 @dataclass
@@ -34,7 +35,7 @@ class Study:
     path: Path
     title: str
     model_type: str
-    model: ParametricModel
+    model: ParametricModel | None  # None only from load_study(require_model=False)
     configurations: list[Configuration]
     modes: list[int]
     frequencies: Path | None = None
@@ -45,6 +46,8 @@ class Study:
     bands_hz: dict[str, list[list[float]]] = field(default_factory=dict)
     """[measurement.frf_options] bands_hz by configuration (validated; empty: automatic)."""
     exclude_below_hz: float | None = None
+    frf_kinds: dict[Path, str] = field(default_factory=dict)
+    """[measurement.frf_options] kind by FRF file, for files whose header does not say."""
 
     def configuration(self, name: str | None = None) -> Configuration:
         """The configuration called ``name``; the bare structure if None."""
@@ -56,6 +59,7 @@ class Study:
         raise InputError(f"no configuration {name!r} (have "
                          f"{[c.name for c in self.configurations]})", source=str(self.path))
     design: DesignSpec | None = None
+    nastran: Any = None  # io.nastran.NastranModel of a type = "nastran" model (write-back)
 
     def measurements(self) -> dict[tuple[str, int], Measurement]:
         """Read the measurement CSV; configuration names must be those of the study."""
@@ -144,8 +148,13 @@ class _Reader:
             )
 
 
-def load_study(path: str | Path) -> Study:
-    """Parse and validate a study file."""
+def load_study(path: str | Path, *, require_model: bool = True) -> Study:
+    """Parse and validate a study file.
+
+    With ``require_model=False`` (``eigenupdate extract``) the [model] table may be
+    missing: ``model`` is then None and the configurations are the perturbations (or,
+    without any, the keys of [measurement.frf]).
+    """
     path = Path(path)
     src = str(path)
     try:
@@ -159,9 +168,15 @@ def load_study(path: str | Path) -> Study:
         raise InputError(f"not UTF-8 text: {exc}", source=src) from None
     top = _Reader(data, "", src)
     title = top.get("title", "str", path.stem)
+    if "model" not in data and not require_model:
+        return _study_without_model(path, top, title)
+    if "model" not in data:
+        raise InputError("[model] is required (only 'extract' runs without a model)",
+                         source=src, field="model")
     m = _Reader(top.get("model", "table"), "model", src)
     mtype = m.get("type", "str")
-    builders = {"spring-mass": _spring_mass, "beam": _beam, "matrices": _matrices}
+    builders = {"spring-mass": _spring_mass, "beam": _beam, "matrices": _matrices,
+                "nastran": _nastran}
     if mtype not in builders:
         raise m.error("type", f"unknown model type {mtype!r}; expected one of {list(MODEL_TYPES)}")
     try:
@@ -171,9 +186,10 @@ def load_study(path: str | Path) -> Study:
             raise
         raise InputError(str(exc), source=src) from None
     m.finish()
+    nastran, model = (model, model.model) if mtype == "nastran" else (None, model)
 
     perts = [
-        _perturbation(_Reader(t, f"perturbation[{i + 1}]", src))
+        _perturbation(_Reader(t, f"perturbation[{i + 1}]", src), nastran)
         for i, t in enumerate(top.get("perturbation", "tables", []))
     ]
     configs = [Configuration(BASE), *perts]
@@ -190,17 +206,7 @@ def load_study(path: str | Path) -> Study:
         except InputError as exc:
             raise InputError(str(exc), source=src, field=f"perturbation[{i}]") from None
 
-    meas = _Reader(top.get("measurement", "table", {}), "measurement", src)
-    modes = meas.get("modes", "list", [])
-    if any(isinstance(k, bool) or not isinstance(k, int) or k < 1 for k in modes):
-        raise meas.error("modes", f"must be elastic mode numbers >= 1, got {modes}")
-    if len(set(modes)) != len(modes):
-        raise meas.error("modes", f"repeated mode number in {modes}")
-    freq = meas.get("frequencies", "str", None)
-    frf_table = meas.get("frf", "table", {})
-    frf_options = meas.get("frf_options", "table", {})
-    meas.finish()
-    frf = _frf_files(frf_table, names, path.parent, src)
+    modes, freq, frf, frf_options = _measurement(top, names, path)
 
     up = _Reader(top.get("updating", "table", {}), "updating", src)
     method = up.get("method", "str", "least-squares")
@@ -229,17 +235,21 @@ def load_study(path: str | Path) -> Study:
         max_iterations=max_it,
         tolerance=tol,
         frf=frf,
-        **_frf_settings(frf_options, names, src),
+        **_frf_settings(frf_options, names, frf, path.parent, src),
         design=design,
+        nastran=nastran,
     )
 
 
-def _frf_settings(options: dict, names: list[str], src: str) -> dict[str, Any]:
-    """[measurement.frf_options]: bands_hz (list, or table by configuration), exclude_below_hz."""
+def _frf_settings(options: dict, names: list[str], frf: dict[str, list[Path]], base: Path,
+                  src: str) -> dict[str, Any]:
+    """[measurement.frf_options]: bands_hz (list, or table by configuration), exclude_below_hz,
+    kind (one FRF kind for files whose header does not say, or a table by file name)."""
     opts = dict(options)
     field_ = "measurement.frf_options"
     bands = opts.pop("bands_hz", None)
     low = opts.pop("exclude_below_hz", None)
+    kind = opts.pop("kind", None)
     if opts:
         raise InputError(f"unknown key(s) {sorted(opts)}", source=src, field=field_)
     if bands is None:
@@ -264,7 +274,63 @@ def _frf_settings(options: dict, names: list[str], src: str) -> dict[str, Any]:
                              source=src, field=f"{field_}.bands_hz")
     if low is not None and not (isinstance(low, int | float) and low >= 0):
         raise InputError("must be a number >= 0", source=src, field=f"{field_}.exclude_below_hz")
-    return {"bands_hz": table, "exclude_below_hz": low}
+    files = {p for ps in frf.values() for p in ps}
+    if kind is None:
+        kinds = {}
+    elif isinstance(kind, str):
+        kinds = {p: kind for p in files}
+    elif isinstance(kind, dict):
+        kinds = {base / k: v for k, v in kind.items()}
+    else:
+        raise InputError("must be an FRF kind or a table of them by file", source=src,
+                         field=f"{field_}.kind")
+    for p, k in kinds.items():
+        if k not in FRF_KINDS or p not in files:
+            what = f"{k!r} is not one of {list(FRF_KINDS)}" if k not in FRF_KINDS else \
+                f"{p.relative_to(base)} is not a file of [measurement.frf]"
+            raise InputError(what, source=src, field=f"{field_}.kind")
+    return {"bands_hz": table, "exclude_below_hz": low, "frf_kinds": kinds}
+
+
+def _measurement(top: _Reader, names: list[str] | None, path: Path
+                 ) -> tuple[list[int], str | None, dict[str, list[Path]], dict[str, Any]]:
+    """[measurement]: modes, frequencies, frf (by configuration), frf_options."""
+    src = str(path)
+    meas = _Reader(top.get("measurement", "table", {}), "measurement", src)
+    modes = meas.get("modes", "list", [])
+    if any(isinstance(k, bool) or not isinstance(k, int) or k < 1 for k in modes):
+        raise meas.error("modes", f"must be elastic mode numbers >= 1, got {modes}")
+    if len(set(modes)) != len(modes):
+        raise meas.error("modes", f"repeated mode number in {modes}")
+    freq = meas.get("frequencies", "str", None)
+    frf_table = meas.get("frf", "table", {})
+    frf_options = meas.get("frf_options", "table", {})
+    meas.finish()
+    if names is None:  # no model and no perturbations: the FRF table names them
+        names = sorted(frf_table, key=lambda n: n != BASE)
+    frf = _frf_files(frf_table, names, path.parent, src)
+    return modes, freq, frf, frf_options
+
+
+def _study_without_model(path: Path, top: _Reader, title: str) -> Study:
+    src = str(path)
+    perts = [
+        _perturbation(_Reader(t, f"perturbation[{i + 1}]", src))
+        for i, t in enumerate(top.get("perturbation", "tables", []))
+    ]
+    names = [BASE, *[c.name for c in perts]] if perts else None
+    modes, freq, frf, frf_options = _measurement(top, names, path)
+    if not frf:
+        raise InputError("a study without [model] needs [measurement.frf] files",
+                         source=src, field="measurement.frf")
+    configs = ([Configuration(BASE), *perts] if perts
+               else [Configuration(n) for n in sorted(frf, key=lambda n: n != BASE)])
+    top.used.add("updating")
+    top.finish()
+    return Study(path=path, title=title, model_type="", model=None, configurations=configs,
+                 modes=sorted(modes), frequencies=None if freq is None else path.parent / freq,
+                 frf=frf, **_frf_settings(frf_options, [c.name for c in configs], frf,
+                                          path.parent, src))
 
 
 def _parameter(r: _Reader, seen: dict[str, str], default_value: Any = ...) -> Parameter:
@@ -366,24 +432,40 @@ def _matrices(m: _Reader, base: Path) -> ParametricModel:
     return read_matrix_model(k0, m0, params)
 
 
-def _perturbation(r: _Reader) -> Configuration:
+def _nastran(m: _Reader, base: Path):
+    """[model] type = "nastran": a BDF and parameters named by card, id and field."""
+    from eigenupdate.io.nastran import CardField, read_nastran
+
+    bdf = base / m.get("bdf", "str")
+    params, seen = [], {}
+    for i, t in enumerate(m.get("parameter", "tables", [])):
+        r = _Reader(t, f"model.parameter[{i + 1}]", m.source)
+        if "value" in t:
+            raise r.error("value", "the value is the card's; edit the BDF to change it")
+        p = _parameter(r, seen, default_value=0.0)
+        where = CardField(r.get("card", "str").upper(), r.get("id", "int"),
+                          r.get("field", "str").upper())
+        r.finish()
+        params.append((p, where))
+    return read_nastran(bdf, params)
+
+
+def _perturbation(r: _Reader, nastran=None) -> Configuration:
     adds = []
-    if "add" in r.data and {"coordinate", "mass", "stiffness"} & set(r.data):
+    if "add" in r.data and {"coordinate", "grid", "mass", "stiffness"} & set(r.data):
         raise r.error("add", "give either coordinate with mass/stiffness or add = [...], "
                              "not both")
     if "add" in r.data:
         for j, t in enumerate(r.get("add", "tables")):
-            adds.append(_addition(_Reader(t, f"{r.where}.add[{j + 1}]", r.source)))
-    if "coordinate" in r.data:
-        adds.append(_addition(r, finish=False))
+            adds.append(_addition(_Reader(t, f"{r.where}.add[{j + 1}]", r.source),
+                                  nastran=nastran))
+    if "coordinate" in r.data or "grid" in r.data:
+        adds.append(_addition(r, finish=False, nastran=nastran))
     if not adds:
         raise r.error("coordinate", "a perturbation needs a coordinate (or add = [...])")
     a0 = adds[0]
-    default = (
-        f"{a0.mass:g} kg at {a0.coordinate}"
-        if a0.mass
-        else f"{a0.stiffness:g} N/m at {a0.coordinate}"
-    )
+    at = a0.coordinate if nastran is None else f"{a0.coordinate // 10}-{a0.coordinate % 10}"
+    default = f"{a0.mass:g} kg at {at}" if a0.mass else f"{a0.stiffness:g} N/m at {at}"
     name = r.get("name", "str", default if len(adds) == 1 else ...)
     if name == BASE:
         raise r.error("name", f"{BASE!r} is the bare structure; choose another name")
@@ -391,8 +473,16 @@ def _perturbation(r: _Reader) -> Configuration:
     return Configuration(name, tuple(adds))
 
 
-def _addition(r: _Reader, finish: bool = True) -> Addition:
-    c = r.get("coordinate", "int")
+def _addition(r: _Reader, finish: bool = True, nastran=None) -> Addition:
+    if nastran is None:
+        c = r.get("coordinate", "int")
+    else:  # NASTRAN names a GRID and a component 1-6
+        if "coordinate" in r.data:
+            raise r.error("coordinate", "a NASTRAN model names grid = ... and component = 1-6")
+        try:
+            c = nastran.grid_dof(r.get("grid", "int"), r.get("component", "int"))
+        except InputError as exc:
+            raise r.error("grid", str(exc)) from None
     mass = r.get("mass", "float", 0.0)
     k = r.get("stiffness", "float", 0.0)
     if mass < 0 or k < 0 or (mass == 0 and k == 0):

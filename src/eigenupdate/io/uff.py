@@ -23,7 +23,8 @@ Dataset 58 fields used (pyuff names, record/field of the UFF 58 specification)
     Response quantity of the numerator: 8 displacement (receptance), 11 velocity
     (mobility), 12 acceleration (accelerance).  For 0 (unknown) or 1 (general) the kind
     is taken from the units label if that is unambiguous (``m``, ``m/s``, ``m/s^2``,
-    ``g``, ...), else from the ``default_kind`` argument of :func:`read_frfs`.
+    ``g``, ``(1/N)*(m/s^2)``, ``m/s^2/N``, ...), else from the ``default_kind`` argument
+    of :func:`read_frfs` (the study option ``[measurement.frf_options] kind``).
 ``orddenom_spec_data_type``, ``orddenom_axis_units_lab`` (R10 F1, F6)
     Denominator: 13 (excitation force), 9 (reaction force) or 0 (unknown, assumed force).
 ``data``, ``x``
@@ -34,9 +35,11 @@ Units
 Values are assumed SI (Hz, m, m/s, m/s^2, N; rad and N m for rotations) unless the
 units label says otherwise.  Recognised labels are converted: lengths ``mm``, ``um``,
 ``cm``, ``in``, ``ft``; ``g`` (9.80665 m/s^2) for acceleration; ``kN``, ``lbf``, ``kgf``
-for force; a combined numerator label such as ``g/N`` or ``(m/s^2)/N``.  An
-unrecognised label is rejected rather than guessed.  The unit *exponents* of records
-8-11 are ignored (the specification makes them relevant only for "general" data).
+for force; a combined numerator label such as ``g/N``, ``(m/s^2)/N``, ``m/s^2/N`` or
+``(1/N)*(m/s^2)``.  ``²`` is read as ``^2``, also when a non-UTF-8 file turned it into a
+replacement character.  An unrecognised label is rejected rather than guessed.  The unit
+*exponents* of records 8-11 are ignored (the specification makes them relevant only for
+"general" data).
 
 Precision
 ---------
@@ -184,6 +187,13 @@ _FORCE_UNITS = {
 }
 _FREQUENCY_UNITS = {"hz": 1.0, "khz": 1e3, "rad/s": 1.0 / (2.0 * math.pi)}
 
+#: How a user says what an unlabelled FRF is (named in the error messages).
+KIND_OPTION_HINT = (
+    'set the study option [measurement.frf_options] kind = "accelerance" (or "mobility", '
+    '"receptance"; a table by file name for some files only)'
+)
+_KNOWN = "m/N, (m/s)/N, (m/s^2)/N = (1/N)*(m/s^2) = m/s^2/N, g/N, mm, in/s, ..."
+
 # Tolerance for require_uniform: ASCII UFF stores an uneven abscissa with 6 digits.
 _UNIFORM_RTOL = 1e-5
 _AXIS_RTOL = 1e-9
@@ -250,22 +260,61 @@ def _read_set(uff: Any, index: int, set_type: int, src: str, header_only: bool =
 
 
 def _norm_units(label: object) -> str | None:
-    """Normalise a units label; None for an empty / 'NONE' label."""
+    """Normalise a units label; None for an empty / 'NONE' label.
+
+    A superscript two is written ``^2``; so is U+FFFD, which is what pyuff's UTF-8 decoding
+    makes of a Latin-1 ``²`` byte (a units label has no other non-ASCII character there).
+
+    >>> _norm_units(" (m/s\N{SUPERSCRIPT TWO})/N"), _norm_units("m/s\ufffd"), _norm_units("NONE")
+    ('(m/s^2)/n', 'm/s^2', None)
+    """
     s = str(label or "").strip().lower()
-    s = s.replace(" ", "").replace("²", "^2").replace("**", "^")
+    s = s.replace(" ", "").replace("²", "^2").replace("\ufffd", "^2").replace("**", "^")
     s = s.replace("µ", "u").replace("μ", "u")
-    while len(s) >= 2 and s[0] + s[-1] in ("()", "[]"):
+    while len(s) >= 2 and s[0] + s[-1] in ("()", "[]") and _balanced(s[1:-1]):
         s = s[1:-1]
     return None if s in ("", "none") else s
 
 
+def _balanced(s: str) -> bool:
+    depth = 0
+    for c in s:
+        depth += {"(": 1, ")": -1}.get(c, 0)
+        if depth < 0:
+            return False
+    return depth == 0
+
+
 def _split_combined(label: str, kind: str) -> tuple[float, float, str] | None:
-    """Split a numerator label such as 'g/n' or '(m/s^2)/n' into response and force parts."""
+    """Split a numerator label such as 'g/n', '(m/s^2)/n' or '(1/n)*(m/s^2)' into response
+    and force parts."""
+    product = _split_product(label, kind)
+    if product is not None:
+        return product
     for i in range(len(label) - 1, 0, -1):
         if label[i] != "/":
             continue
-        resp, force = _norm_units(label[:i]), label[i + 1 :]
+        resp, force = _norm_units(label[:i]), _norm_units(label[i + 1 :])
         if resp in _RESPONSE_UNITS[kind] and force in _FORCE_UNITS:
+            return _RESPONSE_UNITS[kind][resp], _FORCE_UNITS[force], force
+    return None
+
+
+def _split_product(label: str, kind: str) -> tuple[float, float, str] | None:
+    """'(1/n)*(m/s^2)' or '(m/s^2)*(1/n)': one factor '1/force', the other a response."""
+    depth, cuts = 0, []
+    for i, c in enumerate(label):
+        depth += {"(": 1, ")": -1}.get(c, 0)
+        if c == "*" and depth == 0:
+            cuts.append(i)
+    if len(cuts) != 1:
+        return None
+    parts = [_norm_units(label[: cuts[0]]), _norm_units(label[cuts[0] + 1 :])]
+    for inv, resp in (parts, parts[::-1]):
+        if inv is None or resp is None or not inv.startswith("1/"):
+            continue
+        force = _norm_units(inv[2:])
+        if force in _FORCE_UNITS and resp in _RESPONSE_UNITS[kind]:
             return _RESPONSE_UNITS[kind][resp], _FORCE_UNITS[force], force
     return None
 
@@ -417,10 +466,11 @@ def _frf_from_58(
             kind = default_kind
         else:
             raise fail(
-                "ordinate_spec_data_type",
+                "ordinate_axis_units_lab" if y_label else "ordinate_spec_data_type",
                 f"response type {y_spec} ({_SPEC_NAMES[y_spec]}) does not say whether the FRF "
                 "is displacement (8), velocity (11) or acceleration (12) over force, and the "
-                f"units label {y_label_raw!r} does not tell either",
+                f"units label {y_label_raw!r} does not tell either (known labels: {_KNOWN}); "
+                f"if the values are SI, {KIND_OPTION_HINT}",
             )
     else:
         raise fail(
@@ -432,7 +482,8 @@ def _frf_from_58(
     if scales is None:
         raise fail(
             "ordinate_axis_units_lab",
-            f"units {y_label_raw!r} not recognised as {_KIND_TO_QUANTITY[kind]} units",
+            f"units {y_label_raw!r} not recognised as {_KIND_TO_QUANTITY[kind]} units "
+            f"(known labels: {_KNOWN})",
         )
     resp_scale, force_scale, force_in_num = scales
 
@@ -898,12 +949,19 @@ def read_modes(path: PathLike) -> list[Mode]:
     return modes
 
 
-def read_frf_files(paths: Sequence[PathLike]) -> list[FRF]:
+def read_frf_files(
+    paths: Sequence[PathLike], kinds: Sequence[str | None] | None = None
+) -> list[FRF]:
     """FRFs of several files: ``.csv`` files by :func:`eigenupdate.io.frf_csv.read_frf_csv`
-    (one receptance each), anything else as a universal file (:func:`read_frfs`)."""
+    (one receptance each), anything else as a universal file (:func:`read_frfs`, with
+    ``kinds[i]`` as the ``default_kind`` of file ``i``)."""
     from eigenupdate.io.frf_csv import read_frf_csv
 
     out: list[FRF] = []
-    for p in paths:
-        out += [read_frf_csv(p)] if str(p).lower().endswith(".csv") else read_frfs(p)
+    for i, p in enumerate(paths):
+        kind = None if kinds is None else kinds[i]
+        if str(p).lower().endswith(".csv"):
+            out.append(read_frf_csv(p))
+        else:
+            out += read_frfs(p, default_kind=kind)
     return out

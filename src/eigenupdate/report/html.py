@@ -56,18 +56,16 @@ from eigenupdate.io.report_inputs import (
     read_summary,
 )
 from eigenupdate.io.study import Study, load_study
-from eigenupdate.measure.extraction import ExtractedMode
+from eigenupdate.measure.extraction import DISAGREEMENT_WARNING
 from eigenupdate.measure.frf import FRF
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import figures
 from eigenupdate.solve.response import receptance
 from eigenupdate.solve.sweep import mass_sweep
+from eigenupdate.workflow import StudyExtraction
 
 PathLike = str | os.PathLike
 TEMPLATES = Path(__file__).with_name("templates")
-DISAGREEMENT_LIMIT = 4.0
-"""Dobson and rational-fraction frequencies further apart than this many std are flagged
-(as ``eigenupdate extract`` warns)."""
 _DEFAULT_LOSS_FACTOR = 0.01  # as `eigenupdate frf` without --damping
 
 
@@ -256,7 +254,7 @@ def _frf_label(study: Study, x: FRF) -> str:
 
 def _extraction_section(
     study: Study,
-    fitted: dict[str, tuple[list[FRF], list[ExtractedMode]]] | None,
+    fitted: StudyExtraction | None,
     extracted: list[ExtractedRow] | None,
     extracted_name: str | None,
 ) -> Section | None:
@@ -268,23 +266,39 @@ def _extraction_section(
         intro.append("Fitted here from the study's FRF files with the method of 'eigenupdate "
                      "extract': Dobson's inverse-receptance line fit (hysteretic damping) in "
                      "each resonance band, the FRFs of a configuration combined by inverse "
-                     "variance, and a rational-fraction fit as an independent cross-check.")
+                     "variance, a rational-fraction fit as an independent cross-check, "
+                     f"modes numbered by {fitted.result.numbered_by}.")
     if extracted is not None:
-        intro.append(f"The tables show {extracted_name}, the extraction the update read.")
+        intro.append(f"The mode tables show {extracted_name}, the extraction the update read.")
     intro.append(f"'diff/std' is the Dobson - rational-fraction difference in combined "
-                 f"standard deviations; above {DISAGREEMENT_LIMIT:g} the mode is flagged. "
-                 "'not used' marks fitted modes the study does not use; 'no peak in' lists "
-                 "the FRFs in which a mode was not fitted (a response point near its node).")
+                 f"standard deviations (flagged above {DISAGREEMENT_WARNING:g}); 'fit R2' the "
+                 "fit quality. 'not used' marks modes the study does not use; 'no peak in' "
+                 "lists the FRFs in which a mode was not fitted (a response point near its "
+                 "node). Rejected candidates are resonances that are not modes, with the "
+                 "reason.")
     sec.paragraphs = [" ".join(intro)]
+    if fitted is not None and fitted.result.problems:
+        sec.paragraphs.append("WARNING: " + "; ".join(fitted.result.problems) + ".")
     used = set(study.modes)
     by_cfg: dict[str, list[ExtractedRow]] = {}
     for row in extracted or []:
         by_cfg.setdefault(row.configuration, []).append(row)
+    results = {ex.configuration: ex for ex in fitted.result.configurations} if fitted else {}
     notes = []
     for c in study.configurations:
         part = Section(f"extraction-{len(sec.parts) + 1}", c.name)
-        frfs, modes = fitted.get(c.name, ([], [])) if fitted else ([], [])
+        ex = results.get(c.name)
+        frfs = fitted.frfs.get(c.name, []) if fitted else []
+        modes = ex.modes if ex else []
         fits = {m.mode: m for m in modes}
+        if ex is not None:
+            part.paragraphs = [f"{ex.line_spacing_hz:.4g} Hz lines, {ex.frequency_range_hz[0]:.5g}"
+                               f"-{ex.frequency_range_hz[1]:.5g} Hz; {len(frfs)} FRF(s)"
+                               + "".join(f"; {n}" for n in ex.notes) + "."]
+            part.paragraphs += [f"Model mode {k} ({f:.6g} Hz) expected, not found."
+                                for k, f in ex.missing]
+            part.paragraphs += [f"Unexpected resonance at {m.frequency_hz:.6g} Hz: no model "
+                                "mode explains it." for m in ex.unexpected]
         rows = by_cfg.get(c.name) if extracted is not None else [
             ExtractedRow(m.configuration, m.mode, m.frequency_hz, m.std_hz, m.loss_factor,
                          m.loss_factor_std, m.check_hz, m.check_std_hz) for m in modes]
@@ -294,10 +308,12 @@ def _extraction_section(
             flags = []
             if r.mode not in used:
                 flags.append("not used")
-            if d is not None and d > DISAGREEMENT_LIMIT:
+            if d is not None and d > DISAGREEMENT_WARNING:
                 flags.append(f"methods differ by {d:.1f} std")
             m = fits.get(r.mode)
             if m is not None:
+                if m.under_resolved:
+                    flags.append("under-resolved")
                 missing = [_frf_label(study, x)
                            for x, ft in zip(frfs, m.fits, strict=True) if ft is None]
                 if missing:
@@ -308,12 +324,19 @@ def _extraction_section(
                                  f"{r.frequency_hz:.6g} Hz, the FRF files give "
                                  f"{m.frequency_hz:.6g} Hz")
             table_rows.append([r.mode, r.frequency_hz, r.std_hz, r.loss_factor,
-                               r.loss_factor_std, r.check_hz, d, "; ".join(flags) or None])
+                               r.loss_factor_std, m.fit_quality if m else None, r.check_hz, d,
+                               m.model_hz if m else None, "; ".join(flags) or None])
         if table_rows:
             part.blocks.append(_table(
                 f"{c.name}: fitted modes",
-                ["mode", "f Hz", "std Hz", "loss factor", "loss factor std", "check f Hz",
-                 "diff/std", "remarks"], table_rows, "extraction"))
+                ["mode", "f Hz", "std Hz", "loss factor", "loss factor std", "fit R2",
+                 "check f Hz", "diff/std", "model Hz", "remarks"], table_rows, "extraction"))
+        if ex is not None and ex.rejected:
+            part.blocks.append(_table(
+                f"{c.name}: rejected candidates",
+                ["f Hz", "band from Hz", "band to Hz", "reason"],
+                [[r.frequency_hz, r.band_hz[0], r.band_hz[1], r.reason] for r in ex.rejected],
+                "rejected"))
         for j, x in enumerate(frfs):
             shown = [m for m in modes if m.fits[j] is not None and m.mode in used]
             if not shown:
@@ -407,8 +430,10 @@ def _loss_factors(study: Study, fitted, extracted) -> tuple[list[float] | float,
     """Per-mode loss factors of the base configuration: extracted ones when known."""
     base = study.configurations[0].name
     etas = {r.mode: r.loss_factor for r in extracted or [] if r.configuration == base}
-    if etas.get(1) is None and fitted and base in fitted:
-        etas = {m.mode: m.loss_factor for m in fitted[base][1]}
+    if etas.get(1) is None and fitted:
+        for ex in fitted.result.configurations:
+            if ex.configuration == base:
+                etas = {m.mode: m.loss_factor for m in ex.modes}
     k = 1
     out = []
     while etas.get(k) is not None:
@@ -427,7 +452,7 @@ def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Se
         models["updated"] = study.model.with_values(doc["parameters"])
     eta, eta_text = _loss_factors(study, fitted, extracted)
     skipped = []
-    frfs = fitted[base.name][0] if fitted and base.name in fitted else []
+    frfs = fitted.frfs.get(base.name, []) if fitted else []
     for x in frfs:
         try:
             out = study.model.coordinate_table.from_uff(x.response).number
@@ -561,8 +586,7 @@ def render_report(
                  for key, title, p in (("design", "Test design", design),
                                        ("montecarlo", "Monte Carlo summary", montecarlo))
                  if p is not None]
-    fitted = ({e.configuration.name: (e.frfs, e.modes) for e in workflow.extract_study(study)}
-              if study.frf else None)
+    fitted = workflow.extract_study(study) if study.frf else None
     doc, origin = _update_doc(study, res)
 
     sections = [_study_section(study)]

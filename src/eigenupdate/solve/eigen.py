@@ -171,7 +171,8 @@ def solve_elastic(
     Parameters
     ----------
     K, M : stiffness and mass, dense or sparse, symmetric; M positive definite on the
-        dense path (positive semi-definite is fine on the sparse path).
+        dense path except for coordinates without any mass (condensed out statically),
+        positive semi-definite on the sparse path.
     n_modes : number of elastic modes wanted.
     operator : a :class:`ShiftInvert` of these K and M (sparse path); built if None.
     dense : force the dense (True) or sparse (False) path; by default dense for small models.
@@ -203,6 +204,9 @@ def all_modes(K, M) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     rigid-body mask)."""
     Kd = K.toarray() if sp.issparse(K) else np.asarray(K, dtype=float)
     Md = M.toarray() if sp.issparse(M) else np.asarray(M, dtype=float)
+    massless = ~np.any(Md != 0, axis=1)
+    if massless.any() and not massless.all():
+        return _condensed(Kd, Md, massless)
     try:
         lam, phi = scipy.linalg.eigh(Kd, Md)
     except np.linalg.LinAlgError:
@@ -210,6 +214,28 @@ def all_modes(K, M) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             "mass matrix is not positive definite (a coordinate without mass?)"
         ) from None
     return lam, phi, rigid_mask(Kd, Md, lam)
+
+
+def _condensed(K: np.ndarray, M: np.ndarray, massless: np.ndarray):
+    """Every finite eigenpair when some coordinates carry no mass (lumped-mass rotations):
+    static condensation onto the massive ones, as NASTRAN does; the massless coordinates
+    carry only infinite eigenvalues, which are dropped."""
+    a, b = np.flatnonzero(~massless), np.flatnonzero(massless)
+    w, v = scipy.linalg.eigh(K[np.ix_(b, b)])
+    null = w <= 1e-12 * max(w.max(initial=0.0), 0.0)
+    # a massless motion with no stiffness (a free beam's lumped-mass rotation about its
+    # own axis) carries no eigenvalue at all, provided it moves no massive coordinate
+    if null.any() and np.abs(v[:, null].T @ K[np.ix_(b, a)]).max() > 1e-10 * np.abs(K).max():
+        raise InputError(f"{int(null.sum())} massless mechanism(s): coordinates without mass "
+                         f"and without stiffness of their own") from None
+    vr = v[:, ~null]
+    kba = vr @ ((vr.T @ K[np.ix_(b, a)]) / w[~null, None])
+    kc = K[np.ix_(a, a)] - K[np.ix_(a, b)] @ kba
+    kc = 0.5 * (kc + kc.T)
+    lam, phi_a, rigid = all_modes(kc, M[np.ix_(a, a)])
+    phi = np.empty((K.shape[0], lam.size))
+    phi[a], phi[b] = phi_a, -kba @ phi_a
+    return lam, phi, rigid
 
 
 def lowest_modes(K, M, k: int, op: ShiftInvert) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

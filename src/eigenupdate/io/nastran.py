@@ -1,0 +1,737 @@
+"""NASTRAN bulk data (BDF) in and out, read and written by pyNastran.
+
+:func:`read_nastran` validates the file once and assembles a :class:`ParametricModel`
+whose parameters are named card fields (``MAT1 1 E``); :func:`write_updated_bdf` writes
+the file back with updated values in their cards. pyNastran is an optional extra
+(``pip install eigenupdate[nastran]``); it is imported only here.
+
+Coordinates: the displacement ``component`` (1-6) of ``grid`` is coordinate
+``10 * grid + component`` of the model, in the grid's displacement frame (CD).
+"""
+
+from __future__ import annotations
+
+import copy
+import io
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import scipy.sparse as sp
+
+from eigenupdate.errors import InputError
+from eigenupdate.io.atomic import write_text
+from eigenupdate.model import frame3d
+from eigenupdate.model.coordinates import Coordinate, CoordinateTable
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.parametric import ParametricModel
+
+SUPPORTED = {
+    "GRID", "CORD1R", "CORD2R", "CORD1C", "CORD2C", "CORD1S", "CORD2S",
+    "CBAR", "PBAR", "CBEAM", "PBEAM", "CROD", "PROD", "CONROD", "CELAS1", "CELAS2", "PELAS",
+    "CONM2", "CMASS1", "CMASS2", "PMASS", "MAT1", "SPC", "SPC1", "SPCADD",
+    "PARAM", "EIGRL", "EIGR", "ENDDATA",
+}
+
+# card -> field -> (pyNastran attribute, what it scales); the rest are refused with a reason
+FIELDS = {
+    "MAT1": {"E": "e", "RHO": "rho"},
+    "PBAR": {"A": "A", "I1": "i1", "I2": "i2", "J": "j"},
+    "PBEAM": {"A": "A", "I1": "i1", "I2": "i2", "J": "j"},
+    "PROD": {"A": "A", "J": "j"},
+    "PELAS": {"K": "k"},
+    "CELAS2": {"K": "k"},
+    "CONM2": {"M": "mass"},
+    "CMASS2": {"M": "mass"},
+    "PMASS": {"M": "mass"},
+}
+NOT_LINEAR = {
+    ("MAT1", "NU"): "G = E / (2 (1 + NU)) is not linear in NU",
+    ("MAT1", "G"): "give E (G follows it when the card leaves G blank)",
+}
+
+
+def dof_number(grid: int, component: int) -> int:
+    """Model coordinate of a GRID's displacement component (1-6).
+
+    >>> dof_number(1203, 2)
+    12032
+    """
+    return 10 * int(grid) + int(component)
+
+
+@dataclass(frozen=True)
+class CardField:
+    """A parameter's place in the bulk data: card type, card id and field name."""
+
+    card: str
+    id: int
+    field: str
+
+
+@dataclass
+class NastranModel:
+    """A BDF read and assembled: the parametric model and what write-back needs."""
+
+    path: Path
+    model: ParametricModel
+    fields: tuple[CardField, ...]
+    consistent_mass: bool
+    spc_set: int | None
+    restrained: frozenset  # coordinates held by the SPC set or GRID PS
+    bdf: Any  # pyNastran BDF, kept to write the file back
+
+    def grid_dof(self, grid: int, component: int) -> int:
+        """Coordinate of (grid, component); InputError if unknown or restrained."""
+        if component not in range(1, 7):
+            raise InputError(f"component {component} must be 1-6")
+        if grid not in self.bdf.nodes:
+            raise InputError(f"GRID {grid} is not defined in {self.path}")
+        c = dof_number(grid, component)
+        if c not in self.model.coordinates:
+            why = (f"SPC set {self.spc_set} or GRID PS" if c in self.restrained
+                   else "it carries neither stiffness nor mass")
+            raise InputError(f"GRID {grid} component {component} is restrained ({why})")
+        return c
+
+
+def _pynastran():
+    try:
+        from pyNastran.bdf.bdf import BDF
+    except ImportError:
+        raise InputError("NASTRAN models need pyNastran: pip install 'eigenupdate[nastran]' "
+                         "(see the README)") from None
+    return BDF
+
+
+def _read(path: Path):
+    BDF = _pynastran()
+    from cpylog import SimpleLogger  # pyNastran's logger; errors are ours to report
+
+    text = path.read_text(errors="replace")
+    bdf = BDF(log=SimpleLogger(level="critical"))
+    upper = text.upper()
+    source: Any = str(path)
+    if "CEND" not in upper and "BEGIN BULK" in upper:  # bulk data only, after BEGIN BULK
+        lines = text.splitlines(keepends=True)
+        first = next(i for i, x in enumerate(lines) if x.upper().startswith("BEGIN BULK"))
+        source = io.StringIO("".join(lines[first + 1:]))
+    try:
+        bdf.read_bdf(source, xref=False, punch="CEND" not in upper, validate=True)
+    except Exception as exc:  # pyNastran raises many kinds on malformed cards
+        msg = str(exc).strip().splitlines()
+        raise InputError(f"pyNastran cannot read the file: {type(exc).__name__}: "
+                         f"{msg[0] if msg else ''}", source=str(path)) from None
+    return bdf
+
+
+def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardField]] = ()
+                 ) -> NastranModel:
+    """Read a BDF and assemble K = K0 + sum s_j K_j, M = M0 + sum s_j M_j.
+
+    Parameters
+    ----------
+    path : the bulk data file.
+    parameters : (parameter, card field) pairs; each parameter's value is taken from its
+        card field (``Parameter.value`` is ignored), its name, std and update flag are kept.
+
+    Returns
+    -------
+    NastranModel
+    """
+    path = Path(path)
+    src = str(path)
+    try:
+        bdf = _read(path)
+        return _assemble(path, bdf, parameters)
+    except InputError as exc:
+        if exc.source:
+            raise
+        raise InputError(str(exc), source=src, field=exc.field) from None
+
+
+def _unsupported(bdf) -> None:
+    bad = {k: v for k, v in bdf.card_count.items() if k not in SUPPORTED}
+    bad.update({k: v for k, v in getattr(bdf, "reject_count", {}).items()})
+    if bad:
+        listing = ", ".join(f"{k} x{v}" for k, v in sorted(bad.items()))
+        raise InputError(f"unsupported cards: {listing} (supported: bars, rods, springs, "
+                         f"masses, MAT1, SPC; shells, solids, RBEs and MPCs are not)")
+
+
+def _param(bdf, name: str, default: float) -> float:
+    p = bdf.params.get(name)
+    return default if p is None else float(p.values[0])
+
+
+class _Triplets:
+    """COO pieces of one sparse matrix."""
+
+    def __init__(self):
+        self.r, self.c, self.v = [], [], []
+
+    def add(self, rows, cols, vals):
+        self.r.append(np.ravel(rows))
+        self.c.append(np.ravel(cols))
+        self.v.append(np.ravel(vals))
+
+    def matrix(self, n: int, keep: np.ndarray | None = None) -> sp.csr_array:
+        if not self.v:
+            m = sp.csr_array((n, n))
+        else:
+            m = sp.csr_array((np.concatenate(self.v), (np.concatenate(self.r),
+                                                      np.concatenate(self.c))), shape=(n, n))
+        m.sum_duplicates()
+        return m if keep is None else sp.csr_array(m[keep][:, keep])
+
+
+def _assemble(path: Path, bdf, specs) -> NastranModel:
+    _unsupported(bdf)
+    consistent = _param(bdf, "COUPMASS", -1.0) > 0
+    wtmass = _param(bdf, "WTMASS", 1.0)
+    if not wtmass > 0:
+        raise InputError(f"PARAM WTMASS {wtmass} must be > 0")
+    if not bdf.nodes:
+        raise InputError("no GRID cards")
+    try:
+        bdf._cross_reference_coordinates()
+    except Exception as exc:
+        raise InputError(f"coordinate systems: {exc}") from None
+    nids = np.array(sorted(bdf.nodes), dtype=int)
+    where = {int(n): i for i, n in enumerate(nids)}
+    xyz = _positions(bdf, nids)
+    frames = _frames(bdf, nids, xyz)
+    ndof = 6 * nids.size
+
+    specs = list(specs)
+    fields = [f for _, f in specs]
+    pindex = _check_fields(bdf, fields)
+    k0, m0 = _Triplets(), _Triplets()
+    kj = [_Triplets() for _ in specs]
+    mj = [_Triplets() for _ in specs]
+    values = [_field_value(bdf, f) for f in fields]
+
+    def grid(n, card):
+        if n not in where:
+            raise InputError(f"{card}: GRID {n} is referenced but not defined")
+        return where[n]
+
+    _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values, k0, m0, kj, mj)
+    _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj)
+    _conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
+
+    restrained, spc_set = _spc(bdf, where)
+    K, M = k0.matrix(ndof), m0.matrix(ndof)
+    kt = [t.matrix(ndof) for t in kj]
+    mt = [t.matrix(ndof) for t in mj]
+    for s, a, b in zip(values, kt, mt, strict=True):
+        K, M = K + s * a, M + s * b
+    # AUTOSPC: coordinates with neither stiffness nor mass (rod rotations) carry nothing
+    touched = np.zeros(ndof, bool)
+    for mat in (K, M):
+        touched[mat.tocoo().row[mat.tocoo().data != 0]] = True
+    free = touched.copy()
+    free[restrained] = False
+    keep = np.flatnonzero(free)
+    if keep.size == 0:
+        raise InputError("every coordinate is restrained or carries neither stiffness nor mass")
+    coords = (10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))[keep]
+    params = []
+    for (p, _), v in zip(specs, values, strict=True):
+        params.append(Parameter(p.name, v, p.std, p.update))
+    pm = ParametricModel(
+        k0.matrix(ndof, keep), m0.matrix(ndof, keep), tuple(params),
+        tuple(None if t.nnz == 0 else sp.csr_array(t[keep][:, keep]) for t in kt),
+        tuple(None if t.nnz == 0 else sp.csr_array(t[keep][:, keep]) for t in mt),
+        coordinates=coords,
+        # coordinate 10 * GRID + component: node = GRID, direction = component (UFF codes)
+        coordinate_table=CoordinateTable(tuple(Coordinate(int(c), int(c) // 10, int(c) % 10)
+                                               for c in coords)))
+    for p, f, a, b in zip(params, fields, pm.k_terms, pm.m_terms, strict=True):
+        if a is None and b is None:
+            raise InputError(f"{f.card} {f.id} field {f.field} (parameter {p.name!r}) acts on "
+                             f"no free coordinate")
+    held = frozenset((10 * nids[restrained // 6] + restrained % 6 + 1).tolist())
+    return NastranModel(path, pm, tuple(fields), consistent, spc_set, held, bdf)
+
+
+def _positions(bdf, nids: np.ndarray) -> np.ndarray:
+    out = np.empty((nids.size, 3))
+    for i, n in enumerate(nids):
+        g = bdf.nodes[int(n)]
+        if g.cp == 0:
+            out[i] = g.xyz
+        else:
+            if g.cp not in bdf.coords:
+                raise InputError(f"GRID {n}: coordinate system CP {g.cp} is not defined")
+            out[i] = bdf.coords[g.cp].transform_node_to_global(np.asarray(g.xyz, float))
+    return out
+
+
+def _frames(bdf, nids: np.ndarray, xyz: np.ndarray) -> np.ndarray:
+    """Rows = displacement axes (CD) of each grid in basic; in a cylindrical (spherical)
+    system they are the local r, theta, z (R, theta, phi) directions at the grid."""
+    out = np.tile(np.eye(3), (nids.size, 1, 1))
+    for i, n in enumerate(nids):
+        g = bdf.nodes[int(n)]
+        if g.cd in (0, None):
+            continue
+        if g.cd not in bdf.coords:
+            raise InputError(f"GRID {n}: coordinate system CD {g.cd} is not defined")
+        c = bdf.coords[g.cd]
+        beta = c.beta()
+        if c.Type == "R":
+            out[i] = beta
+            continue
+        x, y, z = (xyz[i] - np.asarray(c.origin, float)) @ beta.T  # in the system's axes
+        r = math.hypot(x, y)
+        if r <= 1e-12 * max(abs(z), 1.0):
+            raise InputError(f"GRID {n}: lies on the axis of displacement system CD {g.cd} "
+                             f"({c.type}), where its directions are undefined")
+        cp, sp_ = x / r, y / r
+        if c.Type == "C":
+            axes = np.array([[cp, sp_, 0.0], [-sp_, cp, 0.0], [0.0, 0.0, 1.0]])
+        else:  # spherical: R, theta from the z axis, phi about it
+            rho = math.hypot(r, z)
+            st, ct = r / rho, z / rho
+            axes = np.array([[st * cp, st * sp_, ct], [ct * cp, ct * sp_, -st],
+                             [-sp_, cp, 0.0]])
+        out[i] = axes @ beta
+    return out
+
+
+def _check_fields(bdf, fields: list[CardField]) -> dict:
+    """{(card, id): {field: parameter index}} after validating every field."""
+    out: dict = {}
+    stores = _stores(bdf)
+    for j, f in enumerate(fields):
+        if (f.card, f.field) in NOT_LINEAR:
+            raise InputError(f"{f.card} {f.id} field {f.field}: not a parameter: "
+                             f"{NOT_LINEAR[(f.card, f.field)]}")
+        if f.card not in FIELDS:
+            have = ", ".join(f"{c} {'/'.join(v)}" for c, v in FIELDS.items())
+            raise InputError(f"card {f.card} has no parameter fields (supported: {have})")
+        if f.field not in FIELDS[f.card]:
+            raise InputError(f"{f.card} {f.id}: field {f.field!r} is not a parameter; K and M "
+                             f"are linear in {sorted(FIELDS[f.card])} only")
+        card = stores[f.card].get(f.id)
+        if card is None or card.type != f.card:
+            raise InputError(f"{f.card} {f.id} is not in the file")
+        slot = out.setdefault((f.card, f.id), {})
+        if f.field in slot:
+            raise InputError(f"{f.card} {f.id} field {f.field} is named by two parameters")
+        slot[f.field] = j
+    return out
+
+
+def _stores(bdf) -> dict:
+    return {"MAT1": bdf.materials, "PBAR": bdf.properties, "PBEAM": bdf.properties,
+            "PROD": bdf.properties,
+            "PELAS": bdf.properties, "CELAS2": bdf.elements, "CONM2": bdf.masses,
+            "CMASS2": bdf.masses, "PMASS": bdf.properties_mass}
+
+
+def _field_value(bdf, f: CardField) -> float:
+    card = _stores(bdf)[f.card][f.id]
+    v = float(np.ravel(getattr(card, FIELDS[f.card][f.field]))[0])
+    if not v >= 0:
+        raise InputError(f"{f.card} {f.id} field {f.field} = {v:g} is negative (a parameter "
+                         f"must be >= 0)")
+    return v
+
+
+def _material(bdf, mid: int, where: str):
+    mat = bdf.materials.get(mid)
+    if mat is None or mat.type != "MAT1":
+        raise InputError(f"{where}: material MAT1 {mid} is not defined")
+    rho = mat.rho or 0.0
+    if rho < 0:
+        raise InputError(f"MAT1 {mid}: negative density RHO = {rho:g}")
+    if not (mat.e and mat.e > 0):
+        raise InputError(f"MAT1 {mid}: E must be > 0 for a bar or rod, got {mat.e}")
+    g = mat.g if mat.g is not None else 0.0
+    return mat, rho, g, _tied(mat)
+
+
+def _tied(mat) -> bool:
+    """True when MAT1's G was left blank: pyNastran filled in E / (2 (1 + NU)), so G
+    follows E."""
+    g = mat.g or 0.0
+    return mat.nu is not None and g > 0 and math.isclose(g, mat.e / (2 * (1 + mat.nu)),
+                                                         rel_tol=1e-12)
+
+
+def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
+           k0, m0, kj, mj) -> None:
+    """CBAR, CROD and CONROD, vectorised over elements."""
+    sections: dict = {}  # validated once per property (or CONROD)
+
+    def section(key, make, where_):
+        if key not in sections:
+            A, i1, i2, j, nsm, mid, pkey = make()
+            for name, x in (("A", A), ("I1", i1), ("I2", i2), ("J", j), ("NSM", nsm)):
+                if x is None or not math.isfinite(x) or x < 0:
+                    raise InputError(f"{pkey[0] + ' ' + str(pkey[1]) if pkey else where_}: "
+                                     f"{name} = {x} must be >= 0")
+            mat, rho, g, tied = _material(bdf, mid, where_)
+            sections[key] = (mat.e, g, tied, rho, float(A), float(i1), float(i2),
+                             float(j or 0.0), float(nsm or 0.0), mid, pkey)
+        return sections[key]
+
+    label, rod, ga, gb, g0, xv, wa, wb, sec = [], [], [], [], [], [], [], [], []
+    zero = np.zeros(3)
+    for eid, e in sorted(bdf.elements.items()):
+        lab = f"{e.type} {eid}"
+        if e.type in ("CBAR", "CBEAM"):
+            ptype = "PBAR" if e.type == "CBAR" else "PBEAM"
+            prop = bdf.properties.get(e.pid)
+            if prop is None or prop.type != ptype:
+                raise InputError(f"{lab}: property {ptype} {e.pid} is not defined")
+            if e.offt != "GGG":
+                raise InputError(f"{lab}: OFFT {e.offt} is not supported (only GGG)")
+            if (e.pa or 0) or (e.pb or 0):
+                raise InputError(f"{lab}: pin flags PA/PB are not supported")
+            if getattr(e, "sa", 0) or getattr(e, "sb", 0):
+                raise InputError(f"{lab}: scalar points SA/SB (warping) are not supported")
+            a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
+            g0.append(-1 if e.g0 is None else grid(e.g0, lab))
+            xv.append(zero if e.g0 is not None else e.x)
+            if not consistent and (np.any(e.wa) or np.any(e.wb)):
+                # lumped end masses on rigid offsets give a singular, non-diagonal M
+                raise InputError(f"{lab}: offsets WA/WB need consistent mass "
+                                 f"(PARAM,COUPMASS,1) here")
+            wa.append(e.wa)
+            wb.append(e.wb)
+            sec.append(section((ptype, e.pid), lambda p=prop: _bar_section(p), lab))
+        elif e.type in ("CROD", "CONROD"):
+            if e.type == "CROD":
+                prop = bdf.properties.get(e.pid)
+                if prop is None or prop.type != "PROD":
+                    raise InputError(f"{lab}: property PROD {e.pid} is not defined")
+                sec.append(section(("PROD", e.pid), lambda p=prop: (
+                    p.A, 0.0, 0.0, p.j, p.nsm, p.mid, ("PROD", p.pid)), lab))
+            else:
+                sec.append(section(("CONROD", eid), lambda e=e: (
+                    e.A, 0.0, 0.0, e.j, e.nsm, e.mid, None), lab))
+            a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
+            g0.append(-1)
+            xv.append(zero)
+            wa.append(zero)
+            wb.append(zero)
+        else:
+            continue
+        label.append(lab)
+        rod.append(e.type in ("CROD", "CONROD"))
+        ga.append(a)
+        gb.append(b)
+    if not label:
+        return
+    rod, ga, gb, g0 = np.array(rod), np.array(ga), np.array(gb), np.array(g0)
+    # orientation vector and offsets are given in GA's (GB's) displacement system
+    to_basic = np.transpose(frames, (0, 2, 1))
+    wa = np.einsum("nij,nj->ni", to_basic[ga], np.array(wa, float))
+    wb = np.einsum("nij,nj->ni", to_basic[gb], np.array(wb, float))
+    xa, xb = xyz[ga] + wa, xyz[gb] + wb
+    v = np.einsum("nij,nj->ni", to_basic[ga], np.array(xv, float))
+    by_g0 = g0 >= 0
+    v[by_g0] = xyz[g0[by_g0]] - xyz[ga[by_g0]]
+    v[rod] = frame3d.any_normal((xb - xa)[rod])
+    rows = sec  # per element: E, G, tied, rho, A, I1, I2, J, nsm, mid, pkey
+    L, R = frame3d.local_axes(xa, xb, v, label)
+    T = frame3d.element_transform(R, wa, wb, frames[ga], frames[gb])
+    E, G, rho = (np.array([r[k] for r in rows], float) for k in (0, 1, 3))
+    tied = np.array([r[2] for r in rows])
+    A, I1, I2, J, nsm = (np.array([r[k] for r in rows], float) for k in range(4, 9))
+    kp = frame3d.stiffness_parts(L)
+    mp = frame3d.mass_parts(L, consistent)
+    mp["translation"][rod] = frame3d.rod_mass_part(L[rod], consistent)
+    mp["torsion"][rod] = 0.0
+    parts = {**{f"k_{k}": x for k, x in kp.items()}, **{f"m_{k}": x for k, x in mp.items()}}
+    dofs = (6 * np.stack([ga, gb], 1)[:, :, None] + np.arange(6)[None, None, :]).reshape(-1, 12)
+    r_idx = np.repeat(dofs, 12, axis=1)
+    c_idx = np.tile(dofs, (1, 12))
+    # section quantities and the parameters that scale each (one at most per element)
+    total = {"k_axial": E * A, "k_torsion": G * J, "k_bend1": E * I1, "k_bend2": E * I2,
+             "m_translation": wtmass * (rho * A + nsm), "m_torsion": wtmass * rho * J}
+    n = len(rows)
+    deriv: list[dict[str, np.ndarray]] = [{} for _ in kj]
+
+    def d(j, part, coef, mask):
+        arr = deriv[j].setdefault(part, np.zeros(n))
+        arr[mask] += coef[mask] if np.ndim(coef) else coef
+
+    mids = np.array([r[9] for r in rows])
+    pkeys = [r[10] for r in rows]
+    for (card, cid), slots in pindex.items():
+        if card == "MAT1":
+            mask = mids == cid
+            if "E" in slots:
+                j = slots["E"]
+                for part, c in (("k_axial", A), ("k_bend1", I1), ("k_bend2", I2)):
+                    d(j, part, c, mask)
+                d(j, "k_torsion", np.where(tied, G * J / E, 0.0), mask)
+            if "RHO" in slots:
+                j = slots["RHO"]
+                d(j, "m_translation", wtmass * A, mask)
+                d(j, "m_torsion", wtmass * J, mask)
+        elif card in ("PBAR", "PBEAM", "PROD"):
+            mask = np.array([k == (card, cid) for k in pkeys])
+            for fld, parts_ in (("A", (("k_axial", E), ("m_translation", wtmass * rho))),
+                                ("I1", (("k_bend1", E),)), ("I2", (("k_bend2", E),)),
+                                ("J", (("k_torsion", G), ("m_torsion", wtmass * rho)))):
+                if fld in slots:
+                    for part, c in parts_:
+                        d(slots[fld], part, c, mask)
+    _one_parameter_per_quantity(deriv, label, kj)
+    base = {part: tot - sum((values[j] * dj[part] for j, dj in enumerate(deriv) if part in dj),
+                            np.zeros(n)) for part, tot in total.items()}
+
+    def put(dest, coefs: dict[str, np.ndarray]) -> None:
+        # sum the local parts first: one transformation and one COO block per element
+        sel = np.flatnonzero(np.any([c != 0 for c in coefs.values()], axis=0))
+        if sel.size:
+            local = sum(c[sel, None, None] * parts[p][sel] for p, c in coefs.items())
+            dest.add(r_idx[sel], c_idx[sel], frame3d.to_global(local, T[sel]))
+
+    for kind, dest0, dests in (("k", k0, kj), ("m", m0, mj)):
+        put(dest0, {p: c for p, c in base.items() if p[0] == kind})
+        for j, dj in enumerate(deriv):
+            if any(p[0] == kind for p in dj):
+                put(dests[j], {p: c for p, c in dj.items() if p[0] == kind})
+
+
+def _bar_section(prop) -> tuple:
+    """(A, I1, I2, J, NSM, MID, (card, id)) of a PBAR or a constant-section PBEAM."""
+    where = f"{prop.type} {prop.pid}"
+    if prop.type == "PBEAM":
+        for name in ("A", "i1", "i2", "i12", "j", "nsm"):
+            if np.ptp(np.asarray(getattr(prop, name), float)) != 0:
+                raise InputError(f"{where}: {name.upper()} varies along the beam; only a "
+                                 f"constant section is supported")
+        if prop.k1 or prop.k2:
+            raise InputError(f"{where}: shear factors K1 = {prop.k1:g}, K2 = {prop.k2:g} make "
+                             f"NASTRAN's beam shear-flexible (blank means 1.0); this is an "
+                             f"Euler-Bernoulli model: set K1 = K2 = 0.0 to use it")
+        extra = [n for n in ("s1", "s2", "nsia", "nsib", "cwa", "cwb", "m1a", "m2a", "m1b",
+                             "m2b", "n1a", "n2a", "n1b", "n2b") if getattr(prop, n)]
+        if extra:
+            raise InputError(f"{where}: {', '.join(x.upper() for x in extra)} (warping, "
+                             f"offsets of the mass or neutral axis) are not supported")
+    first = [float(np.ravel(getattr(prop, n))[0]) for n in ("A", "i1", "i2", "i12", "j", "nsm")]
+    A, i1, i2, i12, j, nsm = first
+    if i12:
+        raise InputError(f"{where}: I12 = {i12:g} is not supported")
+    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid)
+
+
+def _one_parameter_per_quantity(deriv, label, kj) -> None:
+    parts = {p for dj in deriv for p in dj}
+    for part in parts:
+        owner = np.full(len(label), -1)
+        for j, dj in enumerate(deriv):
+            if part not in dj:
+                continue
+            hit = np.flatnonzero(dj[part])
+            clash = hit[owner[hit] >= 0]
+            if clash.size:
+                e = clash[0]
+                raise InputError(f"{label[e]}: parameters {owner[e] + 1} and {j + 1} both scale "
+                                 f"its {part[2:]} {'stiffness' if part[0] == 'k' else 'mass'}"
+                                 f": K or M would hold their product (not linear)")
+            owner[hit] = j
+
+
+def _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj) -> None:
+    """CELAS1/2 and CMASS1/2: a scalar between two components (or to ground)."""
+    def put(trip, dofs, value):
+        if len(dofs) == 1:
+            trip.add(dofs, dofs, [value])
+        else:
+            a, b = dofs
+            trip.add([a, a, b, b], [a, b, a, b], [value, -value, -value, value])
+
+    def dofs_of(e, label):
+        out = []
+        for n, c in zip(e.nodes, (e.c1, e.c2), strict=True):
+            if n in (None, 0):
+                continue
+            if c not in range(1, 7):
+                raise InputError(f"{label}: component {c} must be 1-6 on a GRID")
+            out.append(6 * grid(n, label) + int(c) - 1)
+        if not out or (len(out) == 2 and out[0] == out[1]):
+            raise InputError(f"{label}: needs one or two different grid components")
+        return out
+
+    # (cards, with a property, property card, direct card, field, K or M, unit scale)
+    kinds = ((bdf.elements, "CELAS1", bdf.properties, "PELAS", "CELAS2", "K", k0, kj, 1.0),
+             (bdf.masses, "CMASS1", bdf.properties_mass, "PMASS", "CMASS2", "M", m0, mj,
+              wtmass))
+    for cards, with_prop, props, prop_card, direct, fld, dest0, dests, scale in kinds:
+        attr = FIELDS[direct][fld]
+        for eid, e in sorted(cards.items()):
+            label = f"{e.type} {eid}"
+            if e.type == with_prop:
+                p = props.get(e.pid)
+                if p is None or p.type != prop_card:
+                    raise InputError(f"{label}: property {prop_card} {e.pid} is not defined")
+                value, j = getattr(p, attr), pindex.get((prop_card, p.pid), {}).get(fld)
+            elif e.type == direct:
+                value, j = getattr(e, attr), pindex.get((direct, eid), {}).get(fld)
+            else:
+                continue
+            if fld == "M" and value < 0:
+                raise InputError(f"{label}: negative mass {value:g}")
+            dofs = dofs_of(e, label)
+            if j is None:
+                put(dest0, dofs, scale * value)
+            else:
+                put(dests[j], dofs, scale)
+
+
+def _conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj) -> None:
+    for eid, e in sorted(bdf.masses.items()):
+        if e.type != "CONM2":
+            continue
+        label = f"CONM2 {eid}"
+        g = grid(e.nid, label)
+        if e.mass < 0:
+            raise InputError(f"{label}: negative mass {e.mass:g}")
+        if e.cid == -1:
+            offset, rot = np.asarray(e.X, float) - xyz[g], np.eye(3)
+        else:
+            if e.cid not in bdf.coords:
+                raise InputError(f"{label}: coordinate system {e.cid} is not defined")
+            rot = bdf.coords[e.cid].beta() if e.cid else np.eye(3)
+            if e.cid and bdf.coords[e.cid].Type != "R":
+                raise InputError(f"{label}: CID {e.cid} must be rectangular")
+            offset = rot.T @ np.asarray(e.X, float)
+        i = e.I
+        inertia = np.array([[i[0], -i[1], -i[3]], [-i[1], i[2], -i[4]], [-i[3], -i[4], i[5]]])
+        if np.any(np.linalg.eigvalsh(inertia) < -1e-12 * max(abs(inertia).max(), 1e-300)):
+            raise InputError(f"{label}: inertia matrix is not positive semi-definite")
+        # rigid offset: u_cg = u_grid + theta x offset, all in basic, then to the grid's CD
+        a = np.zeros((6, 6))
+        a[:3, :3] = np.eye(3)
+        a[:3, 3:] = -frame3d.skew(offset[None])[0]
+        a[3:, 3:] = np.eye(3)
+        cd = np.zeros((6, 6))
+        cd[:3, :3] = cd[3:, 3:] = frames[g].T
+        a = a @ cd
+        unit = np.zeros((6, 6))
+        unit[:3, :3] = np.eye(3)
+        rot_in = np.zeros((6, 6))
+        rot_in[3:, 3:] = rot.T @ inertia @ rot
+        dofs = 6 * g + np.arange(6)
+        r, c = np.repeat(dofs, 6), np.tile(dofs, 6)
+        j = pindex.get(("CONM2", eid), {}).get("M")
+        trans = wtmass * (a.T @ unit @ a)
+        m0.add(r, c, wtmass * (a.T @ rot_in @ a) + (0.0 if j is not None else e.mass * trans))
+        if j is not None:
+            mj[j].add(r, c, trans)
+
+
+def _spc(bdf, where) -> tuple[np.ndarray, int | None]:
+    """Restrained rows: GRID PS fields and the SPC set chosen by case control (or the
+    only set in the file)."""
+    rows = []
+    for n, g in bdf.nodes.items():
+        for c in str(g.ps or ""):
+            if c != "0":
+                rows.append(6 * where[n] + int(c) - 1)
+    ids = set(bdf.spcs) | set(bdf.spcadds)
+    chosen = None
+    cc = bdf.case_control_deck
+    if cc is not None:
+        wanted = set()
+        for sub in cc.subcases.values():
+            try:
+                wanted.add(int(sub.get_parameter("SPC")[0]))
+            except KeyError:  # this subcase restrains nothing
+                pass
+        if len(wanted) > 1:
+            raise InputError(f"case control selects several SPC sets {sorted(wanted)}; "
+                             f"one is needed for one model")
+        chosen = int(wanted.pop()) if wanted else None
+    if chosen is None:
+        inner = {int(s) for add in bdf.spcadds.values() for a in add for s in a.sets}
+        top = sorted(ids - inner)
+        if len(top) > 1:
+            raise InputError(f"several SPC sets {top} and no case control SPC = to choose one")
+        chosen = top[0] if top else None
+    if chosen is not None:
+        rows += _spc_rows(bdf, where, chosen, set())
+    return np.array(sorted(set(rows)), dtype=int), chosen
+
+
+def _spc_rows(bdf, where, sid: int, seen: set) -> list[int]:
+    if sid in seen:
+        raise InputError(f"SPCADD {sid} includes itself")
+    seen.add(sid)
+    if sid not in bdf.spcs and sid not in bdf.spcadds:
+        raise InputError(f"SPC set {sid} is not defined")
+    rows = []
+    for add in bdf.spcadds.get(sid, []):
+        for s in add.sets:
+            rows += _spc_rows(bdf, where, int(s), seen)
+    for card in bdf.spcs.get(sid, []):
+        pairs = ([(n, card.components) for n in card.nodes] if card.type == "SPC1"
+                 else list(zip(card.nodes, card.components, strict=True)))
+        for n, comps in pairs:
+            if n not in where:
+                raise InputError(f"{card.type} {sid}: GRID {n} is referenced but not defined")
+            rows += [6 * where[n] + int(c) - 1 for c in str(comps) if c != "0"]
+    return rows
+
+
+def write_updated_bdf(nm: NastranModel, out: str | Path, values: dict[str, float],
+                      comment: Sequence[str] = ()) -> None:
+    """Write the BDF with the parameters' values in their cards (pyNastran's writer) and
+    ``comment`` lines at the top; atomically (a failure leaves ``out`` untouched)."""
+    bdf = copy.deepcopy(nm.bdf)  # nm stays as read
+    for mat in bdf.materials.values():
+        if mat.type == "MAT1" and _tied(mat):
+            mat.g = None  # G was blank: keep it blank, it follows E
+    for p, f in zip(nm.model.parameters, nm.fields, strict=True):
+        v = float(values[p.name])
+        card = _stores(bdf)[f.card][f.id]
+        attr = FIELDS[f.card][f.field]
+        old = getattr(card, attr)
+        setattr(card, attr, np.full_like(old, v) if isinstance(old, np.ndarray) else v)
+        # some cards (CELAS2) always print 8-character fields: force 16 for updated ones
+        card.write_card = _large_field_writer(card)
+    buf = io.StringIO()
+    # 16-character fields: the updated values keep 10-12 significant digits
+    bdf.write_bdf(buf, size=16, close=False, enddata=True)
+    head = "".join(f"$ {line}\n" for line in comment)
+    write_text(out, head + buf.getvalue())
+
+
+
+def _large_field_writer(card):
+    from pyNastran.bdf.field_writer_16 import print_card_16
+
+    def write_card(size: int = 16, is_double: bool = False) -> str:
+        return card.comment + print_card_16(card.repr_fields())
+
+    return write_card
+
+
+def save_updated_bdf(study, result, out: str | Path) -> None:
+    """Write a study's NASTRAN model back with the values of an update ``result``
+    (:class:`~eigenupdate.identify.updating.UpdateResult`), a comment block saying what
+    was updated, from which test and with which posterior std."""
+    nm: NastranModel = study.nastran
+    lines = [f"eigenupdate: updated from {nm.path.name} by study {Path(study.path).name}",
+             f"measured frequencies: {study.frequencies}",
+             f"method: {result.method}, {result.message} after {result.nit} iteration(s)",
+             "parameter                  card field        initial      updated   post. std"]
+    initial = dict(zip(nm.model.names, nm.model.values, strict=True))
+    for p, f in zip(nm.model.parameters, nm.fields, strict=True):
+        std = result.std.get(p.name)
+        lines.append(f"{p.name:<26} {f.card} {f.id} {f.field:<5} {initial[p.name]:12.6g} "
+                     f"{result.parameters[p.name]:12.6g} "
+                     f"{'fixed' if std is None else format(std, '11.4g')}")
+    write_updated_bdf(nm, out, result.parameters, lines)

@@ -33,19 +33,28 @@ from scipy.optimize import least_squares
 import eigenupdate.identify.updating as upd
 import eigenupdate.solve.eigen as eig
 import eigenupdate.solve.jacobian as jac
+import eigenupdate.solve.perturbed as pert
 from eigenupdate.identify.updating import update
 from eigenupdate.io.measurements import Measurement
 from eigenupdate.model.configurations import BASE, Configuration, mass_at
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.eigen import default_shift, solve_elastic
 from eigenupdate.solve.jacobian import linearise, solve_configurations
+from eigenupdate.solve.restricted import RestrictedTerms
+from eigenupdate.solve.screening import screen
+from eigenupdate.solve.sensitivity import eigenvalue_derivatives
 
 N_MODES = 10
 N_PERTURBATIONS = 20
 ADDED_MASS_FRACTION = 0.01  # each added mass: 1 % of the frame's total mass
 
-# (a) size, (b) size, default cap on the baseline's iterations (least_squares max_nfev)
-PLAN = {"full": ("full", "b-full", 20), "small": ("small", "b-small", 3)}
+# (a) size, (b) size, default cap on the baseline's iterations (least_squares max_nfev),
+# scaling sizes
+PLAN = {"full": ("full", "b-full", 20, ("mesh2", "mesh4", "full", "mesh16")),
+        "small": ("small", "b-small", 3, ("small-mesh2", "small"))}
+N_MANY = 80  # perturbations for the cost per added configuration
+SCREEN_COORDINATES, SCREEN_MASSES = 100, 10
+SAMPLE = (1, 7, 14, 20)  # configurations re-solved independently (accuracy)
 
 
 # ----------------------------------------------------------------------------- timing
@@ -78,9 +87,12 @@ def instrumented(timers: Timers):
 
     Nothing in the package is changed on disk; the originals are restored on exit.
     Labels: factorisation (ShiftInvert: LU of K - sigma M), Woodbury set-up, LU solves
-    (every A^-1 b, almost all inside ARPACK), eigsh (eigen.lowest_modes: ARPACK + mass
-    normalisation + rigid-body test, including its LU solves), sensitivities
-    (Fox-Kapoor), assembly (K(s), M(s)). A stage the package no longer has is skipped.
+    (every A^-1 b; "LU solve columns" counts right-hand sides), eigsh
+    (eigen.lowest_modes: ARPACK + mass normalisation + rigid-body test, including its LU
+    solves), Krylov subspaces (perturbed.build_subspaces, including its LU solves),
+    Rayleigh-Ritz (perturbed.ritz: projected eigenproblem, certificate, Ritz vectors),
+    sensitivities (Fox-Kapoor), assembly (K(s), M(s)). A stage the package no longer has
+    is skipped.
     """
     base_cls = eig.ShiftInvert
 
@@ -93,6 +105,8 @@ def instrumented(timers: Timers):
             TimedShiftInvert.last = self
 
         def solve(self, b):
+            timers.seconds["LU solve columns"] += 0.0
+            timers.calls["LU solve columns"] += 1 if np.ndim(b) == 1 else np.shape(b)[1]
             with timers("LU solves"):
                 return super().solve(b)
 
@@ -109,6 +123,9 @@ def instrumented(timers: Timers):
     patches = [(eig, "ShiftInvert", lambda f: TimedShiftInvert),
                (eig, "lowest_modes", lambda f: timed("eigsh", f)),
                (jac, "eigenvalue_derivatives", lambda f: timed("sensitivities", f)),
+               (RestrictedTerms, "derivatives", lambda f: timed("sensitivities", f)),
+               (pert, "build_subspaces", lambda f: timed("Krylov subspaces", f)),
+               (pert, "ritz", lambda f: timed("Rayleigh-Ritz", f)),
                (ParametricModel, "stiffness", lambda f: timed("assembly", f)),
                (ParametricModel, "mass", lambda f: timed("assembly", f))]
     saved = []
@@ -226,7 +243,7 @@ def self_check() -> dict:
 # ----------------------------------------------------------------------------- (a)
 
 
-def bench_a(size_key: str) -> dict:
+def bench_a(size_key: str, colamd: bool = False) -> dict:
     t = time.perf_counter()
     prob = make_problem(size_key, simulate=False)
     model, configs, modes = prob.model, prob.configurations, prob.modes
@@ -241,9 +258,10 @@ def bench_a(size_key: str) -> dict:
     K, M = model.stiffness(), model.mass()
     base_timers = Timers()
     with instrumented(base_timers) as cls:
-        t = time.perf_counter()
+        t, c0 = time.perf_counter(), time.process_time()
         base = solve_elastic(K, M, N_MODES)
         t_base = time.perf_counter() - t
+        cpu_base = time.process_time() - c0
         lu = cls.last._lu
     fill = int(lu.L.nnz + lu.U.nnz)
     t_fact = base_timers.seconds["factorisation"]
@@ -260,9 +278,10 @@ def bench_a(size_key: str) -> dict:
     # one update iteration: linearise (21 eigen-solves + sensitivities) + the GN step
     timers = Timers()
     with instrumented(timers):
-        t = time.perf_counter()
+        t, c0 = time.perf_counter(), time.process_time()
         lin = linearise(model, configs, modes)
         t_lin = time.perf_counter() - t
+        cpu_lin = time.process_time() - c0
     # data for the step: the first-order prediction of the true eigenvalues (solving the
     # truth would double the run time; the least-squares step costs the same either way)
     scale = lin.scale
@@ -276,37 +295,173 @@ def bench_a(size_key: str) -> dict:
     ratio = t_iter / t_base
     s = timers.seconds
     other = t_lin - (s["factorisation"] + s["Woodbury set-up"] + s["eigsh"]
-                     + s["sensitivities"] + s["assembly"])
-    n_solves = timers.calls["LU solves"]
-    print(f"(a) one update iteration: {t_iter:.1f} s; one base eigen-solve: {t_base:.2f} s; "
-          f"ratio {ratio:.1f} (no reuse would be ~{len(configs)})")
+                     + s["Krylov subspaces"] + s["Rayleigh-Ritz"] + s["sensitivities"]
+                     + s["assembly"])
+    c = timers.calls
+    rep = lin.certificate.as_dict() if lin.certificate is not None else {}
+    print(f"(a) one update iteration: {t_iter:.2f} s; one base eigen-solve: {t_base:.2f} s; "
+          f"ratio {ratio:.2f} (before the fast path: 13-18); in CPU time of this process "
+          f"(less sensitive to other jobs on the machine): {cpu_lin:.2f} s vs "
+          f"{cpu_base:.2f} s, ratio {cpu_lin / cpu_base:.2f}")
     print(f"(a) iteration split: assembly K(s),M(s) {s['assembly']:.2f} s; factorisation "
-          f"{s['factorisation']:.2f} s (x{timers.calls['factorisation']}); Woodbury set-up "
-          f"{s['Woodbury set-up']:.2f} s (x{timers.calls['Woodbury set-up']}); eigsh "
-          f"{s['eigsh']:.1f} s (x{timers.calls['eigsh']}, {n_solves} LU solves "
-          f"taking {s['LU solves']:.1f} s); sensitivities {s['sensitivities']:.2f} s; "
-          f"least-squares step {t_step * 1e3:.1f} ms; other {other:.2f} s")
-    one_fact = t_fact / max(n_fact_base, 1)
-    saved = (len(configs) - 1) * one_fact
-    no_reuse = t_iter + saved
-    print(f"(a) with a fresh factorisation per perturbed configuration the iteration would "
-          f"take ~{no_reuse:.0f} s (ratio ~{no_reuse / t_base:.1f}): the Woodbury reuse saves "
-          f"~{saved:.0f} s")
+          f"{s['factorisation']:.2f} s (x{c['factorisation']}); base eigsh {s['eigsh']:.2f} s "
+          f"(x{c['eigsh']}); Krylov subspaces {s['Krylov subspaces']:.2f} s "
+          f"(x{c['Krylov subspaces']}); Rayleigh-Ritz + certificate {s['Rayleigh-Ritz']:.2f} s "
+          f"(x{c['Rayleigh-Ritz']}); Woodbury set-up (fallback) {s['Woodbury set-up']:.2f} s "
+          f"(x{c['Woodbury set-up']}); sensitivities {s['sensitivities']:.2f} s; "
+          f"least-squares step {t_step * 1e3:.1f} ms; other {other:.2f} s; LU solves "
+          f"{s['LU solves']:.2f} s ({c['LU solves']} calls, {c['LU solve columns']} "
+          f"right-hand sides; base solve alone: {n_solves_base})")
+    print(f"(a) fast path: {rep.get('certified')} of {rep.get('configurations')} perturbed "
+          f"configurations certified ({rep.get('certified_with_extra_level')} with one more "
+          f"Krylov level), {rep.get('fallback_lanczos')} by Lanczos; largest eigenvalue bound "
+          f"{rep.get('max_eigenvalue_bound', 0):.1e}, mode-angle bound "
+          f"{rep.get('max_mode_angle_bound', 0):.1e}")
     assert np.allclose(dz, dz_true, rtol=1e-6, atol=1e-8), "step does not recover the data"
-
-    diag = diagnose_ordering(model, configs, modes, K, M, lu, t_base, t_iter, lin)
-    return {
+    acc = accuracy_sample(model, configs, modes, lin, SAMPLE, "(a)")
+    out = {
         "frame": SIZES[size_key], "n": n, "elements": prob.frame.n_elements,
         "nnz_K": int(K.nnz), "configurations": len(configs), "modes": len(modes),
         "parameters": len(model.parameters),
         "base_solve_s": t_base, "base_factorisation_s": t_fact, "base_lu_solves": n_solves_base,
         "base_lu_fill": fill, "base_frequencies_hz": base.frequencies_hz.tolist(),
         "iteration_s": t_iter, "linearise_s": t_lin, "step_s": t_step, "ratio": ratio,
+        "cpu_base_solve_s": cpu_base, "cpu_linearise_s": cpu_lin,
+        "cpu_ratio": cpu_lin / cpu_base,
         "iteration_split": timers.as_dict(), "iteration_other_s": other,
-        "iteration_no_reuse_estimate_s": no_reuse,
-        "comparison_colamd_ordering": diag,
+        "fast_path": rep, "accuracy_sample": acc,
         "peak_rss_gib": peak_rss_gib(),
     }
+    if colamd:
+        out["comparison_colamd_ordering"] = diagnose_ordering(model, configs, modes, K, M, lu,
+                                                              t_base, t_iter, lin)
+    return out
+
+
+def accuracy_sample(model, configs, modes, lin, sample, tag) -> dict:
+    """Independent full re-solves of a sample of configurations: K + dK, M + dM assembled
+    and solved by solve_elastic with a fresh factorisation (shift-invert Lanczos, no
+    reuse of the base), Fox-Kapoor on those modes with the full K_j, M_j."""
+    K, M = model.stiffness(), model.mass()
+    upd_ = model.updated
+    kt = [model.k_terms[j] for j in upd_]
+    mt = [model.m_terms[j] for j in upd_]
+    q = len(modes)
+    eig_err, j_err = 0.0, 0.0
+    for i in sample:
+        if i >= len(configs):
+            continue
+        dk, dm = configs[i].delta(model)
+        ref = solve_elastic(K + dk, M + dm, max(modes))
+        J = eigenvalue_derivatives(ref, modes, kt, mt)
+        rows = slice(q * i, q * (i + 1))
+        lam = ref.eigenvalues[np.asarray(modes) - 1]
+        eig_err = max(eig_err, float(np.max(np.abs(lin.eigenvalues[rows] / lam - 1))))
+        j_err = max(j_err, float(np.max(np.abs(lin.J[rows] - J)
+                                        / np.abs(J).max(axis=1, keepdims=True))))
+    names = [configs[i].name for i in sample if i < len(configs)]
+    print(f"{tag} accuracy against independent full re-solves (fresh factorisation, "
+          f"Lanczos, full Fox-Kapoor) of {names}: eigenvalues max rel. error {eig_err:.1e} "
+          f"(goal 1e-10), sensitivities max error {j_err:.1e} relative to the row's largest "
+          f"(goal 1e-7)")
+    return {"configurations": names, "eigenvalue_max_rel_error": eig_err,
+            "sensitivity_max_rel_error": j_err}
+
+
+def base_solve_time(model, cpu: list | None = None) -> float:
+    """Wall time of one base eigen-solve (its CPU time appended to ``cpu``)."""
+    K, M = model.stiffness(), model.mass()
+    t, c0 = time.perf_counter(), time.process_time()
+    solve_elastic(K, M, N_MODES)
+    if cpu is not None:
+        cpu.append(time.process_time() - c0)
+    return time.perf_counter() - t
+
+
+def one_iteration(model, configs, modes, cpu: list | None = None):
+    t, c0 = time.perf_counter(), time.process_time()
+    lin = linearise(model, configs, modes)
+    np.linalg.lstsq(lin.normalised, lin.eigenvalues, rcond=None)
+    if cpu is not None:
+        cpu.append(time.process_time() - c0)
+    return time.perf_counter() - t, lin
+
+
+def bench_many(size_key: str) -> dict:
+    """Cost per added configuration: one iteration with 20 and with 80 perturbations."""
+    frame = build_frame(*SIZES[size_key])
+    model, added = frame.model, ADDED_MASS_FRACTION * frame.total_mass
+    sites = mass_sites(frame, N_MANY)
+    modes = list(range(1, N_MODES + 1))
+    t_base = base_solve_time(model)
+    times = {}
+    for count in (N_PERTURBATIONS, N_MANY):
+        configs = [Configuration(BASE)] + [mass_at(c, added, name=f"m{i + 1:02d}@{c}")
+                                           for i, c in enumerate(sites[:count])]
+        times[count], lin = one_iteration(model, configs, modes)
+        rep = lin.certificate.as_dict()
+        print(f"(many) {count} perturbations: one iteration {times[count]:.2f} s "
+              f"({times[count] / t_base:.2f} base solves); certified {rep['certified']}, "
+              f"Lanczos {rep['fallback_lanczos']}")
+    per = (times[N_MANY] - times[N_PERTURBATIONS]) / (N_MANY - N_PERTURBATIONS)
+    print(f"(many) cost per added configuration: {per:.3f} s = {per / t_base:.3f} base "
+          f"eigen-solves (base solve {t_base:.2f} s; before the fast path ~0.8)")
+    return {"n": model.n, "base_solve_s": t_base, "iteration_s": times,
+            "per_configuration_s": per, "per_configuration_base_solves": per / t_base}
+
+
+def bench_screen(size_key: str) -> dict:
+    """Screening 100 coordinates x 10 masses against one base eigen-solve."""
+    frame = build_frame(*SIZES[size_key])
+    model = frame.model
+    modes = list(range(1, N_MODES + 1))
+    coords = mass_sites(frame, SCREEN_COORDINATES, seed=3)
+    masses = frame.total_mass * np.geomspace(1e-3, 2e-2, SCREEN_MASSES)
+    candidates = [(c, float(m)) for c in coords for m in masses]
+    t_base = base_solve_time(model)
+    t = time.perf_counter()
+    res = screen(model, candidates, modes)
+    t_screen = time.perf_counter() - t
+    print(f"(screen) {len(candidates)} candidates ({len(coords)} coordinates x {len(masses)} "
+          f"masses, {masses[0]:.0f}-{masses[-1]:.0f} kg), {len(modes)} modes, "
+          f"{len(res.names)} parameters: {t_screen:.1f} s = {t_screen / t_base:.1f} base "
+          f"eigen-solves (goal <= 20); certified {int(res.certified.sum())}, largest bound "
+          f"{np.nanmax(res.bound):.1e}")
+    # accuracy: a few candidates re-solved independently
+    sample = [0, 9, 505, len(candidates) - 1]
+    configs = [Configuration(BASE)] + [mass_at(*candidates[i], name=f"cand{i}")
+                                       for i in sample]
+
+    class _Lin:  # the screening rows laid out like a Linearisation
+        eigenvalues = np.concatenate([res.base_eigenvalues] + [res.eigenvalues[i]
+                                                                 for i in sample])
+        J = np.vstack([res.base_J] + [res.J[i] for i in sample])
+
+    acc = accuracy_sample(model, configs, modes, _Lin, range(1, len(configs)), "(screen)")
+    return {"n": model.n, "candidates": len(candidates), "base_solve_s": t_base,
+            "screen_s": t_screen, "ratio": t_screen / t_base,
+            "certified": int(res.certified.sum()), "max_bound": float(np.nanmax(res.bound)),
+            "accuracy_sample": acc}
+
+
+def bench_scaling(keys) -> dict:
+    """One iteration (20 perturbations, 10 modes) against one base solve, mesh refined."""
+    rows = []
+    for key in keys:
+        prob = make_problem(key, simulate=False)
+        cpu = []
+        t_base = base_solve_time(prob.model, cpu)
+        t_iter, lin = one_iteration(prob.model, prob.configurations, prob.modes, cpu)
+        rep = lin.certificate.as_dict()
+        rows.append({"size": key, "n": prob.model.n, "base_solve_s": t_base,
+                     "iteration_s": t_iter, "ratio": t_iter / t_base,
+                     "cpu_ratio": cpu[1] / cpu[0],
+                     "certified": rep["certified"], "fallback": rep["fallback_lanczos"]})
+        print(f"(scaling) {key}: {prob.model.n} coordinates: base solve {t_base:.2f} s, one "
+              f"iteration {t_iter:.2f} s, ratio {t_iter / t_base:.2f} (CPU time: "
+              f"{cpu[1]:.2f} s vs {cpu[0]:.2f} s, {cpu[1] / cpu[0]:.2f}); certified "
+              f"{rep['certified']}/{rep['configurations']}")
+    return {"rows": rows}
 
 
 def _colamd_splu(A):
@@ -398,15 +553,25 @@ def bench_b(size_key: str, max_nfev: int | None, reference: bool = False) -> dic
     print(f"(b) ours: update() {t_ours:.1f} s, {res.nit} iterations, converged "
           f"{res.converged}, {calls[0]} linearisations = {ours_solves} eigsh calls and "
           f"{ours_t.calls['factorisation']} factorisations; parameter error vs truth max "
-          f"{ours_err['max_rel']:.1e}, rms {ours_err['rms_rel']:.1e}")
+          f"{ours_err['max_rel']:.1e}, rms {ours_err['rms_rel']:.1e}; fast path {res.solver}")
 
-    # baseline: least_squares, 2-point finite differences, normalised parameters
+    # baseline: least_squares, 2-point finite differences, normalised parameters; every
+    # residual solves each configuration as a user would by hand: SciPy's eigsh in
+    # shift-invert mode about 0 (the frame is clamped), its own factorisation each time
     scale = model.values
     evaluated = []  # (evaluation, seconds, x, cost)
+    eigsh_calls = [0]
 
     def residual(x):
-        sols = solve_configurations(model, configs, N_MODES, values=x * scale)
-        r = np.concatenate([s.eigenvalues for s in sols]) - prob.lam_meas
+        K, M = model.stiffness(x * scale), model.mass(x * scale)
+        lam = []
+        for c in configs:
+            dk, dm = c.delta(model)
+            vals = spla.eigsh(sp.csc_matrix(K + dk), k=N_MODES, M=sp.csc_matrix(M + dm),
+                              sigma=0.0, which="LM", return_eigenvectors=False)
+            eigsh_calls[0] += 1
+            lam.append(np.sort(vals))
+        r = np.concatenate(lam) - prob.lam_meas
         evaluated.append((len(evaluated) + 1, time.perf_counter() - t, x.copy(),
                           0.5 * float(r @ r)))
         return r
@@ -417,7 +582,7 @@ def bench_b(size_key: str, max_nfev: int | None, reference: bool = False) -> dic
         ls = least_squares(residual, np.ones(len(scale)), jac="2-point", max_nfev=max_nfev)
         t_base = time.perf_counter() - t
     n_evals = len(evaluated)
-    base_solves = base_t.calls["eigsh"]
+    base_solves = eigsh_calls[0]
     # the optimiser's own points, not the finite-difference ones (which differ from the
     # last optimiser point in a single component)
     trial, last = [], None
@@ -431,8 +596,8 @@ def bench_b(size_key: str, max_nfev: int | None, reference: bool = False) -> dic
     base_err = param_errors(ls.x * scale, truth)
     print(f"(b) baseline: scipy least_squares(trf, 2-point, max_nfev={max_nfev}) "
           f"{t_base:.1f} s, {ls.nfev} residuals at its iterates + {ls.njev} FD Jacobians = "
-          f"{n_evals} residual evaluations = {base_solves} eigsh calls and "
-          f"{base_t.calls['factorisation']} factorisations; status {ls.status} "
+          f"{n_evals} residual evaluations = {base_solves} eigsh calls (shift-invert, "
+          f"each its own factorisation); status {ls.status} "
           f"({ls.message}); parameter error vs truth max {base_err['max_rel']:.1e}, "
           f"rms {base_err['rms_rel']:.1e}")
     print("(b) baseline iterates (evaluation: cost 0.5|r|^2, max parameter error): "
@@ -440,9 +605,8 @@ def bench_b(size_key: str, max_nfev: int | None, reference: bool = False) -> dic
     print(f"(b) baseline's 2-point Jacobian vs the exact (Fox-Kapoor) one at its final point: "
           f"column relative error median {np.median(fd_err):.1e}, max {fd_err.max():.1e}; "
           f"condition number of the exact normalised J {np.linalg.cond(exact):.1e}")
-    print(f"(b) baseline/ours: time {t_base / t_ours:.1f}x, eigen-solves "
-          f"{base_solves / ours_solves:.1f}x, factorisations "
-          f"{base_t.calls['factorisation'] / ours_t.calls['factorisation']:.1f}x"
+    print(f"(b) baseline/ours: time {t_base / t_ours:.1f}x (goal >= 50), factorisations "
+          f"{base_solves / ours_t.calls['factorisation']:.1f}x"
           + ("" if ls.status > 0 else " (baseline stopped at its evaluation cap, unconverged)"))
     ref = _reference(prob, residual, scale) if reference else None
     return {
@@ -463,7 +627,7 @@ def bench_b(size_key: str, max_nfev: int | None, reference: bool = False) -> dic
                      "fd_jacobian_rel_error": {"median": float(np.median(fd_err)),
                                                "max": float(fd_err.max())},
                      "condition_J": float(np.linalg.cond(exact))},
-        "time_ratio": t_base / t_ours, "solve_ratio": base_solves / ours_solves,
+        "time_ratio": t_base / t_ours, "ours_solver": res.solver,
         "peak_rss_gib": peak_rss_gib(),
     }
 
@@ -494,7 +658,7 @@ def _reference(prob, residual, scale) -> dict:
 
 def run(args) -> int:
     t0 = time.perf_counter()
-    a_size, b_size, cap = PLAN[args.size]
+    a_size, b_size, cap, scaling = PLAN[args.size]
     if args.baseline_max_nfev is not None:
         cap = args.baseline_max_nfev or None
     meta = {
@@ -508,7 +672,13 @@ def run(args) -> int:
           f"NumPy {meta['numpy']}, SciPy {meta['scipy']}")
     out = {"meta": meta, "self_check": self_check()}
     if args.only in (None, "a"):
-        out["a"] = bench_a(a_size)
+        out["a"] = bench_a(a_size, args.colamd)
+    if args.only in (None, "many"):
+        out["many"] = bench_many(a_size)
+    if args.only in (None, "screen"):
+        out["screen"] = bench_screen(a_size)
+    if args.only in (None, "scaling"):
+        out["scaling"] = bench_scaling(scaling)
     if args.only in (None, "b"):
         out["b"] = bench_b(b_size, cap, args.reference)
     out["total_s"] = time.perf_counter() - t0

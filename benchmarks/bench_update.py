@@ -3,11 +3,18 @@
 (a) one update iteration (linearise over the bare structure + 20 mass perturbations at
     10 modes, plus the least-squares step) against one eigen-solve of the bare structure,
     at about 100k coordinates;
+    with the split of the fast perturbed-configuration path and its accuracy against
+    independent full re-solves of a sample;
+(many) the cost per added configuration, 20 against 80 perturbations;
+(screen) screening 1,000 single-mass candidates (100 coordinates x 10 masses);
+(scaling) one iteration against one eigen-solve as the mesh is refined (25k-200k);
 (b) the whole update (:func:`eigenupdate.identify.updating.update`) against
-    ``scipy.optimize.least_squares`` with a finite-difference Jacobian, at a size where
-    the baseline finishes in minutes.
+    ``scipy.optimize.least_squares`` with a finite-difference Jacobian whose every
+    residual solves each configuration with SciPy's ``eigsh`` (shift-invert, its own
+    factorisation), at a size where the baseline finishes in minutes.
 
-Run ``python benchmarks/bench_update.py [--size small|full] [--only a|b] [--json PATH]``
+Run ``python benchmarks/bench_update.py [--size small|full] [--only a|many|screen|scaling|b]
+[--json PATH]``
 (``--help`` for the other options).
 See benchmarks/README.md.
 
@@ -30,7 +37,10 @@ def parse(argv=None) -> argparse.Namespace:
     p.add_argument("--size", choices=("small", "full"), default="full",
                    help="full: (a) at 103k coordinates, (b) at 2k (default, ~4 min); "
                         "small: a quick run (~20 s), (a) at 6k, (b) at 600")
-    p.add_argument("--only", choices=("a", "b"), help="run only one of the two benchmarks")
+    p.add_argument("--only", choices=("a", "many", "screen", "scaling", "b"),
+                   help="run only one of the benchmarks")
+    p.add_argument("--colamd", action="store_true",
+                   help="(a) also repeat it with SuperLU's default COLAMD ordering (~1 min)")
     p.add_argument("--json", metavar="PATH", help="also write the results to this JSON file")
     p.add_argument("--blas-threads", type=int, default=1, metavar="N",
                    help="BLAS threads (default 1; 0 leaves the library default). On the "

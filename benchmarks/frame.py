@@ -52,6 +52,11 @@ SIZES = {
     "small": (4, 3, 6, 4),  # 6,228 coordinates: (a) of the quick run
     "b-full": (2, 2, 5, 4),  # 2,160 coordinates: benchmark (b)
     "b-small": (1, 1, 5, 3),  # 600 coordinates: (b) of the quick run
+    # the full frame with 2, 4 and 16 elements per member: scaling of one iteration
+    "mesh2": (7, 5, 18, 2),  # 19,224 coordinates
+    "mesh4": (7, 5, 18, 4),  # 47,304
+    "mesh16": (7, 5, 18, 16),  # 215,784
+    "small-mesh2": (4, 3, 6, 2),  # quick run
 }
 
 X_BAYS = np.array([6.0, 7.2, 5.4, 8.1, 6.6, 5.7, 7.5, 6.3])  # m, cycled

@@ -40,6 +40,7 @@ from eigenupdate.io.measurements import Measurement, select, to_eigenvalue
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.jacobian import Linearisation, linearise
+from eigenupdate.solve.perturbed import CertificateReport
 
 MAX_HALVINGS = 30
 FLOOR = 1e-3
@@ -108,6 +109,9 @@ class UpdateResult:
     measured_hz, initial_hz, updated_hz : frequencies of each row.
     identifiability : the SVD report at the solution (what ``check`` computes there).
     model : the updated model.
+    solver : sparse models: what the perturbed-configuration fast path did over all
+        linearisations (:meth:`eigenupdate.solve.perturbed.CertificateReport.as_dict`
+        plus ``linearisations``); None on the dense path.
     """
 
     x: np.ndarray
@@ -130,6 +134,7 @@ class UpdateResult:
     updated_hz: np.ndarray = field(repr=False)
     identifiability: IdentifiabilityReport = field(repr=False)
     model: ParametricModel = field(repr=False)
+    solver: dict | None = field(default=None, repr=False)
 
     @property
     def converged(self) -> bool:
@@ -163,6 +168,7 @@ class UpdateResult:
                 for (c, k), m, i, u in zip(self.rows, self.measured_hz, self.initial_hz,
                                            self.updated_hz, strict=True)
             ],
+            **({"solver": self.solver} if self.solver is not None else {}),
         }
 
 
@@ -216,10 +222,15 @@ def update(
         s[upd] = z * scale
         return s
 
+    solver, n_lin = CertificateReport(), [0]
+
     def evaluate(z: np.ndarray) -> tuple[Linearisation, float]:
         nonlocal nfev
         nfev += 1
         lin = linearise(model, configurations, modes, full(z))
+        if lin.certificate is not None:
+            solver.merge(lin.certificate)
+            n_lin[0] += 1
         r = w * (lam_meas - lin.eigenvalues)
         a = prior * (z - z0)
         return lin, float(r @ r + a @ a)
@@ -303,6 +314,7 @@ def update(
         updated_hz=np.sqrt(np.maximum(lin.eigenvalues, 0)) / (2 * np.pi),
         identifiability=final,
         model=model.with_values(full(z)),
+        solver={**solver.as_dict(), "linearisations": n_lin[0]} if n_lin[0] else None,
     )
 
 

@@ -15,7 +15,7 @@ Two paths:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.linalg
@@ -42,12 +42,17 @@ class EigenSolution:
     n_rigid : number of rigid-body modes found and excluded.
     next_eigenvalue : the (k+1)-th elastic eigenvalue if it was computed, to detect a
         repeated eigenvalue at the edge of the modes used.
+    computed : sparse path: every eigenpair Lanczos returned (lambda ascending with
+        the rigid-body ones, mass-normalised modes), reused as a subspace basis by
+        :mod:`eigenupdate.solve.perturbed`.
     """
 
     eigenvalues: np.ndarray
     modes: np.ndarray
     n_rigid: int
     next_eigenvalue: float | None = None
+    computed: tuple[np.ndarray, np.ndarray] | None = field(default=None, repr=False,
+                                                            compare=False)
 
     @property
     def frequencies_hz(self) -> np.ndarray:
@@ -273,9 +278,10 @@ def _solve_sparse(
     k = n_modes + 1 + (6 if n_rigid is None else n_rigid)
     while True:
         k = min(k, n - 1)
-        sol = _elastic(*lowest_modes(K, M, k, operator), n_modes, complete=k == n - 1)
+        lam, phi, rigid = lowest_modes(K, M, k, operator)
+        sol = _elastic(lam, phi, rigid, n_modes, complete=k == n - 1)
         if sol.next_eigenvalue is not None or k == n - 1:
-            return sol
+            return replace(sol, computed=(lam, phi))
         k *= 2
 
 

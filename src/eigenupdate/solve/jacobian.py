@@ -16,8 +16,17 @@ import numpy as np
 from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
-from eigenupdate.solve.eigen import DENSE_LIMIT, EigenSolution, base_operator, solve_elastic
-from eigenupdate.solve.sensitivity import eigenvalue_derivatives
+from eigenupdate.solve import perturbed
+from eigenupdate.solve.eigen import (
+    DENSE_LIMIT,
+    EigenSolution,
+    ShiftInvert,
+    base_operator,
+    solve_elastic,
+)
+from eigenupdate.solve.perturbed import CertificateReport
+from eigenupdate.solve.restricted import RestrictedTerms
+from eigenupdate.solve.sensitivity import check_distinct, eigenvalue_derivatives
 
 
 @dataclass(frozen=True)
@@ -31,6 +40,8 @@ class Linearisation:
     J : (equations, updated parameters) d lambda / d s in physical units.
     scale : normalising scale of each updated parameter.
     names : names of the updated parameters.
+    certificate : sparse path: what the perturbed-configuration fast path did
+        (:class:`eigenupdate.solve.perturbed.CertificateReport`); None on the dense path.
     """
 
     rows: list[tuple[str, int]]
@@ -38,6 +49,7 @@ class Linearisation:
     J: np.ndarray
     scale: np.ndarray
     names: list[str]
+    certificate: CertificateReport | None = None
 
     @property
     def normalised(self) -> np.ndarray:
@@ -50,38 +62,80 @@ def solve_configurations(
     n_modes: int,
     values: Sequence[float] | None = None,
     dense: bool | None = None,
+    report: CertificateReport | None = None,
 ) -> list[EigenSolution]:
     """Elastic eigen-solutions of every configuration at parameter ``values``.
 
-    On the sparse path K - sigma M is factorised once for the bare structure and each
-    perturbed configuration reuses it (see :class:`eigenupdate.solve.eigen.ShiftInvert`).
+    On the sparse path K - sigma M is factorised once for the bare structure. Perturbed
+    configurations are solved by Rayleigh-Ritz in a Krylov subspace built from that
+    factorisation, with a certificate (:mod:`eigenupdate.solve.perturbed`, which
+    ``report`` records); one that fails it reuses the factorisation in shift-invert
+    Lanczos (see :class:`eigenupdate.solve.eigen.ShiftInvert`).
     """
     K, M = model.stiffness(values), model.mass(values)
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
-    out = []
+    if not sparse:
+        return [solve_one(model, K, M, c, n_modes, None, None) for c in configurations]
     try:
-        base_op, base_sol = base_operator(K, M, n_modes) if sparse else (None, None)
+        base_op, base_sol = base_operator(K, M, n_modes)
     except (InputError, NumericalError) as exc:
         raise type(exc)(str(exc), field="the bare structure") from None
-    for c in configurations:
-        try:
-            if not c.additions and base_sol is not None:
-                out.append(base_sol)
-                continue
-            dk, dm = c.delta(model)
-            op = None
-            if base_op is not None:
-                rows = c.rows(model)
-                op = base_op.updated(
-                    rows, [a.stiffness for a in c.additions], [a.mass for a in c.additions]
-                )
-            # added masses and grounded springs never create rigid-body modes
-            hint = base_sol.n_rigid if base_sol is not None else None
-            out.append(solve_elastic(K + dk, M + dm, n_modes, operator=op, dense=not sparse,
-                                     n_rigid=hint))
-        except (InputError, NumericalError) as exc:
-            raise type(exc)(str(exc), field=f"configuration {c.name!r}") from None
+    return solve_on_base(model, K, M, base_op, base_sol, configurations, n_modes, report)
+
+
+def solve_on_base(
+    model: ParametricModel,
+    K,
+    M,
+    base_op: ShiftInvert,
+    base_sol: EigenSolution,
+    configurations: Sequence[Configuration],
+    n_modes: int,
+    report: CertificateReport | None = None,
+) -> list[EigenSolution]:
+    """The sparse path of :func:`solve_configurations` once the bare structure is solved
+    (``base_sol`` from ``base_operator(K, M, n_modes)``)."""
+    fast = perturbed.solve_perturbed(model, K, M, base_op, base_sol, configurations,
+                                     n_modes, report)
+    out = []
+    for c, ritz in zip(configurations, fast, strict=True):
+        if not c.additions:
+            out.append(base_sol)
+        elif ritz is not None:
+            out.append(ritz)
+        else:
+            out.append(solve_one(model, K, M, c, n_modes, base_op, base_sol.n_rigid))
     return out
+
+
+def solve_one(model, K, M, c: Configuration, n_modes: int, base_op, n_rigid):
+    """One configuration by Lanczos reusing the base factorisation (Woodbury), or dense."""
+    try:
+        dk, dm = c.delta(model)
+        op = None
+        if base_op is not None:
+            op = base_op.updated(
+                c.rows(model), [a.stiffness for a in c.additions], [a.mass for a in c.additions]
+            )
+        # added masses and grounded springs never create rigid-body modes
+        return solve_elastic(K + dk, M + dm, n_modes, operator=op, dense=base_op is None,
+                             n_rigid=n_rigid)
+    except (InputError, NumericalError) as exc:
+        raise type(exc)(str(exc), field=f"configuration {c.name!r}") from None
+
+
+def modes_and_updated(
+    model: ParametricModel, modes: Sequence[int], field: str = "measurement.modes"
+) -> tuple[list[int], np.ndarray]:
+    """Sorted distinct elastic mode numbers and the updated parameters' indices, or
+    InputError."""
+    modes = sorted(set(int(k) for k in modes))
+    if not modes or modes[0] < 1:
+        raise InputError("modes must be elastic mode numbers >= 1", field=field)
+    upd = model.updated
+    if upd.size == 0:
+        raise InputError("no parameter is updated (every parameter has update = false)")
+    return modes, upd
 
 
 def linearise(
@@ -107,21 +161,26 @@ def linearise(
     >>> np.round(lin.J, 9).tolist()    # [[-k/m^2, 1/m], [-k/(m+2)^2, 1/(m+2)]]
     [[-200.0, 0.5], [-50.0, 0.25]]
     """
-    modes = sorted(set(int(k) for k in modes))
-    if not modes or modes[0] < 1:
-        raise InputError("modes must be elastic mode numbers >= 1", field="measurement.modes")
-    upd = model.updated
-    if upd.size == 0:
-        raise InputError("no parameter is updated (every parameter has update = false)")
+    modes, upd = modes_and_updated(model, modes)
     kt = [model.k_terms[j] for j in upd]
     mt = [model.m_terms[j] for j in upd]
-    sols = solve_configurations(model, configurations, modes[-1], values, dense)
+    sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
+    report = CertificateReport() if sparse else None
+    sols = solve_configurations(model, configurations, modes[-1], values, dense, report)
+    idx = np.asarray(modes) - 1
     rows, lam, blocks = [], [], []
     for c, sol in zip(configurations, sols, strict=True):
-        blocks.append(eigenvalue_derivatives(sol, modes, kt, mt, f"configuration {c.name!r}"))
-        lam.extend(sol.eigenvalues[np.asarray(modes) - 1])
+        if sparse:
+            check_distinct(sol, modes, f"configuration {c.name!r}")
+        else:
+            blocks.append(eigenvalue_derivatives(sol, modes, kt, mt,
+                                                 f"configuration {c.name!r}"))
+        lam.extend(sol.eigenvalues[idx])
         rows.extend((c.name, k) for k in modes)
+    if sparse:  # all configurations' modes in one product per parameter
+        phi = [s.modes if s.modes.shape[1] == idx.size else s.modes[:, idx] for s in sols]
+        blocks = [RestrictedTerms(kt, mt).derivatives(phi, np.array(lam))]
     scale = np.array([model.parameters[j].scale for j in upd])  # initial values, not current
     return Linearisation(
-        rows, np.array(lam), np.vstack(blocks), scale, [model.names[j] for j in upd]
+        rows, np.array(lam), np.vstack(blocks), scale, [model.names[j] for j in upd], report
     )

@@ -11,6 +11,7 @@ import argparse
 import json
 import os
 import re
+import shlex
 import sys
 import time
 import warnings
@@ -38,6 +39,7 @@ from eigenupdate.measure.frf import FRF_KINDS, dof_label
 from eigenupdate.measure.survey import extraction_doc, extraction_text
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import text as report
+from eigenupdate.report.html import write_report
 from eigenupdate.solve.sweep import mass_sweep
 
 
@@ -351,6 +353,19 @@ def cmd_sweep(args) -> int:
     return 0
 
 
+def cmd_report(args) -> int:
+    _output_file(args.o, "-o")
+    files = {"--result": args.result, "--extracted": args.extracted, "--design": args.design,
+             "--montecarlo": args.montecarlo}
+    command = ["eigenupdate", "report", args.study, *[x for k, v in files.items() if v
+                                                      for x in (k, v)], "-o", args.o]
+    out = write_report(args.study, output=args.o, result=args.result, extracted=args.extracted,
+                       design=args.design, montecarlo=args.montecarlo,
+                       command=shlex.join(command))
+    _progress(f"wrote {out} ({out.stat().st_size / 1024:.0f} kB)")
+    return 0
+
+
 class _Parser(argparse.ArgumentParser):
     """Usage errors in one line, like every other bad input (exit status 2)."""
 
@@ -476,6 +491,17 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--configuration", help="configuration to add the mass to (default: base)")
     s.add_argument("-o", required=True, metavar="FIG")
     s.set_defaults(func=cmd_sweep)
+
+    s = sub.add_parser("report", help="self-contained HTML report of the study (print to PDF)")
+    s.add_argument("study")
+    s.add_argument("--result", metavar="RESULT.json", help="result of 'update --save' (default: "
+                   "the report runs the update)")
+    s.add_argument("--extracted", metavar="CSV", help="extraction CSV of 'extract -o'")
+    s.add_argument("--design", metavar="PLAN.json", help="test design, any JSON object")
+    s.add_argument("--montecarlo", metavar="SUMMARY.json", help="Monte Carlo summary, any JSON "
+                   "object")
+    s.add_argument("-o", required=True, metavar="REPORT.html")
+    s.set_defaults(func=cmd_report)
     return p
 
 

@@ -1,0 +1,639 @@
+"""One self-contained HTML report of a study: what was tested, what was updated and how
+well the updated model predicts.
+
+:func:`write_report` gathers the numbers with the library's own functions (the
+identifiability check, the FRF extraction, the update, the receptance, the mass sweep),
+draws the figures with matplotlib as SVG and renders ``templates/report.html.j2`` with
+Jinja2. Figures are base64 ``data:`` URIs and the stylesheet is inlined, so the page
+needs no network, no script and no font file: it can be mailed or opened from a share,
+and printed to PDF (sections start on a new page, figures and table rows are not split).
+
+Sections appear when their data exist:
+
+* the study and the identifiability of its plan - always;
+* the FRF extraction - when the study names FRF files (the fits are recomputed with
+  :func:`eigenupdate.measure.extraction.extract_configuration`, as ``extract`` does) or
+  an extraction CSV is given (its table is then shown as the numbers the update used);
+* the update - from a saved result (``update --save``); without one, the report runs
+  the update itself with the study's settings and says so, if the study has a
+  measurement file;
+* the FRF comparison (paper Fig. 7) of the base configuration at every measured
+  response point, and the mass sweep (Fig. 4) of every perturbed coordinate;
+* the test design and Monte Carlo summaries - any JSON object, rendered generically;
+* provenance - package version, SHA-256 of the study and input files, date, command.
+"""
+
+from __future__ import annotations
+
+import base64
+import hashlib
+import io
+import math
+import os
+import shlex
+import sys
+import tempfile
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+from typing import Any
+
+import jinja2
+import matplotlib
+import numpy as np
+from matplotlib.figure import Figure
+
+from eigenupdate import workflow
+from eigenupdate.errors import InputError
+from eigenupdate.identify.identifiability import IdentifiabilityReport
+from eigenupdate.io.atomic import write_text
+from eigenupdate.io.report_inputs import (
+    ExtractedRow,
+    read_extracted,
+    read_result,
+    read_summary,
+)
+from eigenupdate.io.study import Study, load_study
+from eigenupdate.measure.extraction import DISAGREEMENT_WARNING
+from eigenupdate.measure.frf import FRF
+from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
+from eigenupdate.report import figures
+from eigenupdate.solve.response import receptance
+from eigenupdate.solve.sweep import mass_sweep
+from eigenupdate.workflow import StudyExtraction
+
+PathLike = str | os.PathLike
+TEMPLATES = Path(__file__).with_name("templates")
+_DEFAULT_LOSS_FACTOR = 0.01  # as `eigenupdate frf` without --damping
+
+
+# ------------------------------------------------------------------ page structure
+
+
+@dataclass
+class Table:
+    """A real HTML table: header cells and rows of (text, is_number) cells."""
+
+    caption: str
+    header: list[str]
+    rows: list[list[tuple[str, bool]]]
+    name: str = ""  # data-name attribute, for tests and styling
+    kind: str = "table"
+
+
+@dataclass
+class Image:
+    """A figure as a ``data:`` URI."""
+
+    uri: str
+    caption: str
+    alt: str
+    kind: str = "image"
+
+
+@dataclass
+class Section:
+    """One section of the page: paragraphs, key facts, then tables and figures in order."""
+
+    id: str
+    title: str
+    paragraphs: list[str] = field(default_factory=list)
+    facts: list[tuple[str, str]] = field(default_factory=list)
+    blocks: list[Table | Image] = field(default_factory=list)
+    parts: list[Section] = field(default_factory=list)  # sub-sections (one per configuration)
+
+
+def _cell(v: Any) -> tuple[str, bool]:
+    if v is None:
+        return ("-", False)
+    if isinstance(v, bool):
+        return ("yes" if v else "no", False)
+    if isinstance(v, int | np.integer):
+        return (str(int(v)), True)
+    if isinstance(v, float | np.floating):
+        return (f"{float(v):.6g}" if math.isfinite(v) else "-", math.isfinite(v))
+    return (str(v), False)
+
+
+def _table(caption: str, header: Sequence[str], rows: Sequence[Sequence[Any]],
+           name: str = "") -> Table:
+    return Table(caption, list(header), [[_cell(v) for v in r] for r in rows], name)
+
+
+def _svg_uri(data: bytes) -> str:
+    return "data:image/svg+xml;base64," + base64.b64encode(data).decode("ascii")
+
+
+# Text as SVG text (not glyph outlines): a third smaller, and searchable in the PDF.
+_SVG_RC = {"svg.fonttype": "none", "svg.hashsalt": "eigenupdate"}
+
+
+def _figure_image(fig: Figure, caption: str, alt: str) -> Image:
+    buf = io.BytesIO()
+    with matplotlib.rc_context(_SVG_RC):
+        fig.savefig(buf, format="svg")
+    return Image(_svg_uri(buf.getvalue()), caption, alt)
+
+
+def _plot_image(plot: Callable[..., Any], caption: str, alt: str, *args: Any,
+                **kwargs: Any) -> tuple[Image, Any]:
+    """Run one of :mod:`eigenupdate.plot.plots` into a temporary SVG and inline it."""
+    with tempfile.TemporaryDirectory() as tmp, matplotlib.rc_context(_SVG_RC):
+        path = Path(tmp) / "figure.svg"
+        out = plot(path, *args, **kwargs)
+        return Image(_svg_uri(path.read_bytes()), caption, alt), out
+
+
+def _sha256(path: PathLike) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+# ---------------------------------------------------------------------- sections
+
+
+def _study_section(study: Study) -> Section:
+    model = study.model
+    n_upd = len(model.updated)
+    sec = Section("study", "The study")
+    meas = []
+    if study.frequencies is not None:
+        meas.append(f"frequencies from {study.frequencies.name}")
+    if study.frf:
+        n_files = sum(len(v) for v in study.frf.values())
+        meas.append(f"FRFs in {n_files} file(s) for {len(study.frf)} configuration(s)")
+    sec.facts = [
+        ("title", study.title),
+        ("study file", study.path.name),
+        ("model", f"{study.model_type}, {model.n} coordinates"),
+        ("parameters", f"{len(model.parameters)} ({n_upd} updated)"),
+        ("configurations", f"{len(study.configurations)} (base + "
+                           f"{len(study.configurations) - 1} perturbed)"),
+        ("elastic modes used", ", ".join(map(str, study.modes)) or "none given"),
+        ("measurement", "; ".join(meas) or "none"),
+        ("method", f"{study.method}, at most {study.max_iterations} iterations, "
+                   f"tolerance {study.tolerance:g}"),
+    ]
+    sec.blocks.append(_table(
+        "Parameters of the initial model (SI units)",
+        ["parameter", "initial value", "prior std", "updated"],
+        [[p.name, p.value, p.std, p.update] for p in model.parameters], "parameters"))
+    rows = []
+    for c in study.configurations:
+        if not c.additions:
+            rows.append([c.name, "-", None, None])
+        for a in c.additions:
+            rows.append([c.name, a.coordinate, a.mass or None, a.stiffness or None])
+    sec.blocks.append(_table(
+        "Test configurations: known masses (kg; kg m^2 on a rotation) and grounded "
+        "springs (N/m) added", ["configuration", "coordinate", "added mass", "added stiffness"],
+        rows, "configurations"))
+    return sec
+
+
+def _weakest_in_words(r: IdentifiabilityReport) -> str:
+    big = {k: v for k, v in r.weakest.items() if abs(v) >= 0.2} or dict(
+        list(r.weakest.items())[:1])
+    terms = " ".join(f"{'-' if v < 0 else '+'} {abs(v):.2f} {k}" for k, v in big.items())
+    up = [k for k, v in big.items() if v > 0]
+    down = [k for k, v in big.items() if v < 0]
+    move = f"raising {', '.join(up)}" if up else ""
+    if down:
+        move += f"{' while ' if up else ''}lowering {', '.join(down)}"
+    rest = len(r.weakest) - len(big)
+    others = f", plus {rest} smaller weights in the table" if rest else ""
+    return (f"The combination the plan determines worst is {terms.lstrip('+ ')}{others} "
+            f"(parameters relative to their initial values): {move} in these proportions "
+            f"changes the eigenvalues least.")
+
+
+def _identifiability_section(study: Study) -> Section | None:
+    if not study.modes:
+        return None
+    r = workflow.check_study(study, "least-squares")  # the plan's own J, as the paper
+    seen = workflow.check_study(study) if study.method != "least-squares" else None
+    p = len(r.parameters)
+    sec = Section("identifiability", "Identifiability of the test plan")
+    verdict = ("every updated parameter is identifiable (J^T J has full rank)"
+               if r.identifiable else
+               f"NOT identifiable: rank {r.rank} < {p} parameters; only the prior std of "
+               "the Bayesian estimator can make up for it, other methods refuse the update")
+    sec.paragraphs = [
+        f"{r.equations} equations (configurations x modes) for {p} updated parameters: "
+        f"{verdict}. J is the sensitivity of the eigenvalues to the parameters normalised by "
+        "their initial values, at the initial model.",
+        _weakest_in_words(r),
+    ]
+    sec.facts = [
+        ("equations", str(r.equations)),
+        ("updated parameters", str(p)),
+        ("rank of J^T J", str(r.rank)),
+        ("condition of J", f"{r.condition_J:.3g}"),
+        ("condition of J^T J", f"{r.condition_JTJ:.3g}"),
+    ]
+    if seen is not None:
+        sec.facts += [
+            (f"as the {study.method} estimator sees it",
+             f"J weighted by {seen.weighting}: rank {seen.rank}, condition of J "
+             f"{seen.condition_J:.3g}, of J^T J {seen.condition_JTJ:.3g}")]
+    sec.blocks.append(_figure_image(
+        figures.singular_values_figure(r.singular_values),
+        "Singular values of J, descending ((rad/s)^2 per unit relative change)",
+        "singular values"))
+    sec.blocks.append(_table(
+        "Weakest combination: right singular vector of the smallest singular value",
+        ["parameter", "weight"], [[k, v] for k, v in r.weakest.items()], "weakest"))
+    return sec
+
+
+def _frf_label(study: Study, x: FRF) -> str:
+    table = study.model.coordinate_table
+    return f"{table.point_label(x.response)} / {table.point_label(x.reference)}"
+
+
+def _extraction_section(
+    study: Study,
+    fitted: StudyExtraction | None,
+    extracted: list[ExtractedRow] | None,
+    extracted_name: str | None,
+) -> Section | None:
+    if fitted is None and extracted is None:
+        return None
+    sec = Section("extraction", "Measured FRFs and modal extraction")
+    intro = []
+    if fitted is not None:
+        intro.append("Fitted here from the study's FRF files with the method of 'eigenupdate "
+                     "extract': Dobson's inverse-receptance line fit (hysteretic damping) in "
+                     "each resonance band, the FRFs of a configuration combined by inverse "
+                     "variance, a rational-fraction fit as an independent cross-check, "
+                     f"modes numbered by {fitted.result.numbered_by}.")
+    if extracted is not None:
+        intro.append(f"The mode tables show {extracted_name}, the extraction the update read.")
+    intro.append(f"'diff/std' is the Dobson - rational-fraction difference in combined "
+                 f"standard deviations (flagged above {DISAGREEMENT_WARNING:g}); 'fit R2' the "
+                 "fit quality. 'not used' marks modes the study does not use; 'no peak in' "
+                 "lists the FRFs in which a mode was not fitted (a response point near its "
+                 "node). Rejected candidates are resonances that are not modes, with the "
+                 "reason.")
+    sec.paragraphs = [" ".join(intro)]
+    if fitted is not None and fitted.result.problems:
+        sec.paragraphs.append("WARNING: " + "; ".join(fitted.result.problems) + ".")
+    used = set(study.modes)
+    by_cfg: dict[str, list[ExtractedRow]] = {}
+    for row in extracted or []:
+        by_cfg.setdefault(row.configuration, []).append(row)
+    results = {ex.configuration: ex for ex in fitted.result.configurations} if fitted else {}
+    notes = []
+    for c in study.configurations:
+        part = Section(f"extraction-{len(sec.parts) + 1}", c.name)
+        ex = results.get(c.name)
+        frfs = fitted.frfs.get(c.name, []) if fitted else []
+        modes = ex.modes if ex else []
+        fits = {m.mode: m for m in modes}
+        if ex is not None:
+            part.paragraphs = [f"{ex.line_spacing_hz:.4g} Hz lines, {ex.frequency_range_hz[0]:.5g}"
+                               f"-{ex.frequency_range_hz[1]:.5g} Hz; {len(frfs)} FRF(s)"
+                               + "".join(f"; {n}" for n in ex.notes) + "."]
+            part.paragraphs += [f"Model mode {k} ({f:.6g} Hz) expected, not found."
+                                for k, f in ex.missing]
+            part.paragraphs += [f"Unexpected resonance at {m.frequency_hz:.6g} Hz: no model "
+                                "mode explains it." for m in ex.unexpected]
+        rows = by_cfg.get(c.name) if extracted is not None else [
+            ExtractedRow(m.configuration, m.mode, m.frequency_hz, m.std_hz, m.loss_factor,
+                         m.loss_factor_std, m.check_hz, m.check_std_hz) for m in modes]
+        table_rows = []
+        for r in rows or []:
+            d = r.disagreement
+            flags = []
+            if r.mode not in used:
+                flags.append("not used")
+            if d is not None and d > DISAGREEMENT_WARNING:
+                flags.append(f"methods differ by {d:.1f} std")
+            m = fits.get(r.mode)
+            if m is not None:
+                if m.under_resolved:
+                    flags.append("under-resolved")
+                missing = [_frf_label(study, x)
+                           for x, ft in zip(frfs, m.fits, strict=True) if ft is None]
+                if missing:
+                    flags.append("no peak in " + ", ".join(missing))
+                if extracted is not None and not math.isclose(m.frequency_hz, r.frequency_hz,
+                                                              rel_tol=1e-9):
+                    notes.append(f"{c.name} mode {r.mode}: {extracted_name} has "
+                                 f"{r.frequency_hz:.6g} Hz, the FRF files give "
+                                 f"{m.frequency_hz:.6g} Hz")
+            table_rows.append([r.mode, r.frequency_hz, r.std_hz, r.loss_factor,
+                               r.loss_factor_std, m.fit_quality if m else None, r.check_hz, d,
+                               m.model_hz if m else None, "; ".join(flags) or None])
+        if table_rows:
+            part.blocks.append(_table(
+                f"{c.name}: fitted modes",
+                ["mode", "f Hz", "std Hz", "loss factor", "loss factor std", "fit R2",
+                 "check f Hz", "diff/std", "model Hz", "remarks"], table_rows, "extraction"))
+        if ex is not None and ex.rejected:
+            part.blocks.append(_table(
+                f"{c.name}: rejected candidates",
+                ["f Hz", "band from Hz", "band to Hz", "reason"],
+                [[r.frequency_hz, r.band_hz[0], r.band_hz[1], r.reason] for r in ex.rejected],
+                "rejected"))
+        for j, x in enumerate(frfs):
+            shown = [m for m in modes if m.fits[j] is not None and m.mode in used]
+            if not shown:
+                continue
+            title = f"{c.name}: {_frf_label(study, x)}"
+            img, _ = _plot_image(
+                plot_extraction_fit, f"{title}: fitted modes against the measured receptance",
+                f"extraction fit {title}", x.frequency_hz, x.receptance,
+                [m.fits[j] for m in shown], mode_numbers=[m.mode for m in shown], title=title)
+            part.blocks.append(img)
+        if part.blocks:
+            sec.parts.append(part)
+    if notes:
+        sec.paragraphs.append("WARNING: the extraction file does not match the study's FRF "
+                              "files: " + "; ".join(notes) + ".")
+    return sec
+
+
+def _update_doc(study: Study, result: dict | None) -> tuple[dict | None, str]:
+    """The update as the saved-result document, and where it comes from."""
+    if result is not None:
+        return result, "read from the saved result"
+    if study.frequencies is None or not study.modes:
+        return None, ""
+    study.measurements()  # a bad file stops the report
+    try:
+        res = workflow.update_study(study)
+    except InputError as exc:  # e.g. a rank-deficient plan: the page says why
+        return None, f"The update was not run: {exc}"
+    return res.to_dict(), ("computed by this report (no saved result was given), with the "
+                             "study's settings")
+
+
+def _update_section(study: Study, doc: dict, origin: str) -> Section:
+    model = study.model
+    initial = dict(zip(model.names, model.values.tolist(), strict=True))
+    names = [n for n in model.names if n in doc["std"]]
+    sec = Section("update", "The update")
+    status = "converged" if doc["converged"] else "DID NOT CONVERGE"
+    sec.paragraphs = [
+        f"{doc['method']}, {status} after {doc['iterations']} iteration(s) "
+        f"({doc['message'].removeprefix('converged: ')}); {origin}.",
+        "Change % is relative to the initial value; the posterior std is that of the "
+        "estimator (a parameter without a defined std shows '-').",
+    ]
+    rows = []
+    for n in names:
+        v0, v = initial[n], doc["parameters"][n]
+        rows.append([n, v0, v, None if v0 == 0 else 100.0 * (v - v0) / v0, doc["std"].get(n)])
+    sec.blocks.append(_table("Parameters: initial, updated, change and posterior std",
+                             ["parameter", "initial", "updated", "change %", "posterior std"],
+                             rows, "parameters-updated"))
+    if any(initial[n] != 0 for n in names):
+        sec.blocks.append(_figure_image(
+            figures.parameter_change_figure(names, initial, doc["parameters"], doc["std"]),
+            "Change of each updated parameter (% of initial) with +-1 posterior std "
+            "(parameters starting at 0 are in the table only)", "parameter changes"))
+    steps = doc.get("steps") or [{} for _ in doc["history"]]
+    sec.blocks.append(_table(
+        "Iterations (0 is the initial model): objective, fraction of the Gauss-Newton step "
+        "taken, note", ["iteration", "objective", "step", "note"],
+        [[i, s.get("objective"), s.get("step"), s.get("note") or None]
+         for i, s in enumerate(steps)], "steps"))
+    sec.blocks.append(_table(
+        "Parameter values at each iteration",
+        ["parameter", *[f"it. {i}" for i in range(len(doc["history"]))]],
+        [[n, *[h[n] for h in doc["history"]]] for n in names], "history"))
+    sec.blocks.append(_figure_image(
+        figures.history_figure([s.get("objective") for s in steps], doc["history"], names),
+        "Objective and parameters (relative to initial) against iteration", "history"))
+    fr = doc["frequencies"]
+    sec.blocks.append(_table(
+        "Natural frequencies: measured, initial and updated model (Hz), errors in %",
+        ["configuration", "mode", "measured", "initial", "updated", "initial error %",
+         "updated error %"],
+        [[r["configuration"], r["mode"], r["measured_hz"], r["initial_hz"], r["updated_hz"],
+          100 * (r["initial_hz"] - r["measured_hz"]) / r["measured_hz"],
+          100 * (r["updated_hz"] - r["measured_hz"]) / r["measured_hz"]] for r in fr],
+        "frequencies"))
+    sec.blocks.append(_figure_image(
+        figures.frequency_error_figure(
+            [f"{r['configuration']} / {r['mode']}" for r in fr],
+            [r["measured_hz"] for r in fr], [r["initial_hz"] for r in fr],
+            [r["updated_hz"] for r in fr]),
+        "Model minus measured frequency in % of measured: initial model, updated model "
+        "(each panel on its own scale)", "frequency errors"))
+    return sec
+
+
+def _loss_factors(study: Study, fitted, extracted) -> tuple[list[float] | float, str]:
+    """Per-mode loss factors of the base configuration: extracted ones when known."""
+    base = study.configurations[0].name
+    etas = {r.mode: r.loss_factor for r in extracted or [] if r.configuration == base}
+    if etas.get(1) is None and fitted:
+        for ex in fitted.result.configurations:
+            if ex.configuration == base:
+                etas = {m.mode: m.loss_factor for m in ex.modes}
+    k = 1
+    out = []
+    while etas.get(k) is not None:
+        out.append(etas[k])
+        k += 1
+    if out:
+        return out, "extracted loss factors " + ", ".join(f"{e:.3g}" for e in out)
+    return _DEFAULT_LOSS_FACTOR, f"loss factor {_DEFAULT_LOSS_FACTOR:g} (none extracted)"
+
+
+def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Section:
+    sec = Section("comparison", "Predicted against measured")
+    base = study.configurations[0]
+    models = {"initial": study.model}
+    if doc is not None:
+        models["updated"] = study.model.with_values(doc["parameters"])
+    eta, eta_text = _loss_factors(study, fitted, extracted)
+    skipped = []
+    frfs = fitted.frfs.get(base.name, []) if fitted else []
+    for x in frfs:
+        try:
+            out = study.model.coordinate_table.from_uff(x.response).number
+            inp = study.model.coordinate_table.from_uff(x.reference).number
+        except InputError:
+            skipped.append(_frf_label(study, x))  # e.g. a CSV FRF, which names no points
+            continue
+        f = x.frequency_hz[x.frequency_hz > 0]
+        curves = {label: (f, receptance(m, f, inp, out, configuration=base, loss_factor=eta))
+                  for label, m in models.items()}
+        title = f"{base.name}: receptance {out}/{inp} ({_frf_label(study, x)}), {eta_text}"
+        img, _ = _plot_image(plot_frf_comparison, f"Paper Fig. 7: {title}",
+                             f"FRF comparison {out}/{inp}", None, measured=x,
+                             initial=curves["initial"], updated=curves.get("updated"),
+                             title=title)
+        sec.blocks.append(img)
+    intro = ["Receptance of the base configuration at every measured response point: "
+             "measured, initial model" + (" and updated model" if doc else "") + "."]
+    if skipped:
+        intro.append(f"Not compared (no model coordinate in the file): {', '.join(skipped)}.")
+    if not frfs:
+        intro = ["No measured FRFs in the study: no receptance comparison."]
+    sweep_values = doc["parameters"] if doc is not None else None
+    coords = sorted({(a.coordinate, a.mass) for c in study.configurations for a in c.additions
+                     if a.mass > 0})
+    biggest: dict[int, float] = {}
+    for cd, m in coords:
+        biggest[cd] = max(biggest.get(cd, 0.0), m)
+    n_modes = max(study.modes or [3])
+    for cd, m in biggest.items():
+        sweep = mass_sweep(study.model, cd, 2.0 * m, n_modes, values=sweep_values)
+        img, _ = _plot_image(plot_mass_sweep, f"Paper Fig. 4: mass added at coordinate {cd}",
+                             f"mass sweep {cd}", sweep,
+                             title="updated model" if sweep_values else "initial model")
+        sec.blocks.append(img)
+    if biggest:
+        intro.append("Mass sweeps (paper Fig. 4): natural frequencies of the "
+                     + ("updated" if sweep_values else "initial")
+                     + " model against the mass added at each perturbed coordinate, up to "
+                     "twice the largest mass added there in the test.")
+    sec.paragraphs = [" ".join(intro)]
+    return sec
+
+
+def _summary_section(key: str, title: str, doc: dict, name: str) -> Section:
+    """A JSON object rendered generically: scalars as one key/value table, a list of
+    objects as a table (columns = their keys), an object of objects as a table (one row
+    per key), another object as a key/value table; deeper values as compact JSON text."""
+    import json
+
+    def short(v: Any) -> Any:  # 6 significant digits inside nested values, as in cells
+        if isinstance(v, float):
+            return float(f"{v:.6g}")
+        if isinstance(v, dict):
+            return {k: short(x) for k, x in v.items()}
+        return [short(x) for x in v] if isinstance(v, list) else v
+
+    def text(v: Any) -> Any:
+        if isinstance(v, str | int | float | bool) or v is None:
+            return v
+        return json.dumps(short(v), separators=(", ", ": "))
+
+    sec = Section(key, title)
+    sec.paragraphs = [f"From {name}, shown generically: the report does not interpret this "
+                      "file's keys."]
+    scalars = [[k, text(v)] for k, v in doc.items() if not isinstance(v, dict | list)
+               or (isinstance(v, list) and not all(isinstance(i, dict) for i in v))
+               or (isinstance(v, list) and not v)]
+    if scalars:
+        sec.blocks.append(_table(title, ["key", "value"], scalars, "summary"))
+    for k, v in doc.items():
+        if isinstance(v, list) and v and all(isinstance(i, dict) for i in v):
+            cols = list(dict.fromkeys(c for i in v for c in i))
+            sec.blocks.append(_table(k, cols, [[text(i.get(c)) for c in cols] for i in v],
+                                     "summary"))
+        elif isinstance(v, dict) and v and all(isinstance(i, dict) for i in v.values()):
+            cols = list(dict.fromkeys(c for i in v.values() for c in i))
+            sec.blocks.append(_table(k, ["", *cols],
+                                     [[a, *[text(i.get(c)) for c in cols]] for a, i in v.items()],
+                                     "summary"))
+        elif isinstance(v, dict):
+            sec.blocks.append(_table(k, ["key", "value"], [[a, text(b)] for a, b in v.items()],
+                                     "summary"))
+    return sec
+
+
+# ------------------------------------------------------------------------- public
+
+
+def _package_version() -> str:
+    try:
+        return version("eigenupdate")
+    except PackageNotFoundError:  # running from a source tree
+        return "unknown"
+
+
+def render_report(
+    study_path: PathLike,
+    *,
+    result: PathLike | None = None,
+    extracted: PathLike | None = None,
+    design: PathLike | None = None,
+    montecarlo: PathLike | None = None,
+    command: str | None = None,
+    now: datetime | None = None,
+) -> str:
+    """The report of a study as one HTML document (see the module notes for the sections).
+
+    Parameters
+    ----------
+    study_path : the study TOML file.
+    result : a result of ``eigenupdate update --save``; without it the report runs the
+        update itself when the study has a measurement file.
+    extracted : an extraction CSV (``eigenupdate extract -o``).
+    design, montecarlo : JSON objects (a test design plan, a Monte Carlo summary),
+        rendered as tables of their keys.
+    command : the command line, for the provenance (default: ``sys.argv``).
+    now : the report's date (default: now, UTC).
+
+    Examples
+    --------
+    >>> page = render_report("examples/paper_fig2/study.toml", now=datetime(2026, 1, 1))
+    >>> page.startswith("<!DOCTYPE html>"), page.count("<table"), "http" in page
+    (True, 10, False)
+    """
+    study = load_study(study_path)
+    res = read_result(result, study.model) if result is not None else None
+    ext = (read_extracted(extracted, [c.name for c in study.configurations])
+           if extracted is not None else None)
+    summaries = [(key, title, read_summary(p), Path(p).name)
+                 for key, title, p in (("design", "Test design", design),
+                                       ("montecarlo", "Monte Carlo summary", montecarlo))
+                 if p is not None]
+    fitted = workflow.extract_study(study) if study.frf else None
+    doc, origin = _update_doc(study, res)
+
+    sections = [_study_section(study)]
+    for s in (_identifiability_section(study),
+              _extraction_section(study, fitted, ext,
+                                  Path(extracted).name if extracted is not None else None),
+              _update_section(study, doc, origin) if doc is not None else
+              (Section("update", "The update", paragraphs=[origin]) if origin else None),
+              _comparison_section(study, doc, fitted, ext)):
+        if s is not None:
+            sections.append(s)
+    sections += [_summary_section(*s) for s in summaries]
+
+    files = [("study", study_path), ("result", result), ("extraction", extracted),
+             ("design", design), ("Monte Carlo", montecarlo)]
+    stamp = (now or datetime.now(UTC)).strftime("%Y-%m-%d %H:%M:%S %Z").strip()
+    provenance = [
+        ("eigenupdate version", _package_version()),
+        ("date", stamp),
+        ("command", command if command is not None else shlex.join(sys.argv)),
+        *[(f"{what} file", f"{Path(p).name}  SHA-256 {_sha256(p)}")
+          for what, p in files if p is not None],
+    ]
+    env = jinja2.Environment(loader=jinja2.FileSystemLoader(TEMPLATES),
+                             autoescape=True, undefined=jinja2.StrictUndefined,
+                             trim_blocks=True, lstrip_blocks=True)
+    return env.get_template("report.html.j2").render(
+        title=study.title, sections=sections, provenance=provenance,
+        stylesheet=(TEMPLATES / "report.css").read_text(encoding="utf-8"))
+
+
+def write_report(
+    study_path: PathLike,
+    *,
+    output: PathLike,
+    result: PathLike | None = None,
+    extracted: PathLike | None = None,
+    design: PathLike | None = None,
+    montecarlo: PathLike | None = None,
+    command: str | None = None,
+) -> Path:
+    """Write the report of a study to ``output`` (HTML), whole or not at all.
+
+    Everything is computed before the file is written (see :func:`render_report` for
+    the arguments); ``output`` is replaced atomically.
+    """
+    page = render_report(study_path, result=result, extracted=extracted, design=design,
+                         montecarlo=montecarlo, command=command)
+    write_text(output, page)
+    return Path(output)

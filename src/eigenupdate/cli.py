@@ -39,7 +39,7 @@ from eigenupdate.measure.frf import FRF_KINDS, dof_label
 from eigenupdate.measure.survey import extraction_doc, extraction_text
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import text as report
-from eigenupdate.report.html import write_report
+from eigenupdate.report.html import render_report
 from eigenupdate.solve.sweep import mass_sweep
 
 
@@ -359,10 +359,12 @@ def cmd_report(args) -> int:
              "--montecarlo": args.montecarlo}
     command = ["eigenupdate", "report", args.study, *[x for k, v in files.items() if v
                                                       for x in (k, v)], "-o", args.o]
-    out = write_report(args.study, output=args.o, result=args.result, extracted=args.extracted,
-                       design=args.design, montecarlo=args.montecarlo,
-                       command=shlex.join(command))
-    _progress(f"wrote {out} ({out.stat().st_size / 1024:.0f} kB)")
+    _not_inputs({"-o": args.o}, [Path(args.study), *(Path(v) for v in files.values() if v)])
+    page = render_report(args.study, result=args.result, extracted=args.extracted,
+                         design=args.design, montecarlo=args.montecarlo,
+                         command=shlex.join(command))
+    write_text(args.o, page)
+    _progress(f"wrote {args.o} ({len(page.encode()) / 1024:.0f} kB)")
     return 0
 
 

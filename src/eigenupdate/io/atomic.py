@@ -104,6 +104,17 @@ def transaction() -> Iterator[None]:
             raise
 
 
+@contextlib.contextmanager
+def scratch() -> Iterator[None]:
+    """Write at once inside a :func:`transaction`: for scratch files the run reads back
+    itself (a figure rendered to a temporary file), never for outputs."""
+    token = _PENDING.set(None)
+    try:
+        yield
+    finally:
+        _PENDING.reset(token)
+
+
 def write_text(path: PathLike, text: str) -> None:
     """Write a text file atomically."""
 

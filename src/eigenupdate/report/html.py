@@ -48,7 +48,7 @@ from matplotlib.figure import Figure
 from eigenupdate import workflow
 from eigenupdate.errors import InputError
 from eigenupdate.identify.identifiability import IdentifiabilityReport
-from eigenupdate.io.atomic import write_text
+from eigenupdate.io.atomic import scratch, write_text
 from eigenupdate.io.report_inputs import (
     ExtractedRow,
     read_extracted,
@@ -140,7 +140,7 @@ def _figure_image(fig: Figure, caption: str, alt: str) -> Image:
 def _plot_image(plot: Callable[..., Any], caption: str, alt: str, *args: Any,
                 **kwargs: Any) -> tuple[Image, Any]:
     """Run one of :mod:`eigenupdate.plot.plots` into a temporary SVG and inline it."""
-    with tempfile.TemporaryDirectory() as tmp, matplotlib.rc_context(_SVG_RC):
+    with tempfile.TemporaryDirectory() as tmp, matplotlib.rc_context(_SVG_RC), scratch():
         path = Path(tmp) / "figure.svg"
         out = plot(path, *args, **kwargs)
         return Image(_svg_uri(path.read_bytes()), caption, alt), out

@@ -28,6 +28,8 @@ from eigenupdate.errors import InputError
 THIN_WALLED = ("I", "T", "CHAN")
 # DIM count, and the conditions that make a section (text for the message)
 _SHAPES = {
+    "ROD": (1, ()),
+    "TUBE": (2, (("DIM1 > DIM2", lambda d: d[0] > d[1]),)),
     "BAR": (2, ()),
     "BOX": (4, (("DIM1 > 2 DIM4", lambda d: d[0] > 2 * d[3]),
                 ("DIM2 > 2 DIM3", lambda d: d[1] > 2 * d[2]))),
@@ -51,7 +53,10 @@ def check_dimensions(shape: str, dim: Sequence[float]) -> np.ndarray:
     shown = [float(x) for x in d]
     if d.size != count:
         raise InputError(f"section {shape} has {count} dimensions, got {d.size}")
-    if not np.all(np.isfinite(d) & (d > 0)):
+    positive = np.isfinite(d) & (d > 0)
+    if shape == "TUBE":  # a zero inner radius is a ROD
+        positive[1] = d[1] >= 0
+    if not np.all(positive):
         raise InputError(f"section {shape} dimensions must be > 0, got DIM = {shown}")
     for text, ok in conditions:
         if not ok(d):

@@ -165,3 +165,17 @@ def test_dimension_parameter_refused(tmp_path):
     with pytest.raises(Exception, match=re.escape("PBARL 1 field DIM1: not a parameter: A, "
                                                   "I and J are not linear")):
         read_nastran(path, [(Parameter("h", 0.0), CardField("PBARL", 1, "DIM1"))])
+
+
+def test_pbarl_nonstructural_mass(tmp_path):
+    """NSM after the dimensions is the PBAR's NSM: the same mass matrix."""
+    r = 0.03
+    a, i = math.pi * r**2, math.pi * r**4 / 4
+    paths = []
+    for name, card in (("pbar", f"PBAR,1,1,{a!r},{i!r},{i!r},{2 * i!r},2.5"),
+                       ("pbarl", f"PBARL,1,1,,ROD\n,{r!r},2.5")):
+        paths.append(tmp_path / f"{name}.bdf")
+        paths[-1].write_text(_bulk(card))
+    pbar, pbarl = (read_nastran(p).model for p in paths)
+    assert abs(pbar.mass() - pbarl.mass()).max() <= 1e-15 * abs(pbar.mass()).max()
+    assert abs(pbar.stiffness() - pbarl.stiffness()).max() <= 1e-15 * abs(pbar.stiffness()).max()

@@ -315,8 +315,8 @@ def _check_fields(bdf, fields: list[CardField]) -> dict:
         if (f.card, f.field) in NOT_LINEAR:
             raise InputError(f"{f.card} {f.id} field {f.field}: not a parameter: "
                              f"{NOT_LINEAR[(f.card, f.field)]}")
-        if f.card == "PBARL":
-            raise InputError(f"PBARL {f.id} field {f.field}: not a parameter: A, I and J are "
+        if f.card in ("PBARL", "PBEAML") and f.field.startswith("DIM"):
+            raise InputError(f"{f.card} {f.id} field {f.field}: not a parameter: A, I and J are "
                              f"not linear in the section's dimensions (MAT1 E and RHO are)")
         if f.card not in FIELDS:
             have = ", ".join(f"{c} {'/'.join(v)}" for c, v in FIELDS.items())

@@ -24,14 +24,15 @@ import scipy.sparse as sp
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.atomic import write_text
-from eigenupdate.model import frame3d
+from eigenupdate.model import frame3d, sections
 from eigenupdate.model.coordinates import Coordinate, CoordinateTable
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
 
 SUPPORTED = {
     "GRID", "CORD1R", "CORD2R", "CORD1C", "CORD2C", "CORD1S", "CORD2S",
-    "CBAR", "PBAR", "CBEAM", "PBEAM", "CROD", "PROD", "CONROD", "CELAS1", "CELAS2", "PELAS",
+    "CBAR", "PBAR", "PBARL", "CBEAM", "PBEAM", "CROD", "PROD", "CONROD",
+    "CELAS1", "CELAS2", "PELAS",
     "CONM2", "CMASS1", "CMASS2", "PMASS", "MAT1", "SPC", "SPC1", "SPCADD",
     "PARAM", "EIGRL", "EIGR", "ENDDATA",
 }
@@ -52,6 +53,9 @@ NOT_LINEAR = {
     ("MAT1", "NU"): "G = E / (2 (1 + NU)) is not linear in NU",
     ("MAT1", "G"): "give E (G follows it when the card leaves G blank)",
 }
+# PBARL shapes read: pyNastran's A, I1, I2, J as they are (ROD, TUBE), or with NASTRAN's
+# torsion constant (BAR, BOX), or all from model/sections.py (I, T, CHAN)
+PBARL_SHAPES = ("ROD", "TUBE", "BAR", "BOX", *sections.THIN_WALLED)
 
 
 def dof_number(grid: int, component: int) -> int:
@@ -311,6 +315,9 @@ def _check_fields(bdf, fields: list[CardField]) -> dict:
         if (f.card, f.field) in NOT_LINEAR:
             raise InputError(f"{f.card} {f.id} field {f.field}: not a parameter: "
                              f"{NOT_LINEAR[(f.card, f.field)]}")
+        if f.card in ("PBARL", "PBEAML") and f.field.startswith("DIM"):
+            raise InputError(f"{f.card} {f.id} field {f.field}: not a parameter: A, I and J are "
+                             f"not linear in the section's dimensions (MAT1 E and RHO are)")
         if f.card not in FIELDS:
             have = ", ".join(f"{c} {'/'.join(v)}" for c, v in FIELDS.items())
             raise InputError(f"card {f.card} has no parameter fields (supported: {have})")
@@ -388,7 +395,8 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
         if e.type in ("CBAR", "CBEAM"):
             ptype = "PBAR" if e.type == "CBAR" else "PBEAM"
             prop = bdf.properties.get(e.pid)
-            if prop is None or prop.type != ptype:
+            if prop is None or prop.type not in {"PBAR": ("PBAR", "PBARL"),
+                                                 "PBEAM": ("PBEAM",)}[ptype]:
                 raise InputError(f"{lab}: property {ptype} {e.pid} is not defined")
             if e.offt != "GGG":
                 raise InputError(f"{lab}: OFFT {e.offt} is not supported (only GGG)")
@@ -405,7 +413,8 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
                                  f"(PARAM,COUPMASS,1) here")
             wa.append(e.wa)
             wb.append(e.wb)
-            sec.append(section((ptype, e.pid), lambda p=prop: _bar_section(p), lab))
+            sec.append(section((prop.type, e.pid), lambda p=prop: (
+                _pbarl_section(p) if p.type == "PBARL" else _bar_section(p)), lab))
         elif e.type in ("CROD", "CONROD"):
             if e.type == "CROD":
                 prop = bdf.properties.get(e.pid)
@@ -525,6 +534,31 @@ def _bar_section(prop) -> tuple:
     if i12:
         raise InputError(f"{where}: I12 = {i12:g} is not supported")
     return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid)
+
+
+def _pbarl_section(prop) -> tuple:
+    """(A, I1, I2, J, NSM, MID, (card, id)) of a standard PBARL section: the equivalent
+    PBAR's values (NASTRAN's CBAR takes the shear centre at the centroid)."""
+    where = f"PBARL {prop.pid}"
+    shape = prop.Type
+    if prop.group.strip() != "MSCBML0":
+        raise InputError(f"{where}: GROUP {prop.group} (a user section library) is not "
+                         f"supported; only the standard sections of MSCBML0")
+    if shape not in PBARL_SHAPES:
+        why = " (unsymmetric: I12 != 0, as PBAR I12)" if shape == "L" else ""
+        raise InputError(f"{where}: section type {shape}{why} is not supported (supported: "
+                         f"{', '.join(PBARL_SHAPES)})")
+    try:
+        sections.check_dimensions(shape, prop.dim)  # before pyNastran asserts on them
+        if shape in sections.THIN_WALLED:
+            A, i1, i2, _ = sections.thin_walled_section(shape, prop.dim)
+        else:
+            A, i1, i2 = prop.Area(), prop.I11(), prop.I22()
+        # pyNastran's J() is the polar moment I1 + I2: the torsion constant of a circle only
+        j = prop.J() if shape in ("ROD", "TUBE") else sections.torsion_constant(shape, prop.dim)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    return A, i1, i2, j, prop.nsm, prop.mid, ("PBARL", prop.pid)
 
 
 def _one_parameter_per_quantity(deriv, label, kj) -> None:

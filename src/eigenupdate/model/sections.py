@@ -1,0 +1,134 @@
+"""Section properties of NASTRAN's standard PBARL shapes that pyNastran does not give as
+NASTRAN does.
+
+Section axes as in NASTRAN's PBARL figures: y (plane 1, ``I1 = int y^2 dA``) along the
+section's height, z (plane 2, ``I2 = int z^2 dA``) along its width. pyNastran 1.4 gives A,
+I1 and I2 of ROD, TUBE, BAR and BOX (used as they are); here are
+
+* :func:`thin_walled_section`: A, I1, I2, I12 of the I, T and CHAN shapes, as rectangles
+  summed with the parallel-axis theorem (pyNastran's ``PBARL.I11()`` raises for them);
+* :func:`torsion_constant`: NASTRAN's torsion constant J of BAR, BOX, I, T and CHAN. It is
+  not the polar moment ``I1 + I2`` that pyNastran's ``PBARL.J()`` returns (0 for BAR):
+  BAR uses Roark's series approximation of the solid rectangle, BOX Bredt's closed
+  thin-walled formula, I, T and CHAN the open thin-walled ``sum b t^3 / 3`` over the
+  walls' mid-lines (MSC/NX Nastran element library, PBARL section properties).
+
+Dimensions are the card's DIM1, DIM2, ...; a dimension that makes no section (a wall
+thicker than its shape allows) is an :class:`~eigenupdate.errors.InputError`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from eigenupdate.errors import InputError
+
+THIN_WALLED = ("I", "T", "CHAN")
+# DIM count, and the conditions that make a section (text for the message)
+_SHAPES = {
+    "ROD": (1, ()),
+    "TUBE": (2, (("DIM1 > DIM2", lambda d: d[0] > d[1]),)),
+    "BAR": (2, ()),
+    "BOX": (4, (("DIM1 > 2 DIM4", lambda d: d[0] > 2 * d[3]),
+                ("DIM2 > 2 DIM3", lambda d: d[1] > 2 * d[2]))),
+    "I": (6, (("DIM1 > DIM5 + DIM6", lambda d: d[0] > d[4] + d[5]),)),
+    "T": (4, (("DIM2 > DIM3", lambda d: d[1] > d[2]),)),
+    "CHAN": (4, (("DIM1 > DIM3", lambda d: d[0] > d[2]),
+                 ("DIM2 > 2 DIM4", lambda d: d[1] > 2 * d[3]))),
+}
+
+
+def check_dimensions(shape: str, dim: Sequence[float]) -> np.ndarray:
+    """The dimensions as floats; InputError unless all are > 0 and make the shape.
+
+    >>> check_dimensions("BOX", [0.1, 0.2, 0.01, 0.06])
+    Traceback (most recent call last):
+    ...
+    eigenupdate.errors.InputError: section BOX needs DIM1 > 2 DIM4, got DIM = [0.1, 0.2, 0.01, 0.06]
+    """
+    d = np.asarray(dim, dtype=float)
+    count, conditions = _SHAPES[shape]
+    shown = [float(x) for x in d]
+    if d.size != count:
+        raise InputError(f"section {shape} has {count} dimensions, got {d.size}")
+    positive = np.isfinite(d) & (d > 0)
+    if shape == "TUBE":  # a zero inner radius is a ROD
+        positive[1] = d[1] >= 0
+    if not np.all(positive):
+        raise InputError(f"section {shape} dimensions must be > 0, got DIM = {shown}")
+    for text, ok in conditions:
+        if not ok(d):
+            raise InputError(f"section {shape} needs {text}, got DIM = {shown}")
+    return d
+
+
+def _rectangles(shape: str, d: np.ndarray) -> np.ndarray:
+    """Rows [width along z, height along y, z of centre, y of centre]."""
+    if shape == "I":  # DIM1 height, DIM2/DIM5 bottom flange, DIM3/DIM6 top flange, DIM4 web
+        h, a, b, tw, ta, tb = d
+        return np.array([[a, ta, 0.0, ta / 2], [tw, h - ta - tb, 0.0, (h + ta - tb) / 2],
+                         [b, tb, 0.0, h - tb / 2]])
+    if shape == "T":  # DIM1/DIM3 flange on top, DIM2 total height, DIM4 web
+        b, h, tf, tw = d
+        return np.array([[b, tf, 0.0, h - tf / 2], [tw, h - tf, 0.0, (h - tf) / 2]])
+    # CHAN: DIM1 width, DIM2 height, DIM3 web, DIM4 flanges
+    b, h, tw, tf = d
+    return np.array([[tw, h, tw / 2, h / 2], [b - tw, tf, (b + tw) / 2, tf / 2],
+                     [b - tw, tf, (b + tw) / 2, h - tf / 2]])
+
+
+def thin_walled_section(shape: str, dim: Sequence[float]) -> tuple[float, float, float, float]:
+    """A, I1, I2, I12 about the centroid of an I, T or CHAN PBARL section.
+
+    Examples
+    --------
+    A symmetric I-beam 300 mm high, 150 x 20 mm flanges, 10 mm web:
+
+    >>> a, i1, i2, i12 = thin_walled_section("I", [0.3, 0.15, 0.15, 0.01, 0.02, 0.02])
+    >>> print(f"{a:.6g} {i1:.6g} {i2:.6g} {i12:g}")
+    0.0086 0.000132447 1.12717e-05 0
+    """
+    d = check_dimensions(shape, dim)
+    w, h, z, y = _rectangles(shape, d).T
+    area = w * h
+    a = float(area.sum())
+    zc, yc = float(area @ z) / a, float(area @ y) / a
+    i1 = float(np.sum(w * h**3 / 12 + area * (y - yc) ** 2))
+    i2 = float(np.sum(h * w**3 / 12 + area * (z - zc) ** 2))
+    i12 = float(np.sum(area * (y - yc) * (z - zc)))  # 0: each shape is symmetric
+    return a, i1, i2, i12
+
+
+def torsion_constant(shape: str, dim: Sequence[float]) -> float:
+    """NASTRAN's torsion constant J of a BAR, BOX, I, T or CHAN PBARL section.
+
+    Examples
+    --------
+    A square bar (Roark: 0.1406 a^4 exactly, the series gives 0.1408 a^4) and a
+    10 mm walled 100 x 200 mm box (Bredt):
+
+    >>> print(f"{torsion_constant('BAR', [1.0, 1.0]):.4f}")
+    0.1408
+    >>> print(f"{torsion_constant('BOX', [0.1, 0.2, 0.01, 0.01]):.6g}")
+    2.08864e-05
+    """
+    d = check_dimensions(shape, dim)
+    if shape == "BAR":  # long side a, short side b
+        a, b = max(d), min(d)
+        return float(a * b**3 * (1 / 3 - 0.21 * b / a * (1 - b**4 / (12 * a**4))))
+    if shape == "BOX":  # mid-line rectangle (DIM1 - DIM4) x (DIM2 - DIM3)
+        b, h, t1, t2 = d
+        return float(2 * t1 * t2 * (b - t2) ** 2 * (h - t1) ** 2
+                     / (b * t2 + h * t1 - t2**2 - t1**2))
+    if shape == "I":  # web mid-line between the flanges' mid-lines
+        h, a, b, tw, ta, tb = d
+        return float((a * ta**3 + b * tb**3 + (h - (ta + tb) / 2) * tw**3) / 3)
+    if shape == "T":
+        b, h, tf, tw = d
+        return float((b * tf**3 + (h - tf / 2) * tw**3) / 3)
+    if shape == "CHAN":
+        b, h, tw, tf = d
+        return float((2 * (b - tw / 2) * tf**3 + (h - tf) * tw**3) / 3)
+    raise InputError(f"no torsion constant for section {shape}")

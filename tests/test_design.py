@@ -198,6 +198,19 @@ def test_modes_from_upper_frequency():
     assert r.modes == [k + 1 for k in range(4) if f[k] <= 110.0] == [1, 2, 3]
 
 
+def test_modes_from_upper_frequency_on_a_free_structure():
+    """The free beam has 2 rigid-body modes: an upper frequency must not ask for more
+    elastic modes than it has (review finding: 'mode 18 requested, only 16')."""
+    from dataclasses import replace
+
+    s = load_study(BEAM)
+    spec = replace(s.design, modes=None, max_frequency_hz=600.0)
+    from eigenupdate.design.plan import measured_modes
+
+    f = solve_configurations(s.model, [Configuration(BASE)], 16)[0].frequencies_hz
+    assert measured_modes(s.model, spec) == [k + 1 for k in range(16) if f[k] <= 600.0]
+
+
 @pytest.mark.slow
 def test_screening_on_a_local_cluster_gives_the_same_plan(tmp_path, run_cli):
     a = run_cli("design", BEAM, "-o", tmp_path / "a.toml", "--json")

@@ -74,3 +74,15 @@ def test_kind_option_for_an_unlabelled_accelerance(run_cli, tmp_path):
     code, out, err = run_cli("extract", path, "--kind", "accelerance", "-o", tmp_path / "n.csv")
     assert code == 0, err
     assert (tmp_path / "n.csv").read_text().splitlines()[1].startswith("acc,1,199.")
+
+
+def test_kind_is_refused_for_a_csv_frf(run_cli, tmp_path):
+    """An FRF CSV holds receptance: an explicit other kind is refused, not ignored."""
+    f = np.linspace(1.0, 100.0, 200)
+    h = 1.0 / (1e4 - (2 * np.pi * f) ** 2 + 100j)
+    path = tmp_path / "a.csv"
+    path.write_text("frequency_hz,real,imag\n" + "".join(
+        f"{x!r},{y.real!r},{y.imag!r}\n" for x, y in zip(f, h, strict=True)))
+    code, _, err = run_cli("extract", path, "--kind", "accelerance", "-o", tmp_path / "m.csv")
+    assert code == 2 and "a.csv" in err and "receptance" in err, err
+    assert not (tmp_path / "m.csv").exists()

@@ -125,7 +125,7 @@ def test_identifiability_of_the_paper_beam():
     """Paper Section 7: cond(J^T J) = 3.82e9 in the paper, 3.78e9 here (README), rank 17."""
     doc = parse(render_report(BEAM, command="test"))
     facts = {r[0]: r[1] for t in doc.tables if t["name"] == "facts" for r in t["rows"]}
-    assert facts["rank of J^T J"] == "17"
+    assert facts["rank of J"] == "17"
     assert float(facts["condition of J^T J"]) == pytest.approx(3.78e9, rel=0.005)
     (weakest,) = named(doc, "weakest")
     w = np.array([float(r[1]) for r in weakest["rows"]])

@@ -158,9 +158,10 @@ def noise_std(model: ParametricModel, configurations: Sequence[Configuration],
 
 
 def predicted_std(setup: TrialSetup) -> np.ndarray:
-    """Linearised posterior std (physical units) at the initial model, stated noise."""
+    """Linearised posterior std (physical units) at the truth if one is given (the data
+    are drawn there), else at the initial model; stated noise."""
     model = setup.model
-    lin = linearise(model, setup.configurations, setup.modes)
+    lin = linearise(model, setup.configurations, setup.modes, setup.truth)
     f = np.sqrt(lin.eigenvalues) / (2 * np.pi)
     w = 1.0 / eigenvalue_std(f, np.array([setup.std_hz[r] for r in lin.rows]))
     prior = np.array([0.0 if model.parameters[j].std is None

@@ -115,7 +115,8 @@ def measured_modes(model: ParametricModel, spec: DesignSpec) -> list[int]:
     """The spec's modes, or every elastic mode of the bare structure below its upper frequency."""
     if spec.modes is not None:
         return sorted(spec.modes)
-    n = model.n
+    # the elastic modes there are: coordinates less rigid-body modes (asked of one mode)
+    n = model.n - solve_configurations(model, [Configuration("base")], 1)[0].n_rigid
     f = solve_configurations(model, [Configuration("base")], min(n, 200))[0].frequencies_hz
     modes = [k + 1 for k in range(f.size) if f[k] <= spec.max_frequency_hz]
     if not modes:

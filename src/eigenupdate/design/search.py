@@ -25,6 +25,10 @@ RIDGE = 1e-6
 EXHAUSTIVE_LIMIT = 100_000
 """Largest number of plans enumerated to find the exact optimum."""
 
+EXHAUSTIVE_FLOPS = 2e10
+"""Largest work (plans x p^3, one eigen-decomposition of the p x p information matrix
+per plan) spent on the exact optimum: about a minute; beyond, it is skipped."""
+
 
 @dataclass
 class PlanScorer:
@@ -129,8 +133,11 @@ def greedy_exchange(scorer: PlanScorer, candidates: Sequence[int], size: int,
 
 def exhaustive(scorer: PlanScorer, candidates: Sequence[int], size: int
                ) -> tuple[list[int], float] | None:
-    """The optimal plan by enumeration, or None when there are more than EXHAUSTIVE_LIMIT."""
-    if math.comb(len(candidates), size) > EXHAUSTIVE_LIMIT:
+    """The optimal plan by enumeration, or None when there are more than EXHAUSTIVE_LIMIT
+    plans or they would cost more than EXHAUSTIVE_FLOPS."""
+    n_plans = math.comb(len(candidates), size)
+    p = scorer.prior.size
+    if n_plans > EXHAUSTIVE_LIMIT or n_plans * float(p) ** 3 > EXHAUSTIVE_FLOPS:
         return None
     best, best_value = None, math.inf
     for plan in itertools.combinations(candidates, size):

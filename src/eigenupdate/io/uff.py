@@ -960,6 +960,9 @@ def read_frf_files(
     for i, p in enumerate(paths):
         kind = None if kinds is None else kinds[i]
         if str(p).lower().endswith(".csv"):
+            if kind not in (None, "receptance"):  # the CSV format holds receptance only
+                raise InputError(f"an FRF CSV holds receptance (m/N); kind {kind!r} applies "
+                                 f"to universal files", source=str(p), field="kind")
             out.append(read_frf_csv(p))
         else:
             out += read_frfs(p, default_kind=kind)

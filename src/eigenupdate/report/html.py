@@ -228,7 +228,7 @@ def _identifiability_section(study: Study) -> Section | None:
     sec.facts = [
         ("equations", str(r.equations)),
         ("updated parameters", str(p)),
-        ("rank of J^T J", str(r.rank)),
+        ("rank of J", str(r.rank)),
         ("condition of J", f"{r.condition_J:.3g}"),
         ("condition of J^T J", f"{r.condition_JTJ:.3g}"),
     ]

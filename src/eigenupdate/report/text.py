@@ -55,7 +55,7 @@ def check_text(r: IdentifiabilityReport, title: str) -> str:
         f"  updated parameters   {p}",
         f"  equations            {r.equations}",
         f"  weights besides J    {r.weighting}",
-        f"  rank of J^T J        {r.rank}   ({verdict})",
+        f"  rank of J            {r.rank}   ({verdict})",
         f"  condition of J       {r.condition_J:.3g}",
         f"  condition of J^T J   {r.condition_JTJ:.3g}",
         "",

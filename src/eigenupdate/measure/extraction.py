@@ -361,7 +361,11 @@ def _rejection(configuration: str, band: tuple[float, float],
         return Rejected(configuration, 0.5 * (band[0] + band[1]), band,
                         f"no FRF shows a resonance in {band[0]:.4g}-{band[1]:.4g} Hz")
     narrow = all(x is None or x.lines_above <= NARROW_LINES for x in verdicts)
-    return Rejected(configuration, v.fit.frequency_hz, band, v.reason or "", narrow)
+    fit = v.fit
+    if not np.isfinite([fit.frequency_hz, fit.loss_factor]).all():  # corrupted data
+        return Rejected(configuration, 0.5 * (band[0] + band[1]), band,
+                        "the fit gave no finite frequency or loss factor", narrow)
+    return Rejected(configuration, fit.frequency_hz, band, v.reason or "", narrow)
 
 
 #: A rejected candidate that rises above its floor at this many lines or fewer is a

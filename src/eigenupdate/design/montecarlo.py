@@ -20,6 +20,7 @@ from eigenupdate.design.plan import frequency_std
 from eigenupdate.design.spec import DesignSpec
 from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.identify.updating import update
+from eigenupdate.identify.weights import prior_weights
 from eigenupdate.io.measurements import Measurement, eigenvalue_std
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
@@ -164,9 +165,7 @@ def predicted_std(setup: TrialSetup) -> np.ndarray:
     lin = linearise(model, setup.configurations, setup.modes, setup.truth)
     f = np.sqrt(lin.eigenvalues) / (2 * np.pi)
     w = 1.0 / eigenvalue_std(f, np.array([setup.std_hz[r] for r in lin.rows]))
-    prior = np.array([0.0 if model.parameters[j].std is None
-                      else model.parameters[j].scale / model.parameters[j].std
-                      for j in model.updated])
+    prior = prior_weights(model)
     cov = posterior_covariance(lin.normalised, w, prior, setup.method)
     return np.sqrt(np.diag(cov)) * lin.scale
 

@@ -16,6 +16,7 @@ from eigenupdate.design.screen import Screened, screen_candidates, screen_on
 from eigenupdate.design.search import PlanScorer, exhaustive, greedy_exchange
 from eigenupdate.design.spec import DesignSpec
 from eigenupdate.errors import InputError
+from eigenupdate.identify.weights import prior_weights
 from eigenupdate.io.measurements import eigenvalue_std
 from eigenupdate.model.configurations import Addition, Configuration
 from eigenupdate.model.parametric import ParametricModel
@@ -151,10 +152,7 @@ def design_plan(model: ParametricModel, spec: DesignSpec, method: str,
     upd = model.updated
     names = [model.names[j] for j in upd]
     scale = np.array([model.parameters[j].scale for j in upd])
-    prior = np.zeros(len(upd))
-    if method == "bayesian":
-        prior = np.array([0.0 if model.parameters[j].std is None
-                          else model.parameters[j].scale / model.parameters[j].std for j in upd])
+    prior = prior_weights(model) if method == "bayesian" else np.zeros(len(upd))
     cands = candidate_configurations(spec)
     if not cands:
         raise InputError("no candidate configuration (max_added_mass below every mass?)",

@@ -69,10 +69,24 @@ def estimator_weights(
         w = 1.0 / eigenvalue_std(f, s)
     prior = None
     if method == "bayesian":
-        upd = model.updated
-        prior = np.array([0.0 if model.parameters[j].std is None
-                          else model.parameters[j].scale / model.parameters[j].std for j in upd])
+        prior = prior_weights(model)
         if not prior.any():
             raise InputError("the bayesian method needs a std for at least one updated parameter",
                              field="model")
     return EstimatorWeights(w, prior)
+
+
+def prior_weights(model: ParametricModel) -> np.ndarray:
+    """W_s^(1/2) of Eq. 6 in normalised parameters: s_0 / sigma_s of each updated
+    parameter, 0 where it has no prior std.
+
+    >>> from eigenupdate.model.parameters import Parameter
+    >>> from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+    >>> model = spring_mass_model([Mass(Parameter("m", 2.0, std=0.5), 1)],
+    ...                           [Spring(Parameter("k", 800.0), (0, 1))])
+    >>> prior_weights(model).tolist()
+    [4.0, 0.0]
+    """
+    return np.array([0.0 if model.parameters[j].std is None
+                     else model.parameters[j].scale / model.parameters[j].std
+                     for j in model.updated])

@@ -12,7 +12,7 @@ Sections appear when their data exist:
 
 * the study and the identifiability of its plan - always;
 * the FRF extraction - when the study names FRF files (the fits are recomputed with
-  :func:`eigenupdate.measure.extraction.extract_configuration`, as ``extract`` does) or
+  :func:`eigenupdate.workflow.extract_study`, as ``extract`` does) or
   an extraction CSV is given (its table is then shown as the numbers the update used);
 * the update - from a saved result (``update --save``); without one, the report runs
   the update itself with the study's settings and says so, if the study has a

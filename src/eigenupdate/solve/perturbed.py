@@ -228,10 +228,6 @@ def make_base(K, M, op: ShiftInvert, lam: np.ndarray, phi: np.ndarray) -> Base:
     return Base(op, M, scale, np.asarray(lam, float), phi, np.asfortranarray(M @ phi))
 
 
-class _Breakdown(ArithmeticError):
-    """A Krylov block is (numerically) dependent on the basis: no subspace of that size."""
-
-
 def build_subspaces(
     base: Base, row_sets: Sequence[np.ndarray], levels: int = LEVELS
 ) -> list[Subspace | None]:

@@ -16,7 +16,7 @@ import numpy as np
 from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
-from eigenupdate.solve import perturbed
+from eigenupdate.solve import parallel, perturbed
 from eigenupdate.solve.eigen import (
     DENSE_LIMIT,
     EigenSolution,
@@ -24,6 +24,7 @@ from eigenupdate.solve.eigen import (
     base_operator,
     massless_hint,
     solve_elastic,
+    sturm_check,
 )
 from eigenupdate.solve.perturbed import CertificateReport
 from eigenupdate.solve.restricted import RestrictedTerms
@@ -77,12 +78,26 @@ def solve_configurations(
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
     if not sparse:
         return [solve_one(model, K, M, c, n_modes, None, None) for c in configurations]
+    def located(exc):
+        return type(exc)(f"{exc}{massless_hint(K, M, model.coordinates)}",
+                         field="the bare structure")
+
     try:
-        base_op, base_sol = base_operator(K, M, n_modes)
+        base_op, base_sol = base_operator(K, M, n_modes, check=False)
     except (InputError, NumericalError) as exc:
-        raise type(exc)(f"{exc}{massless_hint(K, M, model.coordinates)}",
-                        field="the bare structure") from None
-    return solve_on_base(model, K, M, base_op, base_sol, configurations, n_modes, report)
+        raise located(exc) from None
+    # the missed-mode check factorises K - sigma M once more: meanwhile, in a thread,
+    # the perturbed configurations are solved (their numbers are only returned if the
+    # check passes)
+    check = parallel.in_background(sturm_check, K, M, base_sol.computed[0], base_sol, base_op)
+    try:
+        out = solve_on_base(model, K, M, base_op, base_sol, configurations, n_modes, report)
+    finally:
+        try:
+            check.result()
+        except (InputError, NumericalError) as exc:
+            raise located(exc) from None
+    return out
 
 
 def solve_on_base(

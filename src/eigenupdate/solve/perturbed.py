@@ -43,6 +43,7 @@ import scipy.sparse as sp
 
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve import parallel
 from eigenupdate.solve.eigen import RIGID_RTOL, EigenSolution, ShiftInvert
 
 LEVELS = 6
@@ -234,73 +235,135 @@ def build_subspaces(
     """Subspaces for several row sets at once (see the module docstring); None for a set
     whose Krylov space is exhausted (a model too small for the fast path).
 
-    Sets of equal size are built together: each level is one multi-column solve, and
-    the deflation against the bare modes and each set's own earlier blocks (classical
-    Gram-Schmidt in the M inner product, twice) are batched over the sets. ``levels``
-    Krylov levels go into the Rayleigh-Ritz basis, one more into the certificate.
+    Sets of equal size are built together (:class:`Blocks`): each level is one
+    multi-column solve, and the deflation against the bare modes and each set's own
+    earlier blocks is batched over the sets. ``levels`` Krylov levels go into the
+    Rayleigh-Ritz basis, one more into the certificate.
     """
+    return [None if b is None else b.subspace(i) for b, i in _grown(base, row_sets, levels)]
+
+
+def _grown(base: Base, row_sets, levels: int, spare: int = 0):
+    """(Blocks, index in it) of each row set, ``levels + 1`` levels built, room for
+    ``spare`` more."""
     sets = [np.unique(np.asarray(r, dtype=int)) for r in row_sets]
-    out: list[Subspace | None] = [None] * len(sets)
+    out: list = [(None, 0)] * len(sets)
+    work = []
     for k in sorted({r.size for r in sets}):
         idx = [i for i, r in enumerate(sets) if r.size == k]
-        for i, sub in zip(idx, _build_equal(base, np.array([sets[i] for i in idx]), levels),
-                          strict=True):
-            out[i] = sub
+        # one share of the sets per thread: the sets' subspaces are independent
+        for share in np.array_split(idx, min(parallel.threads(), len(idx))):
+            blocks = Blocks(base, np.array([sets[i] for i in share]), levels + 1 + spare)
+            work.append(blocks)
+            for g, i in enumerate(share):
+                out[i] = (blocks, g)
+    parallel.map_shares(lambda share: [b.grow(levels + 1) for b in share], work)
     return out
 
 
-def _build_equal(base: Base, rows: np.ndarray, levels: int) -> list[Subspace | None]:
-    """build_subspaces for ``rows`` of shape (sets, k)."""
-    phi, Mphi, M = base.phi, base.Mphi, base.M
-    n, kb = phi.shape
-    ns, k = rows.shape
-    nl = levels + 1
-    # transposed blocks, set by set: QT[g] = [Q_0 ... Q_levels]^T of set g, rows contiguous
-    QT = np.empty((ns, nl * k, n))
-    MQT = np.empty((ns, nl * k, n))
-    C = [np.zeros((ns, kb + j * k, k)) for j in range(nl)]  # W_j = V C_j + Q_j R_j
-    R = [np.tile(np.eye(k), (ns, 1, 1)) for _ in range(nl)]
-    alive = np.ones(ns, bool)
-    rhs = np.zeros((n, ns * k), order="F")
-    rhs[rows.ravel(), np.arange(ns * k)] = 1.0
-    Z = None
-    for j in range(nl):
-        W = np.asfortranarray(base.op.solve(rhs).reshape(n, ns * k))
+class Blocks:
+    """Krylov blocks of several row sets of equal size k, built level by level together.
+
+    Level j of set g is Q_j (n x k), M-orthonormal and M-orthogonal to the bare modes and
+    to the set's earlier levels; W_j = A^-1 rhs_j = V C_j + Q_j R_j records how it was
+    obtained (rhs_0 = U, rhs_{j+1} = M Q_j), which :func:`_assemble` turns into the
+    projected matrices. A set can be continued later with more levels (:meth:`take`), so
+    a configuration that fails the certificate costs one more solve per level, not a
+    new subspace.
+    """
+
+    def __init__(self, base: Base, rows: np.ndarray, capacity: int):
+        n, kb = base.phi.shape
+        ns, k = rows.shape
+        self.base, self.rows, self.capacity, self.done = base, rows, capacity, 0
+        # transposed blocks, set by set: QT[g] = [Q_0 ... Q_levels]^T of set g, rows
+        # contiguous, so that a set's vectors are contiguous in memory
+        self.QT = np.empty((ns, capacity * k, n))
+        self.MQT = np.empty((ns, capacity * k, n))
+        self.C: list[np.ndarray] = []  # C[j]: (ns, kb + j k, k)
+        self.R: list[np.ndarray] = []  # R[j]: (ns, k, k)
+        self.alive = np.ones(ns, bool)
+        self.Z = np.zeros((ns, k, k))
+
+    def grow(self, levels: int) -> None:
+        """Build levels until ``levels`` are built (at most the capacity)."""
+        while self.done < min(levels, self.capacity):
+            self._level()
+
+    def _level(self) -> None:
+        base, rows = self.base, self.rows
+        phi, Mphi, M = base.phi, base.Mphi, base.M
+        n, kb = phi.shape
+        ns, k = rows.shape
+        j, jk = self.done, self.done * k
         if j == 0:
-            Z = W[rows.ravel()].reshape(ns, k, ns, k)[np.arange(ns), :, np.arange(ns), :]
+            rhs = np.zeros((n, ns * k), order="F")
+            rhs[rows.ravel(), np.arange(ns * k)] = 1.0
+        else:
+            rhs = np.asfortranarray(self.MQT[:, jk - k:jk].reshape(ns * k, n).T)
+        W = np.asfortranarray(base.op.solve(rhs).reshape(n, ns * k))
+        del rhs
+        if j == 0:
+            self.Z = W[rows.ravel()].reshape(ns, k, ns, k)[np.arange(ns), :, np.arange(ns), :]
         WT = W.T.reshape(ns, k, n)  # a view of W
+        QT, MQT = self.QT[:, :jk], self.MQT[:, :jk]
+        C = np.zeros((ns, kb + jk, k))
+        tmp = np.empty_like(W)  # one work array of the block's size, not one per product
+        tmpT = tmp.T.reshape(ns, k, n)
         for _ in range(2):  # deflate twice (classical Gram-Schmidt), then M-normalise
             cp = Mphi.T @ W
-            c_phi = cp.T.reshape(ns, k, kb).transpose(0, 2, 1)
-            c_own = MQT[:, :j * k] @ WT.transpose(0, 2, 1)  # (ns, j k, k)
-            W -= phi @ cp
-            WT -= c_own.transpose(0, 2, 1) @ QT[:, :j * k]
-            C[j] += np.concatenate([c_phi, c_own], axis=1)
-        MWT = np.ascontiguousarray((M @ W).T).reshape(ns, k, n)
+            c_own = MQT @ WT.transpose(0, 2, 1)  # (ns, j k, k)
+            np.matmul(phi, cp, out=tmp)
+            W -= tmp
+            if jk:
+                np.matmul(c_own.transpose(0, 2, 1), QT, out=tmpT)
+                WT -= tmpT
+            C[:, :kb] += cp.T.reshape(ns, k, kb).transpose(0, 2, 1)
+            C[:, kb:] += c_own
+        del tmp, tmpT
+        MW = M @ W
+        MWT = self.MQT[:, jk:jk + k]
+        MWT[:] = MW.T.reshape(ns, k, n)
+        del MW
         gram = WT @ MWT.transpose(0, 2, 1)
         ev, U = np.linalg.eigh((gram + gram.transpose(0, 2, 1)) / 2)
         bad = ~(ev[:, 0] > 1e-24 * ev[:, -1])  # the Krylov space is exhausted
-        alive &= ~bad
+        self.alive &= ~bad
         ev[bad] = 1.0
         Tt = (U / np.sqrt(ev)[:, None, :]).transpose(0, 2, 1)
-        if k == 1:  # in place: no temporary of the model's size
-            WT *= Tt
+        QTj = self.QT[:, jk:jk + k]
+        if k == 1:
+            np.multiply(WT, Tt, out=QTj)
             MWT *= Tt
         else:
-            WT[:] = Tt @ WT
-            MWT = Tt @ MWT
-        R[j] = np.sqrt(ev)[:, :, None] * U.transpose(0, 2, 1)
-        QT[:, j * k:(j + 1) * k] = WT
-        MQT[:, j * k:(j + 1) * k] = MWT
-        rhs = np.asfortranarray(MWT.reshape(ns * k, n).T)
-    out: list[Subspace | None] = []
-    for g in range(ns):
-        if not alive[g]:
-            out.append(None)
-            continue
-        out.append(_assemble(base, rows[g], QT[g].T, [c[g] for c in C],
-                             [r[g] for r in R], Z[g], levels))
-    return out
+            np.matmul(Tt, WT, out=QTj)
+            MWT[:] = Tt @ MWT
+        self.C.append(C)
+        self.R.append(np.sqrt(ev)[:, :, None] * U.transpose(0, 2, 1))
+        self.done += 1
+
+    def take(self, sets: Sequence[int], capacity: int) -> Blocks:
+        """The sets ``sets`` with what is built of them, room for ``capacity`` levels."""
+        sel = np.asarray(sets, dtype=int)
+        out = Blocks(self.base, self.rows[sel], capacity)
+        k = self.rows.shape[1]
+        jk = self.done * k
+        out.QT[:, :jk] = self.QT[sel, :jk]
+        out.MQT[:, :jk] = self.MQT[sel, :jk]
+        out.C = [c[sel] for c in self.C]
+        out.R = [r[sel] for r in self.R]
+        out.alive, out.Z, out.done = self.alive[sel], self.Z[sel], self.done
+        return out
+
+    def subspace(self, g: int) -> Subspace | None:
+        """Set g's subspace: every built level but the last in the Rayleigh-Ritz basis,
+        the last for the certificate (None if its Krylov space is exhausted)."""
+        if not self.alive[g]:
+            return None
+        k = self.rows.shape[1]
+        return _assemble(self.base, self.rows[g], self.QT[g, :self.done * k].T,
+                         [c[g] for c in self.C], [r[g] for r in self.R], self.Z[g],
+                         self.done - 1)
 
 
 def _assemble(base: Base, rows, Qmat, C, R, Z, levels: int) -> Subspace:
@@ -500,12 +563,11 @@ def solve_perturbed(
         rows_of[i] = rows
         groups.setdefault(key, []).append(i)
     fams = families(base, list(groups))
-    first, retry = {}, []
-    for key, members in groups.items():
-        for i in members:
-            first[i] = fams[key].first_try(rows_of[i], *_additions(configurations[i]), n_modes)
-            if first[i] is not None and not first[i].passed:
-                retry.append(i)
+    order = [(key, i) for key, members in groups.items() for i in members]
+    first = dict(zip([i for _, i in order], parallel.map_shares(
+        lambda share: [fams[key].first_try(rows_of[i], *_additions(configurations[i]), n_modes)
+                       for key, i in share], order), strict=True))
+    retry = [i for _, i in order if first[i] is not None and not first[i].passed]
     widen(base, [fams[k] for k in groups if any(i in retry for i in groups[k])])
     for key, members in groups.items():
         for i in members:
@@ -526,12 +588,15 @@ def _additions(c: Configuration) -> tuple[list[float], list[float]]:
 
 class Family:
     """The subspaces of one row set: the first (None if the model is too small for it)
-    and, for configurations that fail the certificate, one EXTRA_LEVELS wider."""
+    and, for configurations that fail the certificate, one EXTRA_LEVELS wider, which
+    continues the first one's Krylov sequence."""
 
-    def __init__(self, base: Base, rows: np.ndarray, first: Subspace | None):
-        self.base, self.rows, self.first = base, rows, first
+    def __init__(self, base: Base, rows: np.ndarray, blocks: Blocks | None, index: int):
+        self.base, self.rows = base, rows
+        self._blocks, self._index = blocks, index
+        self.first = None if blocks is None else blocks.subspace(index)
         self.wider: Subspace | None = None
-        self.widened = first is None
+        self.widened = self.first is None
 
     def first_try(self, rows, dk, dm, n_modes: int, vectors: bool = True
                   ) -> RitzResult | None:
@@ -554,11 +619,18 @@ class Family:
 
 
 def widen(base: Base, fams: Sequence[Family]) -> None:
-    """Build the wider subspaces of ``fams`` that are not built yet, together."""
-    todo = [f for f in fams if not f.widened]
-    for f, sub in zip(todo, build_subspaces(base, [f.rows for f in todo],
-                                            LEVELS + EXTRA_LEVELS), strict=True):
-        f.wider, f.widened = sub, True
+    """Build the wider subspaces of ``fams`` that are not built yet, together: the
+    families' Krylov sequences continued by EXTRA_LEVELS levels."""
+    todo: dict[int, list[Family]] = {}
+    for f in fams:
+        if not f.widened:
+            todo.setdefault(id(f._blocks), []).append(f)
+    for group in todo.values():
+        blocks = group[0]._blocks
+        wider = blocks.take([f._index for f in group], blocks.done + EXTRA_LEVELS)
+        wider.grow(wider.capacity)
+        for g, f in enumerate(group):
+            f.wider, f.widened = wider.subspace(g), True
 
 
 def families(base: Base, keys: Sequence[tuple[int, ...]]) -> dict[tuple[int, ...], Family]:
@@ -567,5 +639,5 @@ def families(base: Base, keys: Sequence[tuple[int, ...]]) -> dict[tuple[int, ...
     Lanczos)."""
     n, kb = base.phi.shape
     fit = [k for k in keys if 2 * (kb + (LEVELS + EXTRA_LEVELS + 1) * len(k)) <= n]
-    built = dict(zip(fit, build_subspaces(base, [np.array(k) for k in fit]), strict=True))
-    return {k: Family(base, np.array(k), built.get(k)) for k in keys}
+    built = dict(zip(fit, _grown(base, [np.array(k) for k in fit], LEVELS), strict=True))
+    return {k: Family(base, np.array(k), *built.get(k, (None, 0))) for k in keys}

@@ -15,6 +15,8 @@ from collections.abc import Sequence
 import numpy as np
 import scipy.sparse as sp
 
+from eigenupdate.solve import parallel
+
 
 class RestrictedTerms:
     """The parameter matrices K_j, M_j (None when zero), each kept on its own rows.
@@ -38,13 +40,21 @@ class RestrictedTerms:
         (mass-normalised; or a list of such blocks, taken side by side) with eigenvalues
         ``lam``."""
         blocks = [phi] if isinstance(phi, np.ndarray) else list(phi)
-        out = np.zeros((sum(b.shape[1] for b in blocks), len(self._k)))
-        for j, (kj, mj) in enumerate(zip(self._k, self._m, strict=True)):
-            if kj is not None:
-                out[:, j] += np.concatenate([_quadratic(kj, b) for b in blocks])
-            if mj is not None:
-                out[:, j] -= lam * np.concatenate([_quadratic(mj, b) for b in blocks])
-        return out
+        rows = sum(b.shape[1] for b in blocks)
+
+        def columns(share):
+            out = []
+            for kj, mj in share:
+                d = np.zeros(rows)
+                if kj is not None:
+                    d += np.concatenate([_quadratic(kj, b) for b in blocks])
+                if mj is not None:
+                    d -= lam * np.concatenate([_quadratic(mj, b) for b in blocks])
+                out.append(d)
+            return out
+
+        cols = parallel.map_shares(columns, list(zip(self._k, self._m, strict=True)))
+        return np.column_stack(cols) if cols else np.zeros((rows, 0))
 
 
 def _restrict(term):

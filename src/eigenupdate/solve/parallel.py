@@ -1,0 +1,85 @@
+"""Threads for the independent parts of a sparse solve.
+
+SciPy's SuperLU releases the GIL while it factorises and while it solves, and NumPy
+while it multiplies, so the Krylov subspaces of different perturbed configurations and
+the Sturm-sequence factorisation of the missed-mode check are built in parallel in
+threads, sharing the factors in memory. The Lanczos run of the bare structure cannot
+be split: it is one sequence of single solves.
+
+``EIGENUPDATE_THREADS`` sets the number of threads (default: the cores this process
+may use, at most MAX_THREADS; 1 turns the threads off).
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+from concurrent.futures import Future, ThreadPoolExecutor
+
+from eigenupdate.errors import InputError
+
+MAX_THREADS = 4
+"""More threads than this gain little: the triangular solves are memory-bound."""
+
+_pool: ThreadPoolExecutor | None = None
+
+
+def threads() -> int:
+    """Number of threads to use (``EIGENUPDATE_THREADS``, else the usable cores, at most
+    MAX_THREADS)."""
+    env = os.environ.get("EIGENUPDATE_THREADS", "").strip()
+    if env:
+        if not env.isdigit() or int(env) < 1:
+            raise InputError(f"must be a whole number >= 1, not {env!r}",
+                             field="EIGENUPDATE_THREADS")
+        return int(env)
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        cores = os.cpu_count() or 1
+    return max(1, min(cores, MAX_THREADS))
+
+
+def _executor() -> ThreadPoolExecutor:
+    global _pool
+    if _pool is None:
+        # one more than the work shares: the missed-mode check runs beside them
+        _pool = ThreadPoolExecutor(threads() + 1, thread_name_prefix="eigenupdate")
+    return _pool
+
+
+def in_background(f: Callable, *args) -> Future:
+    """Run ``f(*args)`` in a thread (at once in this one if threads are off). A task must
+    not wait on another task: the pool is small.
+
+    >>> in_background(sum, [1, 2, 3]).result()
+    6
+    """
+    if threads() < 2:
+        done: Future = Future()
+        try:
+            done.set_result(f(*args))
+        except BaseException as exc:  # re-raised by result(), as a thread's would be
+            done.set_exception(exc)
+        return done
+    return _executor().submit(f, *args)
+
+
+def map_shares(f: Callable[[list], list], items: Sequence) -> list:
+    """``f`` applied to one contiguous share of ``items`` per thread, the results joined
+    in order (``f`` maps a list to a list of the same length).
+
+    >>> map_shares(lambda share: [x * x for x in share], range(5))
+    [0, 1, 4, 9, 16]
+    """
+    items = list(items)
+    n = min(threads(), len(items))
+    if n < 2:
+        return list(f(items))
+    bounds = [len(items) * i // n for i in range(n + 1)]
+    shares = [items[a:b] for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
+    pending = [in_background(f, s) for s in shares[1:]]
+    out = list(f(shares[0]))
+    for p in pending:
+        out.extend(p.result())
+    return out

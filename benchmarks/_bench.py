@@ -39,8 +39,9 @@ from eigenupdate.io.measurements import Measurement
 from eigenupdate.model.configurations import BASE, Configuration, mass_at
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve import parallel
-from eigenupdate.solve.eigen import default_shift, solve_elastic
+from eigenupdate.solve.eigen import WarmStart, default_shift, solve_elastic
 from eigenupdate.solve.jacobian import linearise, solve_configurations
+from eigenupdate.solve.memory import keep_freed_memory
 from eigenupdate.solve.restricted import RestrictedTerms
 from eigenupdate.solve.screening import screen
 from eigenupdate.solve.sensitivity import eigenvalue_derivatives
@@ -143,6 +144,20 @@ def instrumented(timers: Timers):
     finally:
         for obj, name, value in saved:
             setattr(obj, name, value)
+
+
+@contextmanager
+def one_thread():
+    """The package's threads off for the duration (EIGENUPDATE_THREADS=1)."""
+    saved = os.environ.get("EIGENUPDATE_THREADS")
+    os.environ["EIGENUPDATE_THREADS"] = "1"
+    try:
+        yield
+    finally:
+        if saved is None:
+            del os.environ["EIGENUPDATE_THREADS"]
+        else:
+            os.environ["EIGENUPDATE_THREADS"] = saved
 
 
 @contextmanager
@@ -280,9 +295,10 @@ def bench_a(size_key: str, colamd: bool = False) -> dict:
           f"first frequencies {np.round(base.frequencies_hz[:4], 3).tolist()} Hz, "
           f"{base.n_rigid} rigid modes")
 
-    # one update iteration: linearise (21 eigen-solves + sensitivities) + the GN step
+    # one update iteration: linearise (21 eigen-solves + sensitivities) + the GN step;
+    # in one thread here, so that the stages add up (the repeated pairs below use them)
     timers = Timers()
-    with instrumented(timers):
+    with instrumented(timers), one_thread():
         t, c0 = time.perf_counter(), time.process_time()
         lin = linearise(model, configs, modes)
         t_lin = time.perf_counter() - t
@@ -304,8 +320,9 @@ def bench_a(size_key: str, colamd: bool = False) -> dict:
                      + s["assembly"])
     c = timers.calls
     rep = lin.certificate.as_dict() if lin.certificate is not None else {}
-    print(f"(a) one update iteration: {t_iter:.2f} s; one base eigen-solve: {t_base:.2f} s; "
-          f"ratio {ratio:.2f} (before the fast path: 13-18); in CPU time of this process "
+    print(f"(a) one update iteration, one thread: {t_iter:.2f} s; one base eigen-solve: "
+          f"{t_base:.2f} s; ratio {ratio:.2f} (before the fast path: 13-18); in CPU time "
+          f"of this process "
           f"(less sensitive to other jobs on the machine): {cpu_lin:.2f} s vs "
           f"{cpu_base:.2f} s, ratio {cpu_lin / cpu_base:.2f}")
     print(f"(a) iteration split: assembly K(s),M(s) {s['assembly']:.2f} s; factorisation "
@@ -325,6 +342,7 @@ def bench_a(size_key: str, colamd: bool = False) -> dict:
     assert np.allclose(dz, dz_true, rtol=1e-6, atol=1e-8), "step does not recover the data"
     acc = accuracy_sample(model, configs, modes, lin, SAMPLE, "(a)")
     repeats = repeated_pairs(model, configs, modes, REPEATS, "(a)")
+    warm = repeated_warm(model, configs, modes, scale * (1 + dz), REPEATS, "(a)")
     out = {
         "frame": SIZES[size_key], "n": n, "elements": prob.frame.n_elements,
         "nnz_K": int(K.nnz), "configurations": len(configs), "modes": len(modes),
@@ -335,7 +353,7 @@ def bench_a(size_key: str, colamd: bool = False) -> dict:
         "cpu_base_solve_s": cpu_base, "cpu_linearise_s": cpu_lin,
         "cpu_ratio": cpu_lin / cpu_base,
         "iteration_split": timers.as_dict(), "iteration_other_s": other,
-        "fast_path": rep, "accuracy_sample": acc, "repeated": repeats,
+        "fast_path": rep, "accuracy_sample": acc, "repeated": repeats, "warm": warm,
         "threads": parallel.threads(), "peak_rss_gib": peak_rss_gib(),
     }
     if colamd:
@@ -395,6 +413,37 @@ def repeated_pairs(model, configs, modes, repeats: int, tag: str) -> dict:
           f"iteration / fastest base solve {a[:, 1].min():.2f} s / {a[:, 0].min():.2f} s = "
           f"{out['ratio_of_fastest']:.2f}; median CPU-time ratio {out['median_cpu_ratio']:.2f} "
           f"(the threads' CPU time counted)")
+    return out
+
+
+def repeated_warm(model, configs, modes, stepped, repeats: int, tag: str) -> dict:
+    """Iterations as an update makes them after the first: each linearisation warm-started
+    by the previous one (:class:`eigenupdate.solve.eigen.WarmStart`), the parameters
+    moving by one Gauss-Newton step (initial values <-> ``stepped``), each against a
+    base eigen-solve (cold, as in (a)) in the same pair."""
+    points = [model.values.copy(), np.asarray(stepped, float)]
+    warm = WarmStart()
+    lin0 = linearise(model, configs, modes, points[0], warm=warm)
+    pairs = []
+    for i in range(repeats):
+        t_base = base_solve_time(model)
+        values = points[(i + 1) % 2]
+        t = time.perf_counter()
+        lin = linearise(model, configs, modes, values, warm=warm)
+        np.linalg.lstsq(lin.normalised, lin.eigenvalues, rcond=None)
+        pairs.append((t_base, time.perf_counter() - t))
+    a = np.array(pairs)
+    ratios = a[:, 1] / a[:, 0]
+    cold = linearise(model, configs, modes, points[repeats % 2])
+    diff = float(np.max(np.abs(lin.eigenvalues / cold.eigenvalues - 1)))
+    out = {"base_solve_s": a[:, 0].tolist(), "iteration_s": a[:, 1].tolist(),
+           "ratios": ratios.tolist(), "median_ratio": float(np.median(ratios)),
+           "step_max_rel": float(np.max(np.abs(points[1] / points[0] - 1))),
+           "warm_vs_cold_eigenvalues_max_rel": diff}
+    print(f"{tag} warm iterations (each started from the previous one, parameters moving "
+          f"by up to {out['step_max_rel']:.1%}): ratios {np.round(ratios, 2).tolist()}, median "
+          f"{out['median_ratio']:.2f}; eigenvalues against a cold linearisation: {diff:.1e}")
+    del lin0
     return out
 
 
@@ -687,6 +736,7 @@ def _reference(prob, residual, scale) -> dict:
 
 
 def run(args) -> int:
+    kept = False if args.default_allocator else keep_freed_memory()
     t0 = time.perf_counter()
     a_size, b_size, cap, scaling = PLAN[args.size]
     if args.baseline_max_nfev is not None:
@@ -696,10 +746,12 @@ def run(args) -> int:
         "size": args.size, "cores": os.cpu_count(), "blas_threads": args.blas_threads,
         "python": platform.python_version(), "numpy": np.__version__,
         "scipy": scipy.__version__, "machine": platform.machine(),
+        "threads": parallel.threads(), "keep_freed_memory": kept,
     }
     print(f"eigenupdate benchmark, --size {args.size}, {meta['date']}, {meta['cores']} cores, "
           f"BLAS threads {args.blas_threads or 'library default'}, Python {meta['python']}, "
-          f"NumPy {meta['numpy']}, SciPy {meta['scipy']}")
+          f"NumPy {meta['numpy']}, SciPy {meta['scipy']}, {meta['threads']} threads, freed "
+          f"memory {'kept (as the command line does)' if kept else 'returned (glibc default)'}")
     out = {"meta": meta, "self_check": self_check()}
     if args.only in (None, "a"):
         out["a"] = bench_a(a_size, args.colamd)

@@ -50,6 +50,10 @@ def parse(argv=None) -> argparse.Namespace:
                    help="cap on the baseline's iterations (least_squares max_nfev, which "
                         "does not count finite-difference evaluations); default 20 (full), "
                         "3 (small); 0 = scipy's default (100 x parameters)")
+    p.add_argument("--default-allocator", action="store_true",
+                   help="leave glibc's malloc settings alone; by default the benchmark "
+                        "keeps freed memory as the command line does "
+                        "(eigenupdate.solve.memory)")
     p.add_argument("--reference", action="store_true",
                    help="(b) also run least_squares with the package's exact Jacobian, to "
                         "separate the Jacobian's accuracy from the optimiser (minutes)")

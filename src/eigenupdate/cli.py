@@ -40,6 +40,7 @@ from eigenupdate.measure.survey import extraction_doc, extraction_text
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import text as report
 from eigenupdate.report.html import render_report
+from eigenupdate.solve.memory import keep_freed_memory
 from eigenupdate.solve.sweep import mass_sweep
 
 
@@ -528,6 +529,8 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 
 def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
+    if argv is None:  # this process is the command's own: see solve/memory.py
+        keep_freed_memory()
     try:
         # every output is renamed into place only if the command returns; floating-point
         # warnings are not printed: results are checked to be finite instead

@@ -40,6 +40,7 @@ from eigenupdate.identify.weights import estimator_weights
 from eigenupdate.io.measurements import Measurement, select, to_eigenvalue
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.solve.eigen import WarmStart
 from eigenupdate.solve.jacobian import Linearisation, linearise
 from eigenupdate.solve.perturbed import CertificateReport
 
@@ -225,11 +226,12 @@ def update(
         return s
 
     solver, n_lin = CertificateReport(), [0]
+    warm = WarmStart()  # each linearisation starts the next one's eigen-solve
 
     def evaluate(z: np.ndarray) -> tuple[Linearisation, float]:
         nonlocal nfev
         nfev += 1
-        lin = linearise(model, configurations, modes, full(z))
+        lin = linearise(model, configurations, modes, full(z), warm=warm)
         if lin.certificate is not None:
             solver.merge(lin.certificate)
             n_lin[0] += 1

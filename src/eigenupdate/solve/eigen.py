@@ -170,12 +170,36 @@ def default_shift(K: sp.csr_array, M: sp.csr_array) -> float:
     return -1e-8 * ratio
 
 
-def base_operator(K, M, n_modes: int, check: bool = True) -> tuple[ShiftInvert, EigenSolution]:
+@dataclass
+class WarmStart:
+    """What one sparse solve of the bare structure leaves for the next one at nearby
+    parameter values (the iterations of an update), filled in by :func:`base_operator`.
+
+    The shift is not carried over: on stiff models the rounding of K - sigma M alone
+    moves the lowest eigenvalues by ~1e-10 relative (2.5e-10 on the 103k benchmark frame
+    between two shifts 3 % apart), and a warm solve must give the cold one's numbers.
+
+    Attributes
+    ----------
+    start : Lanczos start vector, the sum of the computed modes: it lies almost in the
+        wanted invariant subspace, and ARPACK needs ~15-30 % fewer solves (45 instead
+        of 54 at 1 % parameter change on the 103k benchmark frame, 36 at 1e-5).
+    sturm_shift : the missed-mode check's shift, so the next check can factorise
+        K - sigma M while Lanczos runs (:func:`usable_shift` decides afterwards whether
+        it still fits the new eigenvalues).
+    """
+
+    start: np.ndarray | None = None
+    sturm_shift: float | None = None
+
+
+def base_operator(K, M, n_modes: int, check: bool = True, warm: WarmStart | None = None
+                  ) -> tuple[ShiftInvert, EigenSolution]:
     """Shift-invert operator for the sparse path and the solution it gives.
 
     Without ``check`` the caller runs the missed-mode check
     (``sturm_check(K, M, *sol.computed[:1], sol, op)``), e.g. while it solves the
-    perturbed configurations.
+    perturbed configurations. A ``warm`` start is used and then updated.
 
     Lanczos on (K - sigma M)^-1 converges fastest when |sigma| is well below the lowest
     elastic eigenvalue lambda_1 (the spectrum then maps like 1/lambda), while a shift
@@ -184,13 +208,19 @@ def base_operator(K, M, n_modes: int, check: bool = True) -> tuple[ShiftInvert, 
     sigma = -lambda_1 / 10.
     """
     K, M = sp.csr_array(K), sp.csr_array(M)
+    n = K.shape[0]
+    warm = WarmStart() if warm is None else warm
+    start = warm.start if warm.start is not None and warm.start.shape == (n,) else None
     op = ShiftInvert(K, M, default_shift(K, M))
-    sol = _solve_sparse(K, M, n_modes, op, check=False)
+    sol = _solve_sparse(K, M, n_modes, op, check=False, start=start)
     if sol.eigenvalues.size and sol.eigenvalues[0] < 10 * abs(op.sigma):
         op = ShiftInvert(K, M, -0.1 * sol.eigenvalues[0])
-        sol = _solve_sparse(K, M, n_modes, op, check=False)
+        sol = _solve_sparse(K, M, n_modes, op, check=False, start=start)
     if check:
         sturm_check(K, M, sol.computed[0], sol, op)
+    lam, phi = sol.computed
+    warm.start = phi.sum(axis=1)
+    warm.sturm_shift = sturm_shift(lam, sol)
     return op, sol
 
 
@@ -282,9 +312,10 @@ def _condensed(K: np.ndarray, M: np.ndarray, massless: np.ndarray):
 _ARPACK = threading.Lock()
 
 
-def lowest_modes(K, M, k: int, op: ShiftInvert) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def lowest_modes(K, M, k: int, op: ShiftInvert, start: np.ndarray | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The k lowest eigenpairs by shift-invert Lanczos: (lambda ascending, mass-normalised
-    phi, rigid-body mask)."""
+    phi, rigid-body mask); ``start``: Lanczos start vector (default: a fixed random one)."""
     n = K.shape[0]
     linop = spla.LinearOperator((n, n), matvec=op.solve, dtype=float)
     # Ritz residuals of 1e-10 leave eigenvalue errors at round-off (they go with the
@@ -292,7 +323,7 @@ def lowest_modes(K, M, k: int, op: ShiftInvert) -> tuple[np.ndarray, np.ndarray,
     # ARPACK's machine-precision default.
     try:
         # a fixed start vector: the same eigenvectors (to round-off) on every run
-        v0 = np.random.default_rng(0).standard_normal(n)
+        v0 = np.random.default_rng(0).standard_normal(n) if start is None else start
         with _ARPACK:
             lam, phi = spla.eigsh(K, k=min(k, n - 1), M=M, sigma=op.sigma, which="LM",
                                   OPinv=linop, tol=1e-10, v0=v0)
@@ -345,8 +376,29 @@ def negative_count(A) -> int | None:
     return int(np.sum(d < 0))
 
 
+def sturm_shift(lam: np.ndarray, sol: EigenSolution) -> float | None:
+    """The shift of the missed-mode check: halfway from the highest wanted eigenvalue to
+    the next distinct computed one, far from both (None without wanted modes)."""
+    if sol.eigenvalues.size == 0:
+        return None
+    top = float(sol.eigenvalues[-1])
+    above = lam[lam > top * (1 + 1e-6) + 1e-300]
+    return 0.5 * (top + float(above[0])) if above.size else top * (1 + 1e-6)
+
+
+def usable_shift(sigma: float, lam: np.ndarray, sol: EigenSolution) -> bool:
+    """Whether a count at ``sigma`` (chosen before ``lam`` was known: a warm start)
+    checks this solution: above every wanted eigenvalue, below the highest computed
+    one (no eigenvalue below it may be missing), and not within 1e-6 of any."""
+    if sol.eigenvalues.size == 0 or lam.size == 0:
+        return False
+    near = np.min(np.abs(lam - sigma)) <= 1e-6 * abs(sigma)
+    return bool(sol.eigenvalues[-1] < sigma < lam.max() and not near)
+
+
 def sturm_check(K, M, lam: np.ndarray, sol: EigenSolution,
-                operator: ShiftInvert | None = None) -> None:
+                operator: ShiftInvert | None = None,
+                counted: tuple[float, int | None] | None = None) -> None:
     """Missed-mode check: the number of eigenvalues below a shift sigma just above the
     highest wanted one, counted from the inertia of K - sigma M (Sturm sequence, as
     NASTRAN's Lanczos does), must equal the number the solver found below sigma
@@ -357,15 +409,17 @@ def sturm_check(K, M, lam: np.ndarray, sol: EigenSolution,
     the sparse path repeats the Lanczos solve with more eigenpairs and checks that no
     new eigenvalue appears below sigma. Coordinates without mass (lumped-mass rotations)
     carry no finite eigenvalue; their stiffness block's negatives are subtracted.
+    ``counted`` = (sigma, negative_count(K - sigma M)) made beforehand is used if
+    :func:`usable_shift` accepts its sigma.
     """
     if sol.eigenvalues.size == 0:
         return
-    top = float(sol.eigenvalues[-1])
-    above = lam[lam > top * (1 + 1e-6) + 1e-300]
-    # sigma halfway to the next distinct eigenvalue: far from both, the count is robust
-    sigma = 0.5 * (top + float(above[0])) if above.size else top * (1 + 1e-6)
+    if counted is not None and usable_shift(counted[0], lam, sol):
+        sigma, count = counted
+    else:
+        sigma = sturm_shift(lam, sol)
+        count = negative_count(K - sigma * M)
     expected = int(np.sum(lam < sigma))
-    count = negative_count(K - sigma * M)
     massless = np.asarray(abs(M).sum(axis=1)).ravel() == 0
     if count is not None and massless.any():
         # Haynsworth: In(K - sigma M) = In(K_bb) + In(Schur complement on the massive
@@ -397,7 +451,7 @@ def sturm_check(K, M, lam: np.ndarray, sol: EigenSolution,
 
 def _solve_sparse(
     K, M, n_modes: int, operator: ShiftInvert | None, n_rigid: int | None = None,
-    check: bool = True,
+    check: bool = True, start: np.ndarray | None = None,
 ) -> EigenSolution:
     if operator is None:
         return base_operator(K, M, n_modes)[1]
@@ -407,7 +461,7 @@ def _solve_sparse(
     k = n_modes + 1 + (6 if n_rigid is None else n_rigid)
     while True:
         k = min(k, n - 1)
-        lam, phi, rigid = lowest_modes(K, M, k, operator)
+        lam, phi, rigid = lowest_modes(K, M, k, operator, start)
         sol = _elastic(lam, phi, rigid, n_modes, complete=k == n - 1)
         if sol.next_eigenvalue is not None or k == n - 1:
             if check:

@@ -21,10 +21,13 @@ from eigenupdate.solve.eigen import (
     DENSE_LIMIT,
     EigenSolution,
     ShiftInvert,
+    WarmStart,
     base_operator,
     massless_hint,
+    negative_count,
     solve_elastic,
     sturm_check,
+    usable_shift,
 )
 from eigenupdate.solve.perturbed import CertificateReport
 from eigenupdate.solve.restricted import RestrictedTerms
@@ -65,6 +68,7 @@ def solve_configurations(
     values: Sequence[float] | None = None,
     dense: bool | None = None,
     report: CertificateReport | None = None,
+    warm: WarmStart | None = None,
 ) -> list[EigenSolution]:
     """Elastic eigen-solutions of every configuration at parameter ``values``.
 
@@ -72,7 +76,9 @@ def solve_configurations(
     configurations are solved by Rayleigh-Ritz in a Krylov subspace built from that
     factorisation, with a certificate (:mod:`eigenupdate.solve.perturbed`, which
     ``report`` records); one that fails it reuses the factorisation in shift-invert
-    Lanczos (see :class:`eigenupdate.solve.eigen.ShiftInvert`).
+    Lanczos (see :class:`eigenupdate.solve.eigen.ShiftInvert`). A ``warm`` start from
+    the previous call (an update's iterations) saves Lanczos solves and lets the
+    missed-mode check factorise while Lanczos runs.
     """
     K, M = model.stiffness(values), model.mass(values)
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
@@ -82,14 +88,22 @@ def solve_configurations(
         return type(exc)(f"{exc}{massless_hint(K, M, model.coordinates)}",
                          field="the bare structure")
 
+    # the missed-mode check factorises K - sigma M once more, in a thread: warm, at the
+    # previous shift while Lanczos runs; cold, while the perturbed configurations are
+    # solved (their numbers are only returned if the check passes)
+    early = None
+    if warm is not None and warm.sturm_shift is not None:
+        early = (warm.sturm_shift,
+                 parallel.in_background(negative_count, K - warm.sturm_shift * M))
     try:
-        base_op, base_sol = base_operator(K, M, n_modes, check=False)
+        base_op, base_sol = base_operator(K, M, n_modes, check=False, warm=warm)
     except (InputError, NumericalError) as exc:
         raise located(exc) from None
-    # the missed-mode check factorises K - sigma M once more: meanwhile, in a thread,
-    # the perturbed configurations are solved (their numbers are only returned if the
-    # check passes)
-    check = parallel.in_background(sturm_check, K, M, base_sol.computed[0], base_sol, base_op)
+    lam = base_sol.computed[0]
+    counted = None
+    if early is not None and usable_shift(early[0], lam, base_sol):
+        counted = (early[0], early[1].result())
+    check = parallel.in_background(sturm_check, K, M, lam, base_sol, base_op, counted)
     try:
         out = solve_on_base(model, K, M, base_op, base_sol, configurations, n_modes, report)
     finally:
@@ -162,8 +176,10 @@ def linearise(
     modes: Sequence[int],
     values: Sequence[float] | None = None,
     dense: bool | None = None,
+    warm: WarmStart | None = None,
 ) -> Linearisation:
-    """Eigenvalues and the sensitivity matrix J at ``values`` (default: the model's).
+    """Eigenvalues and the sensitivity matrix J at ``values`` (default: the model's);
+    ``warm``: see :func:`solve_configurations`.
 
     Examples
     --------
@@ -184,7 +200,9 @@ def linearise(
     mt = [model.m_terms[j] for j in upd]
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
     report = CertificateReport() if sparse else None
-    sols = solve_configurations(model, configurations, modes[-1], values, dense, report)
+    # the restricted parameter matrices do not depend on the solution: made meanwhile
+    terms = parallel.in_background(RestrictedTerms, kt, mt) if sparse else None
+    sols = solve_configurations(model, configurations, modes[-1], values, dense, report, warm)
     idx = np.asarray(modes) - 1
     rows, lam, blocks = [], [], []
     for c, sol in zip(configurations, sols, strict=True):
@@ -197,7 +215,7 @@ def linearise(
         rows.extend((c.name, k) for k in modes)
     if sparse:  # all configurations' modes in one product per parameter
         phi = [s.modes if s.modes.shape[1] == idx.size else s.modes[:, idx] for s in sols]
-        blocks = [RestrictedTerms(kt, mt).derivatives(phi, np.array(lam))]
+        blocks = [terms.result().derivatives(phi, np.array(lam))]
     scale = np.array([model.parameters[j].scale for j in upd])  # initial values, not current
     return Linearisation(
         rows, np.array(lam), np.vstack(blocks), scale, [model.names[j] for j in upd], report

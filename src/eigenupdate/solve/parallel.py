@@ -21,6 +21,10 @@ from eigenupdate.errors import InputError
 MAX_THREADS = 4
 """More threads than this gain little: the triangular solves are memory-bound."""
 
+MIN_ROWS = 20_000
+"""Models with fewer coordinates are solved in one thread: each share of the work would
+take about a millisecond, not worth the hand-over."""
+
 _pool: ThreadPoolExecutor | None = None
 
 
@@ -38,6 +42,15 @@ def threads() -> int:
     except AttributeError:  # not Linux
         cores = os.cpu_count() or 1
     return max(1, min(cores, MAX_THREADS))
+
+
+def _forget_pool() -> None:  # a forked child has none of the parent's threads
+    global _pool
+    _pool = None
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_forget_pool)
 
 
 def _executor() -> ThreadPoolExecutor:
@@ -65,21 +78,26 @@ def in_background(f: Callable, *args) -> Future:
     return _executor().submit(f, *args)
 
 
-def map_shares(f: Callable[[list], list], items: Sequence) -> list:
-    """``f`` applied to one contiguous share of ``items`` per thread, the results joined
-    in order (``f`` maps a list to a list of the same length).
+def shares(rows: int) -> int:
+    """Threads to share work on vectors of ``rows`` coordinates among (1 below MIN_ROWS)."""
+    return threads() if rows >= MIN_ROWS else 1
 
-    >>> map_shares(lambda share: [x * x for x in share], range(5))
+
+def map_shares(f: Callable[[list], list], items: Sequence, rows: int) -> list:
+    """``f`` applied to one contiguous share of ``items`` per thread (``shares(rows)``),
+    the results joined in order (``f`` maps a list to a list of the same length).
+
+    >>> map_shares(lambda share: [x * x for x in share], range(5), rows=10**6)
     [0, 1, 4, 9, 16]
     """
     items = list(items)
-    n = min(threads(), len(items))
+    n = min(shares(rows), len(items))
     if n < 2:
         return list(f(items))
     bounds = [len(items) * i // n for i in range(n + 1)]
-    shares = [items[a:b] for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
-    pending = [in_background(f, s) for s in shares[1:]]
-    out = list(f(shares[0]))
+    parts = [items[a:b] for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
+    pending = [in_background(f, p) for p in parts[1:]]
+    out = list(f(parts[0]))
     for p in pending:
         out.extend(p.result())
     return out

@@ -252,12 +252,13 @@ def _grown(base: Base, row_sets, levels: int, spare: int = 0):
     for k in sorted({r.size for r in sets}):
         idx = [i for i, r in enumerate(sets) if r.size == k]
         # one share of the sets per thread: the sets' subspaces are independent
-        for share in np.array_split(idx, min(parallel.threads(), len(idx))):
+        for share in np.array_split(idx, min(parallel.shares(base.phi.shape[0]), len(idx))):
             blocks = Blocks(base, np.array([sets[i] for i in share]), levels + 1 + spare)
             work.append(blocks)
             for g, i in enumerate(share):
                 out[i] = (blocks, g)
-    parallel.map_shares(lambda share: [b.grow(levels + 1) for b in share], work)
+    parallel.map_shares(lambda share: [b.grow(levels + 1) for b in share], work,
+                        base.phi.shape[0])
     return out
 
 
@@ -472,12 +473,18 @@ def ritz(
     theta_e, Ye = scipy.linalg.eigh(Gc, Mc)
     lam_e = theta_e + sigma
     use = want[:n_modes]
-    kb = base.phi.shape[1]
     coef = Ye[:, use]
-    modes = (base.phi @ coef[:kb] + sub.Q @ coef[kb:]) if vectors else np.empty((0, use.size))
+    modes = _vectors(base.phi, sub.Q, coef) if vectors else np.empty((0, use.size))
     sol = EigenSolution(lam_e[use].copy(), modes, n_rigid,
                         float(lam_e[want[-1]]) if want.size > n_modes else None)
     return RitzResult(sol, eig[:n_modes], vec[:n_modes], passed, coef)
+
+
+def _vectors(phi: np.ndarray, Q: np.ndarray, coef: np.ndarray) -> np.ndarray:
+    """[phi | Q] @ coef without forming [phi | Q]."""
+    x = phi @ coef[:phi.shape[1]]
+    x += Q @ coef[phi.shape[1]:]
+    return x
 
 
 def _interlaces(lam_base, lam, addk, addm, eig, want, rtol=1e-9) -> bool:
@@ -566,7 +573,7 @@ def solve_perturbed(
     order = [(key, i) for key, members in groups.items() for i in members]
     first = dict(zip([i for _, i in order], parallel.map_shares(
         lambda share: [fams[key].first_try(rows_of[i], *_additions(configurations[i]), n_modes)
-                       for key, i in share], order), strict=True))
+                       for key, i in share], order, model.n), strict=True))
     retry = [i for _, i in order if first[i] is not None and not first[i].passed]
     widen(base, [fams[k] for k in groups if any(i in retry for i in groups[k])])
     for key, members in groups.items():

@@ -53,7 +53,8 @@ class RestrictedTerms:
                 out.append(d)
             return out
 
-        cols = parallel.map_shares(columns, list(zip(self._k, self._m, strict=True)))
+        n_rows = blocks[0].shape[0] if blocks else 0
+        cols = parallel.map_shares(columns, list(zip(self._k, self._m, strict=True)), n_rows)
         return np.column_stack(cols) if cols else np.zeros((rows, 0))
 
 

@@ -13,8 +13,10 @@ import scipy.sparse as sp
 from conftest import EXAMPLES
 from test_cli import FIG2, assert_bad, write
 
+from eigenupdate import cli
 from eigenupdate.errors import InputError
 from eigenupdate.identify.plausibility import check_measured_frequencies
+from eigenupdate.io.atomic import make_dir, transaction, write_text
 from eigenupdate.io.measurements import read_measurements
 from eigenupdate.io.study import load_study
 from eigenupdate.model.configurations import Configuration
@@ -345,3 +347,23 @@ def test_matrix_market_body_checked_before_scipy(tmp_path, run_cli, tail):
                             '[[model.parameter]]\nname = "a"\nvalue = 1.0\nK = "K0.mtx"\n')
     assert_bad(run_cli, ["frequencies", study, "--modes", 1], "M0.mtx", "line 4" if tail[0] == 57
                else "not ASCII")
+
+
+def test_a_failed_run_leaves_no_directory_it_made(tmp_path):
+    (tmp_path / "kept").mkdir()
+    with pytest.raises(ValueError), transaction():
+        make_dir(tmp_path / "new" / "plots")
+        make_dir(tmp_path / "kept" / "sub")
+        write_text(tmp_path / "new" / "plots" / "a.txt", "x")
+        raise ValueError("a later step failed")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kept"]
+    assert not any((tmp_path / "kept").iterdir())
+    with transaction():
+        make_dir(tmp_path / "new" / "plots")
+    assert (tmp_path / "new" / "plots").is_dir()
+
+
+def test_progress_lines_are_one_printable_line(capsys):
+    cli._progress("[1/2] bad\nname\x1b[31m: 3 FRF(s)")
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "\x1b" not in err and "bad\\nname" in err

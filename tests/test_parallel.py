@@ -125,3 +125,18 @@ def test_a_widened_subspace_continues_the_first_one():
     b = perturbed.ritz(base, fresh, np.array(rows), [0.0], [5.0], 4)
     assert fam.wider.Q.shape == fresh.Q.shape
     np.testing.assert_allclose(a.solution.eigenvalues, b.solution.eigenvalues, rtol=1e-12)
+
+
+def test_restricting_the_terms_leaves_the_model_alone():
+    """The restricted terms are built in a thread while K(s) is assembled from the same
+    matrices: building them must not touch the model's (explicit zeros included)."""
+    import scipy.sparse as sp
+
+    from eigenupdate.solve.restricted import RestrictedTerms
+
+    term = sp.csr_array(np.array([[2.0, 0.0], [0.0, 3.0]]))
+    term.data[0] = 0.0  # an explicit zero, as element assembly leaves them
+    before = (term.indptr.copy(), term.indices.copy(), term.data.copy())
+    RestrictedTerms([term], [None])
+    for a, b in zip(before, (term.indptr, term.indices, term.data), strict=True):
+        np.testing.assert_array_equal(a, b)

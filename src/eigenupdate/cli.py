@@ -29,7 +29,7 @@ from eigenupdate.design.plan_io import plan_study_text
 from eigenupdate.design.plan_report import design_doc, design_text
 from eigenupdate.errors import MAX_MESSAGE, EigenupdateWarning, InputError, NumericalError, shorten
 from eigenupdate.identify.weights import ESTIMATORS
-from eigenupdate.io.atomic import transaction, write_text
+from eigenupdate.io.atomic import make_dir, transaction, write_text
 from eigenupdate.io.measurements import write_measurements
 from eigenupdate.io.nastran import save_updated_bdf
 from eigenupdate.io.study import load_study
@@ -173,7 +173,7 @@ def cmd_design(args) -> int:
     ex = None
     if args.scheduler or args.workers:
         if args.workers is not None and args.workers < 1:
-            raise InputError(f"{args.workers} must be >= 1", field="--workers")
+            raise InputError(f"must be >= 1, got {args.workers}", field="--workers")
         ex = executor_for(args.scheduler, n_workers=args.workers)
     try:
         res = design_plan(study.model, study.design, study.method, study.configurations[1:],
@@ -193,9 +193,9 @@ def cmd_design(args) -> int:
 def cmd_montecarlo(args) -> int:
     _output_dir(args.output, "-o")
     if args.trials < 1:
-        raise InputError(f"{args.trials} must be >= 1", field="--trials")
+        raise InputError(f"must be >= 1, got {args.trials}", field="--trials")
     if args.workers is not None and args.workers < 1:
-        raise InputError(f"{args.workers} must be >= 1", field="--workers")
+        raise InputError(f"must be >= 1, got {args.workers}", field="--workers")
     study = load_study(args.study)
     setup = study_setup(study, args.truth)
     bar = _progress_bar if sys.stderr.isatty() else None
@@ -242,7 +242,8 @@ def _unconverged_result(path: str) -> bool:
 
 
 def _progress(msg: str) -> None:
-    print(msg, file=sys.stderr, flush=True)
+    # names in it come from input files: one printable line
+    print(shorten(msg, MAX_MESSAGE), file=sys.stderr, flush=True)
 
 
 def _safe_name(name: str) -> str:
@@ -274,7 +275,7 @@ def cmd_extract(args) -> int:
         raise InputError(res.problems[0])
     results = res.modes
     if args.plots:
-        Path(args.plots).mkdir(parents=True, exist_ok=True)
+        make_dir(args.plots)
         for ex in res.configurations:
             for j, x in enumerate(done.frfs[ex.configuration]):
                 shown = [m for m in ex.modes if m.fits[j] is not None]
@@ -312,7 +313,7 @@ def cmd_simulate_frf(args) -> int:
     out = Path(args.output)
     _not_inputs({f"-o {c.name!r}": out / f"{_safe_name(c.name)}.uff" for c, _ in sets},
                 study.inputs(measurements=True, frf=True))
-    out.mkdir(parents=True, exist_ok=True)
+    make_dir(out)
     lines = ["[measurement.frf]"]
     for c, frfs in sets:
         name = f"{_safe_name(c.name)}.uff"
@@ -343,7 +344,7 @@ def cmd_sweep(args) -> int:
     _output_file(args.o, "-o")
     _finite(args.max_mass, "--max-mass", positive=True)
     if args.modes is not None and args.modes < 1:
-        raise InputError(f"{args.modes} must be >= 1", field="--modes")
+        raise InputError(f"must be >= 1, got {args.modes}", field="--modes")
     study = load_study(args.study)
     _not_inputs({"-o": args.o}, study.inputs())
     n = args.modes or max(study.modes or [3])

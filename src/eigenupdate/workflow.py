@@ -68,7 +68,7 @@ def study_frequencies(study: Study, n_modes: int | None = None) -> dict[str, np.
     """Elastic natural frequencies (Hz) of every configuration (``eigenupdate frequencies``);
     ``n_modes`` defaults to the study's highest mode."""
     if n_modes is not None and n_modes < 1:
-        raise InputError(f"{n_modes} must be >= 1", field="--modes")
+        raise InputError(f"must be >= 1, got {n_modes}", field="--modes")
     n = n_modes or max(study.require_modes())
     sols = solve_configurations(study.model, study.configurations, n)
     return {c.name: s.frequencies_hz for c, s in zip(study.configurations, sols, strict=True)}

@@ -191,7 +191,7 @@ def montecarlo(setup: TrialSetup, trials: int, seed: int | None = None, executor
     (20, 0.0468)
     """
     if trials < 1:
-        raise InputError(f"{trials} must be >= 1", field="--trials")
+        raise InputError(f"must be >= 1, got {trials}", field="--trials")
     if setup.truth is None:
         _draw(setup.model, np.random.default_rng(0))  # refuses a parameter without a prior
     root = np.random.SeedSequence(seed)

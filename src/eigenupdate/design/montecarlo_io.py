@@ -7,7 +7,7 @@ import io
 from pathlib import Path
 
 from eigenupdate.design.montecarlo import MonteCarloResult
-from eigenupdate.io.atomic import write_text
+from eigenupdate.io.atomic import make_dir, write_text
 from eigenupdate.plot.montecarlo import plot_std_comparison, plot_zscores
 from eigenupdate.report.text import dumps
 
@@ -30,7 +30,7 @@ def trials_csv(r: MonteCarloResult) -> str:
 def write_montecarlo(r: MonteCarloResult, directory: str | Path, title: str = "") -> list[Path]:
     """Write :data:`FILES` into ``directory`` (created if needed); returns their paths."""
     d = Path(directory)
-    d.mkdir(parents=True, exist_ok=True)
+    make_dir(d)
     s = r.summary()
     write_text(d / FILES[0], trials_csv(r))
     write_text(d / FILES[1], dumps(s) + "\n")

@@ -19,6 +19,19 @@ PathLike = str | os.PathLike
 
 _PENDING: contextvars.ContextVar[list[tuple[Path, Path]] | None] = contextvars.ContextVar(
     "eigenupdate_pending_outputs", default=None)
+_MADE: contextvars.ContextVar[list[Path] | None] = contextvars.ContextVar(
+    "eigenupdate_made_directories", default=None)
+
+
+def make_dir(path: PathLike) -> None:
+    """``mkdir -p path``; inside a :func:`transaction` the directories it creates are
+    removed again (if still empty) when the run fails."""
+    target = Path(path)
+    missing = [p for p in (target, *target.parents) if not p.exists()]
+    target.mkdir(parents=True, exist_ok=True)
+    made = _MADE.get()
+    if made is not None:
+        made.extend(reversed(missing))  # parents first
 
 
 def _unlink(path: Path) -> None:
@@ -81,19 +94,26 @@ def transaction() -> Iterator[None]:
     >>> (d / "a.txt").read_text(), sorted(p.name for p in d.iterdir())
     ('old', ['a.txt'])
     """
-    outer = _PENDING.get()
+    outer, outer_made = _PENDING.get(), _MADE.get()
     pending: list[tuple[Path, Path]] = []
-    token = _PENDING.set(pending)
+    made: list[Path] = []
+    token, made_token = _PENDING.set(pending), _MADE.set(made)
     try:
         yield
     except BaseException:
         for tmp, _ in pending:
             _unlink(tmp)
+        for d in reversed(made):  # children first; a directory with other files stays
+            with contextlib.suppress(OSError):
+                os.rmdir(d)
         raise
     finally:
         _PENDING.reset(token)
+        _MADE.reset(made_token)
     if outer is not None:  # nested: the outermost transaction commits
         outer.extend(pending)
+        if outer_made is not None:
+            outer_made.extend(made)
         return
     for i, (tmp, target) in enumerate(pending):
         try:

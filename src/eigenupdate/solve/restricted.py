@@ -61,7 +61,9 @@ class RestrictedTerms:
 def _restrict(term):
     if term is None:
         return None
-    t = sp.csr_array(term)
+    # a copy: eliminate_zeros works in place, and the model's own matrices (shared by
+    # csr_array(term)) may be read meanwhile by another thread assembling K(s)
+    t = sp.csr_array(term, copy=True)
     t.eliminate_zeros()
     rows = np.flatnonzero(np.diff(t.indptr))
     cols = np.unique(t.indices)

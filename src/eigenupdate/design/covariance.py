@@ -8,18 +8,16 @@ for the three estimators of :mod:`eigenupdate.identify.updating`:
 * ``weighted-least-squares``: C = (J^T W J)^-1, W = diag(1 / sigma_lambda^2);
 * ``bayesian`` (Eq. 6): C = (J^T W J + W_s)^-1, W_s = diag(1 / sigma_s^2).
 
-Computed through the SVD of the stacked (weighted) system, never through J^T J.
+Computed through the SVD of the stacked (weighted) system, never through J^T J, and
+judged determined by the rank rule of :func:`eigenupdate.identify.identifiability.identifiability`,
+so that a plan the planner reports is one ``eigenupdate check`` accepts, and back.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-INFO_RTOL = 1e-13
-"""A plan whose information matrix has an eigenvalue below this fraction of its largest (a
-singular value of the weighted J below about 3e-7 of the largest) does not determine the
-parameters: its variances are reported as ``inf``. The threshold is on the information
-matrix because the search scores plans through it, whose round-off is about 1e-16."""
+from eigenupdate.identify.identifiability import identifiability
 
 
 def posterior_covariance(
@@ -48,18 +46,12 @@ def posterior_covariance(
     3.3333333333333335e-05
     """
     p = J.shape[1]
-    if method == "least-squares":
-        A = J
-    elif method == "bayesian":
-        A = np.vstack([w[:, None] * J, np.diag(prior)])
-    else:
-        A = w[:, None] * J
-    if A.shape[0] < p:
-        return np.full((p, p), np.inf)
-    u, s, vt = np.linalg.svd(A, full_matrices=False)
-    if s[-1] ** 2 <= INFO_RTOL * s[0] ** 2:
-        return np.full((p, p), np.inf)
-    if method == "least-squares":
+    names = [str(j) for j in range(p)]
+    if method == "least-squares":  # the estimate ignores w; the noise does not
+        if J.shape[0] < p or not identifiability(J, names).identifiable:
+            return np.full((p, p), np.inf)
+        u, s, vt = np.linalg.svd(J, full_matrices=False)
         pinv = (vt.T / s) @ u.T  # (p, rows)
         return (pinv / w**2) @ pinv.T
-    return (vt.T / s**2) @ vt
+    rep = identifiability(J, names, w, prior if method == "bayesian" else None)
+    return rep.cov if rep.identifiable else np.full((p, p), np.inf)

@@ -60,9 +60,11 @@ class DaskExecutor:
                 raise InputError(f"cannot connect to the Dask scheduler: {exc}",
                                  field="--scheduler") from None
         else:
+            # one core per worker: its sparse solves must not start threads of their own
             self.cluster = LocalCluster(n_workers=n_workers or os.cpu_count() or 1,
                                         threads_per_worker=1, processes=True,
-                                        host="127.0.0.1", dashboard_address=None)
+                                        host="127.0.0.1", dashboard_address=None,
+                                        env={"EIGENUPDATE_THREADS": "1"})
             self.client = Client(self.cluster)
 
     def map(self, fn: Callable, shared: Any, items: Sequence, progress: Progress | None = None

@@ -16,7 +16,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from eigenupdate.design.covariance import INFO_RTOL
 from eigenupdate.design.criteria import criterion_value
 
 RIDGE = 1e-6
@@ -28,6 +27,14 @@ EXHAUSTIVE_LIMIT = 100_000
 EXHAUSTIVE_FLOPS = 2e10
 """Largest work (plans x p^3, one eigen-decomposition of the p x p information matrix
 per plan) spent on the exact optimum: about a minute; beyond, it is skipped."""
+
+INFO_RTOL = 1e-13
+"""The search scores plans through the information matrix J^T W J, whose round-off is
+about 1e-16 of its largest eigenvalue: a plan with an eigenvalue below this fraction of
+the largest (a singular value of the weighted J below about 3e-7 of the largest) scores
+``inf``. The plan reported is then judged by
+:func:`eigenupdate.design.covariance.posterior_covariance` (SVD, the rank rule of
+``check``)."""
 
 
 @dataclass

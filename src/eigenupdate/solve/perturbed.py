@@ -40,6 +40,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.linalg
 import scipy.sparse as sp
+from scipy.linalg import blas
 
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
@@ -243,9 +244,8 @@ def build_subspaces(
     return [None if b is None else b.subspace(i) for b, i in _grown(base, row_sets, levels)]
 
 
-def _grown(base: Base, row_sets, levels: int, spare: int = 0):
-    """(Blocks, index in it) of each row set, ``levels + 1`` levels built, room for
-    ``spare`` more."""
+def _grown(base: Base, row_sets, levels: int):
+    """(Blocks, index in it) of each row set, ``levels + 1`` levels built."""
     sets = [np.unique(np.asarray(r, dtype=int)) for r in row_sets]
     out: list = [(None, 0)] * len(sets)
     work = []
@@ -253,7 +253,7 @@ def _grown(base: Base, row_sets, levels: int, spare: int = 0):
         idx = [i for i, r in enumerate(sets) if r.size == k]
         # one share of the sets per thread: the sets' subspaces are independent
         for share in np.array_split(idx, min(parallel.shares(base.phi.shape[0]), len(idx))):
-            blocks = Blocks(base, np.array([sets[i] for i in share]), levels + 1 + spare)
+            blocks = Blocks(base, np.array([sets[i] for i in share]), levels + 1)
             work.append(blocks)
             for g, i in enumerate(share):
                 out[i] = (blocks, g)
@@ -307,21 +307,23 @@ class Blocks:
         if j == 0:
             self.Z = W[rows.ravel()].reshape(ns, k, ns, k)[np.arange(ns), :, np.arange(ns), :]
         WT = W.T.reshape(ns, k, n)  # a view of W
-        QT, MQT = self.QT[:, :jk], self.MQT[:, :jk]
+        MQT = self.MQT[:, :jk]
         C = np.zeros((ns, kb + jk, k))
-        tmp = np.empty_like(W)  # one work array of the block's size, not one per product
-        tmpT = tmp.T.reshape(ns, k, n)
-        for _ in range(2):  # deflate twice (classical Gram-Schmidt), then M-normalise
-            cp = Mphi.T @ W
-            c_own = MQT @ WT.transpose(0, 2, 1)  # (ns, j k, k)
-            np.matmul(phi, cp, out=tmp)
-            W -= tmp
+        # classical Gram-Schmidt in the M inner product, twice. Against the bare modes
+        # only once after level 0: M Q_{j-1} is M-orthogonal to them, so A^-1 M Q_{j-1}
+        # holds only their residual's share (~1e-10), which one pass removes. The
+        # updates are BLAS products into W (beta = 1): no temporary of W's size.
+        for p in range(2):
+            if p == 0 or j == 0:
+                cp = Mphi.T @ W
+                blas.dgemm(-1.0, phi, cp, 1.0, W, overwrite_c=True)
+                C[:, :kb] += cp.T.reshape(ns, k, kb).transpose(0, 2, 1)
             if jk:
-                np.matmul(c_own.transpose(0, 2, 1), QT, out=tmpT)
-                WT -= tmpT
-            C[:, :kb] += cp.T.reshape(ns, k, kb).transpose(0, 2, 1)
-            C[:, kb:] += c_own
-        del tmp, tmpT
+                c_own = MQT @ WT.transpose(0, 2, 1)  # (ns, j k, k)
+                for g in range(ns):
+                    blas.dgemm(-1.0, self.QT[g, :jk].T, c_own[g], 1.0,
+                               W[:, g * k:(g + 1) * k], overwrite_c=True)
+                C[:, kb:] += c_own
         MW = M @ W
         MWT = self.MQT[:, jk:jk + k]
         MWT[:] = MW.T.reshape(ns, k, n)

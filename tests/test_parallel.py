@@ -24,7 +24,7 @@ from tests.test_perturbed import CONFIGS, assert_matches, network, reference
 def test_thread_count_from_the_environment(monkeypatch):
     monkeypatch.setenv("EIGENUPDATE_THREADS", "3")
     assert parallel.threads() == 3
-    for bad in ("0", "two", "-1"):
+    for bad in ("0", "two", "-1", "100000", "\u0663"):
         monkeypatch.setenv("EIGENUPDATE_THREADS", bad)
         with pytest.raises(InputError, match="EIGENUPDATE_THREADS"):
             parallel.threads()

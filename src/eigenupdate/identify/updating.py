@@ -33,7 +33,7 @@ from enum import Enum
 import numpy as np
 from scipy.optimize import lsq_linear
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.identify.identifiability import IdentifiabilityReport, identifiability
 from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.identify.weights import estimator_weights
@@ -274,16 +274,28 @@ def update(
                 f"predicted objective decrease {predicted / obj if obj else 0:.1e} relative"
             )
             break
-        alpha = 1.0
-        trial, trial_obj = evaluate(z + alpha * dz)
+        alpha, refused = 1.0, None
+
+        def attempt(zt):
+            # a trial point the eigen-solver refuses (a density driven towards the floor
+            # leaves near-massless coordinates) is a step too long, not the end of the run
+            nonlocal refused
+            try:
+                return evaluate(zt)
+            except (InputError, NumericalError) as exc:
+                refused = str(exc)
+                return None, np.inf
+
+        trial, trial_obj = attempt(z + alpha * dz)
         while not trial_obj < obj and alpha > 0.5**MAX_HALVINGS:  # NaN is not lower
             alpha *= 0.5
             kind = Step.HALVED
-            trial, trial_obj = evaluate(z + alpha * dz)
+            trial, trial_obj = attempt(z + alpha * dz)
         if not trial_obj < obj:
             status = 3
             message = (
                 f"iteration {it}: no step along the Gauss-Newton direction lowers the objective"
+                + (f" (a trial step was refused: {refused})" if refused else "")
             )
             history.append(iterate(it, z, obj, 0.0, Step.FAILED))
             break

@@ -33,8 +33,8 @@ def threads() -> int:
     MAX_THREADS)."""
     env = os.environ.get("EIGENUPDATE_THREADS", "").strip()
     if env:
-        if not env.isdigit() or int(env) < 1:
-            raise InputError(f"must be a whole number >= 1, not {env!r}",
+        if not (env.isascii() and env.isdigit()) or not 1 <= int(env) <= 256:
+            raise InputError(f"must be a whole number from 1 to 256, not {env!r}",
                              field="EIGENUPDATE_THREADS")
         return int(env)
     try:

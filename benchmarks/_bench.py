@@ -343,7 +343,6 @@ def bench_a(size_key: str, colamd: bool = False) -> dict:
     acc = accuracy_sample(model, configs, modes, lin, SAMPLE, "(a)")
     repeats = repeated_pairs(model, configs, modes, REPEATS, "(a)")
     warm = repeated_warm(model, configs, modes, scale * (1 + dz), REPEATS, "(a)")
-    whole = whole_update(size_key, "(a)")
     out = {
         "frame": SIZES[size_key], "n": n, "elements": prob.frame.n_elements,
         "nnz_K": int(K.nnz), "configurations": len(configs), "modes": len(modes),
@@ -355,7 +354,7 @@ def bench_a(size_key: str, colamd: bool = False) -> dict:
         "cpu_ratio": cpu_lin / cpu_base,
         "iteration_split": timers.as_dict(), "iteration_other_s": other,
         "fast_path": rep, "accuracy_sample": acc, "repeated": repeats, "warm": warm,
-        "whole_update": whole,
+
         "threads": parallel.threads(), "peak_rss_gib": peak_rss_gib(),
     }
     if colamd:
@@ -446,33 +445,6 @@ def repeated_warm(model, configs, modes, stepped, repeats: int, tag: str) -> dic
           f"by up to {out['step_max_rel']:.1%}): ratios {np.round(ratios, 2).tolist()}, median "
           f"{out['median_ratio']:.2f}; eigenvalues against a cold linearisation: {diff:.1e}")
     del lin0
-    return out
-
-
-def whole_update(size_key: str, tag: str) -> dict:
-    """A whole update of the (a) problem from error-free simulated data: its time per
-    linearisation (the first cold, the others warm) against base eigen-solves timed just
-    before and after (the median of four)."""
-    prob = make_problem(size_key)
-    model = prob.model
-    t_base = [base_solve_time(model) for _ in range(2)]
-    calls = [0]
-    with counting(upd, "linearise", calls):
-        t = time.perf_counter()
-        res = update(model, prob.configurations, prob.modes, prob.measurements)
-        t_update = time.perf_counter() - t
-    t_base += [base_solve_time(model) for _ in range(2)]
-    per = t_update / calls[0]
-    err = param_errors(np.array([res.parameters[nm] for nm in model.names]), prob.frame.truth)
-    out = {"update_s": t_update, "iterations": res.nit, "linearisations": calls[0],
-           "converged": bool(res.converged), "base_solve_s": t_base,
-           "per_linearisation_s": per, "ratio": per / float(np.median(t_base)),
-           "parameter_error": err, "solver": res.solver}
-    print(f"{tag} whole update: {t_update:.1f} s, {res.nit} iterations, {calls[0]} "
-          f"linearisations, converged {res.converged}, parameter error max "
-          f"{err['max_rel']:.1e}; {per:.2f} s per linearisation (step included) = "
-          f"{out['ratio']:.2f} base eigen-solves (median {np.median(t_base):.2f} s of "
-          f"{np.round(t_base, 2).tolist()})")
     return out
 
 

@@ -140,3 +140,24 @@ def test_restricting_the_terms_leaves_the_model_alone():
     RestrictedTerms([term], [None])
     for a, b in zip(before, (term.indptr, term.indices, term.data), strict=True):
         np.testing.assert_array_equal(a, b)
+
+
+def test_a_trial_point_can_be_turned_down_before_the_fallbacks(monkeypatch):
+    from eigenupdate.solve import jacobian
+
+    model = network()
+    seen = []
+
+    def reject_all(known):
+        seen.append(sorted(known))
+        return True
+
+    with pytest.raises(jacobian.Rejected):
+        jacobian.solve_configurations(model, CONFIGS, 4, dense=False, reject=reject_all)
+    assert seen == [["base"]]  # turned down on the bare structure alone
+    # certificates that all fail: the certified rows (none) are shown before Lanczos
+    monkeypatch.setattr(perturbed, "EIG_RTOL", 0.0)
+    seen.clear()
+    sols = jacobian.solve_configurations(model, CONFIGS, 4, dense=False,
+                                         reject=lambda known: seen.append(sorted(known)))
+    assert seen == [["base"], ["base"]] and len(sols) == len(CONFIGS)

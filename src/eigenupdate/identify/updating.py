@@ -41,7 +41,7 @@ from eigenupdate.io.measurements import Measurement, select, to_eigenvalue
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.eigen import WarmStart
-from eigenupdate.solve.jacobian import Linearisation, linearise
+from eigenupdate.solve.jacobian import Linearisation, Rejected, linearise
 from eigenupdate.solve.perturbed import CertificateReport
 
 MAX_HALVINGS = 30
@@ -228,16 +228,43 @@ def update(
     solver, n_lin = CertificateReport(), [0]
     warm = WarmStart()  # each linearisation starts the next one's eigen-solve
 
-    def evaluate(z: np.ndarray) -> tuple[Linearisation, float]:
+    index = {row: i for i, row in enumerate(rows)}
+
+    def evaluate(z: np.ndarray, above: float | None = None) -> tuple[Linearisation, float]:
+        """The linearisation at z and its objective; with ``above``, (None, inf) as soon
+        as the rows already solved give an objective of at least ``above``."""
         nonlocal nfev
         nfev += 1
-        lin = linearise(model, configurations, modes, full(z), warm=warm)
+        a = prior * (z - z0)
+
+        def reject(known: dict[str, np.ndarray]) -> bool:
+            part = float(a @ a)
+            for (name, k), i in index.items():
+                if name in known:
+                    part += float(w[i] * (lam_meas[i] - known[name][k - 1])) ** 2
+            return part >= above
+
+        try:
+            lin = linearise(model, configurations, modes, full(z), warm=warm,
+                            reject=None if above is None else reject)
+        except Rejected:
+            return None, np.inf
         if lin.certificate is not None:
             solver.merge(lin.certificate)
             n_lin[0] += 1
         r = w * (lam_meas - lin.eigenvalues)
-        a = prior * (z - z0)
         return lin, float(r @ r + a @ a)
+
+    def attempt(z: np.ndarray, obj: float, refused: list[str]):
+        """A trial point of the line search: evaluate(z), turned down as soon as its
+        objective reaches ``obj``. A point the eigen-solver refuses (a density driven
+        towards its floor leaves near-massless coordinates) is a step too long, not the
+        end of the run: (None, inf), the reason appended to ``refused``."""
+        try:
+            return evaluate(z, above=obj)
+        except (InputError, NumericalError) as exc:
+            refused.append(str(exc))
+            return None, np.inf
 
     def iterate(i, z, obj, step, kind) -> Iterate:
         return Iterate(i, dict(zip(model.names, full(z).tolist(), strict=True)), obj, step, kind)
@@ -274,28 +301,17 @@ def update(
                 f"predicted objective decrease {predicted / obj if obj else 0:.1e} relative"
             )
             break
-        alpha, refused = 1.0, None
-
-        def attempt(zt):
-            # a trial point the eigen-solver refuses (a density driven towards the floor
-            # leaves near-massless coordinates) is a step too long, not the end of the run
-            nonlocal refused
-            try:
-                return evaluate(zt)
-            except (InputError, NumericalError) as exc:
-                refused = str(exc)
-                return None, np.inf
-
-        trial, trial_obj = attempt(z + alpha * dz)
+        alpha, refused = 1.0, []
+        trial, trial_obj = attempt(z + alpha * dz, obj, refused)
         while not trial_obj < obj and alpha > 0.5**MAX_HALVINGS:  # NaN is not lower
             alpha *= 0.5
             kind = Step.HALVED
-            trial, trial_obj = attempt(z + alpha * dz)
+            trial, trial_obj = attempt(z + alpha * dz, obj, refused)
         if not trial_obj < obj:
             status = 3
             message = (
                 f"iteration {it}: no step along the Gauss-Newton direction lowers the objective"
-                + (f" (a trial step was refused: {refused})" if refused else "")
+                + (f" (a trial step was refused: {refused[-1]})" if refused else "")
             )
             history.append(iterate(it, z, obj, 0.0, Step.FAILED))
             break

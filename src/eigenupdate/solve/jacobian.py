@@ -8,7 +8,7 @@ parameter by its initial value; a zero initial value keeps scale 1).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -61,6 +61,14 @@ class Linearisation:
         return self.J * self.scale
 
 
+class Rejected(Exception):
+    """Raised when ``reject`` (see :func:`solve_configurations`) turns a trial point down
+    before every configuration is solved."""
+
+
+Known = Callable[[dict[str, np.ndarray]], bool]
+
+
 def solve_configurations(
     model: ParametricModel,
     configurations: Sequence[Configuration],
@@ -69,6 +77,7 @@ def solve_configurations(
     dense: bool | None = None,
     report: CertificateReport | None = None,
     warm: WarmStart | None = None,
+    reject: Known | None = None,
 ) -> list[EigenSolution]:
     """Elastic eigen-solutions of every configuration at parameter ``values``.
 
@@ -79,6 +88,12 @@ def solve_configurations(
     Lanczos (see :class:`eigenupdate.solve.eigen.ShiftInvert`). A ``warm`` start from
     the previous call (an update's iterations) saves Lanczos solves and lets the
     missed-mode check factorise while Lanczos runs.
+
+    ``reject`` (sparse path) is shown the eigenvalues known so far, by configuration
+    name: the bare structure's, then those the fast path certified; if it returns True,
+    :class:`Rejected` is raised before the rest are solved by Lanczos. A line search
+    uses it to turn down a trial point whose objective already exceeds the current one
+    (a step far outside the linearisation can leave many configurations to Lanczos).
     """
     K, M = model.stiffness(values), model.mass(values)
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
@@ -105,7 +120,8 @@ def solve_configurations(
         counted = (early[0], early[1].result())
     check = parallel.in_background(sturm_check, K, M, lam, base_sol, base_op, counted)
     try:
-        out = solve_on_base(model, K, M, base_op, base_sol, configurations, n_modes, report)
+        out = solve_on_base(model, K, M, base_op, base_sol, configurations, n_modes, report,
+                            reject)
     finally:
         try:
             check.result()
@@ -123,11 +139,21 @@ def solve_on_base(
     configurations: Sequence[Configuration],
     n_modes: int,
     report: CertificateReport | None = None,
+    reject: Known | None = None,
 ) -> list[EigenSolution]:
     """The sparse path of :func:`solve_configurations` once the bare structure is solved
     (``base_sol`` from ``base_operator(K, M, n_modes)``)."""
+    bare = {c.name: base_sol.eigenvalues for c in configurations if not c.additions}
+    if reject is not None and bare and reject(bare):
+        raise Rejected("the bare structure's eigenvalues")
     fast = perturbed.solve_perturbed(model, K, M, base_op, base_sol, configurations,
                                      n_modes, report)
+    if reject is not None and any(r is None for c, r in zip(configurations, fast, strict=True)
+                                  if c.additions):
+        known = {**bare, **{c.name: r.eigenvalues
+                            for c, r in zip(configurations, fast, strict=True) if r is not None}}
+        if reject(known):
+            raise Rejected("the eigenvalues certified before the Lanczos fallbacks")
     out = []
     for c, ritz in zip(configurations, fast, strict=True):
         if not c.additions:
@@ -177,9 +203,10 @@ def linearise(
     values: Sequence[float] | None = None,
     dense: bool | None = None,
     warm: WarmStart | None = None,
+    reject: Known | None = None,
 ) -> Linearisation:
     """Eigenvalues and the sensitivity matrix J at ``values`` (default: the model's);
-    ``warm``: see :func:`solve_configurations`.
+    ``warm``, ``reject``: see :func:`solve_configurations`.
 
     Examples
     --------
@@ -202,7 +229,8 @@ def linearise(
     report = CertificateReport() if sparse else None
     # the restricted parameter matrices do not depend on the solution: made meanwhile
     terms = parallel.in_background(RestrictedTerms, kt, mt) if sparse else None
-    sols = solve_configurations(model, configurations, modes[-1], values, dense, report, warm)
+    sols = solve_configurations(model, configurations, modes[-1], values, dense, report, warm,
+                                reject)
     idx = np.asarray(modes) - 1
     rows, lam, blocks = [], [], []
     for c, sol in zip(configurations, sols, strict=True):

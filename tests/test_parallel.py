@@ -4,8 +4,15 @@
 Reference: the same computation in one thread / started cold.
 """
 
+import platform
+import subprocess
+import sys
+import threading
+import warnings
+
 import numpy as np
 import pytest
+from conftest import EXAMPLES
 
 import eigenupdate.solve.perturbed as perturbed
 from eigenupdate.errors import InputError
@@ -51,10 +58,18 @@ def test_threads_change_nothing_beyond_round_off(monkeypatch):
     monkeypatch.setattr(parallel, "MIN_ROWS", 0)  # thread even this small model
     model = network()
     modes = [1, 2, 3, 4]
-    out = {}
+    out, where = {}, set()
+    grow = perturbed.Blocks.grow
+
+    def spy(self, levels):
+        where.add(threading.current_thread().name.split("_")[0])
+        return grow(self, levels)
+
+    monkeypatch.setattr(perturbed.Blocks, "grow", spy)
     for threads in ("1", "3"):
         monkeypatch.setenv("EIGENUPDATE_THREADS", threads)
         out[threads] = linearise(model, CONFIGS, modes, dense=False)
+    assert where == {"MainThread", "eigenupdate"}  # the pool did share the work
     # Ritz values are certified to EIG_RTOL, not to round-off: Krylov blocks solved in
     # other column groups differ in the last digits, and so, within the bound, do they
     np.testing.assert_allclose(out["3"].eigenvalues, out["1"].eigenvalues,
@@ -66,25 +81,27 @@ def test_threads_change_nothing_beyond_round_off(monkeypatch):
         assert a[key] == b[key]
 
 
-def test_warm_start_gives_the_cold_numbers(monkeypatch):
+def test_warm_start_counts_early_and_keeps_the_contract(monkeypatch):
+    from eigenupdate.solve import jacobian
+
+    monkeypatch.setenv("EIGENUPDATE_THREADS", "2")  # the early count needs a second thread
     model = network()
     modes = [1, 2, 3, 4, 5]
-    counts = []
-    real = parallel.in_background
+    counted = []
+    check = jacobian.sturm_check
 
-    def spy(f, *args):
-        counts.append(getattr(f, "__name__", ""))
-        return real(f, *args)
+    def spy(K, M, lam, sol, op=None, given=None):
+        counted.append(given)
+        return check(K, M, lam, sol, op, given)
 
-    monkeypatch.setattr(parallel, "in_background", spy)
+    monkeypatch.setattr(jacobian, "sturm_check", spy)
     warm = WarmStart()
     linearise(model, CONFIGS, modes, dense=False, warm=warm)
     assert warm.start is not None and warm.sturm_shift is not None
-    assert "negative_count" not in counts  # cold: nothing to start early
+    assert counted == [None]  # cold: nothing counted early
     stepped = model.values * np.random.default_rng(3).uniform(0.97, 1.03, model.values.size)
-    counts.clear()
     hot = linearise(model, CONFIGS, modes, stepped, dense=False, warm=warm)
-    assert "negative_count" in counts  # warm: the Sturm count started before Lanczos
+    assert counted[-1] is not None  # warm: the count made while Lanczos ran was used
     # the numbers meet the fast path's contract against dense re-solves, warm or cold
     # (they differ from a cold run's within it: other Lanczos start, other round-off)
     assert_matches(hot.eigenvalues, hot.J, *reference(model.with_values(stepped), CONFIGS,
@@ -100,15 +117,20 @@ def test_a_warm_shift_is_used_only_where_it_checks_the_solution():
     assert not usable_shift(16.0 * (1 + 1e-9), lam, sol)  # on an eigenvalue
 
 
-def test_a_warm_count_still_catches_a_missed_mode():
+def test_a_warm_count_is_the_count_used():
     model = network()
     K, M = model.stiffness(), model.mass()
     op, sol = base_operator(K, M, 4)
     lam = sol.computed[0]
     sigma = 0.5 * (lam[5] + lam[6])  # between elastic modes 5 and 6 (one rigid mode)
-    missing = np.delete(lam, 2)  # the solver "skipped" elastic mode 2
-    with pytest.raises(InputError, match="missed-mode check"):
-        sturm_check(K, M, missing, sol, op, counted=(sigma, int(np.sum(lam < sigma))))
+    true = int(np.sum(lam < sigma))
+    sturm_check(K, M, lam, sol, op, counted=(sigma, true))  # consistent: passes
+    # a count made beforehand that disagrees with the solution is what stops it (the
+    # check's own count at its own shift would pass)
+    with pytest.raises(InputError, match=f"eigenvalues lie below {sigma:.6g}"):
+        sturm_check(K, M, lam, sol, op, counted=(sigma, true + 1))
+    # and a count at a shift that does not check this solution is not used
+    sturm_check(K, M, lam, sol, op, counted=(0.5 * (lam[2] + lam[3]), true + 1))
 
 
 def test_a_widened_subspace_continues_the_first_one():
@@ -161,3 +183,33 @@ def test_a_trial_point_can_be_turned_down_before_the_fallbacks(monkeypatch):
     sols = jacobian.solve_configurations(model, CONFIGS, 4, dense=False,
                                          reject=lambda known: seen.append(sorted(known)))
     assert seen == [["base"], ["base"]] and len(sols) == len(CONFIGS)
+
+
+def test_threads_keep_the_callers_floating_point_settings(monkeypatch):
+    # the command line silences floating-point warnings; NumPy keeps that per thread
+    monkeypatch.setenv("EIGENUPDATE_THREADS", "2")
+    with np.errstate(all="ignore"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            out = parallel.in_background(lambda: np.array([1.0]) / np.array([0.0])).result()
+    assert np.isinf(out[0])
+    with np.errstate(divide="raise"), pytest.raises(FloatingPointError):
+        parallel.in_background(lambda: np.array([1.0]) / np.array([0.0])).result()
+
+
+def test_a_bad_thread_count_stops_the_command_at_once(monkeypatch, capsys):
+    from eigenupdate import cli
+
+    monkeypatch.setenv("EIGENUPDATE_THREADS", "9" * 5000)  # beyond int()'s digit limit too
+    assert cli.main(["check", str(EXAMPLES / "paper_fig2" / "study.toml")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "EIGENUPDATE_THREADS" in err and "study.toml" not in err
+
+
+@pytest.mark.skipif(platform.libc_ver()[0] != "glibc", reason="glibc's mallopt")
+def test_the_command_keeps_freed_memory():
+    # in a process of its own: the setting is process-wide and not undone
+    code = "from eigenupdate.solve.memory import keep_freed_memory; print(keep_freed_memory())"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.strip() == "True"

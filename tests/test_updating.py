@@ -131,15 +131,63 @@ def test_a_refused_trial_step_is_halved_not_fatal(monkeypatch):
     assert res.converged and res.history[1].kind == Step.HALVED
     np.testing.assert_allclose([res.parameters[n] for n in TRUTH.names], TRUTH.values, rtol=1e-6)
 
+    calls.clear()
+
     def always(model, configs, modes, values=None, **kw):
-        if values is not None and not np.allclose(values, start.values):
+        calls.append(values)
+        if len(calls) > 1:  # every trial point
             raise InputError("stiffness matrix is not positive semi-definite")
         return linearise(model, configs, modes, values, **kw)
 
     monkeypatch.setattr(updating, "linearise", always)
     res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data)
-    assert res.status == 3 and "trial step was refused" in res.message
+    assert res.status == 3 and res.nit == 1 and "trial step was refused" in res.message
 
+
+def test_turning_trial_points_down_early_changes_no_iterate(monkeypatch):
+    # the line search stops a trial point once the rows solved so far reach the current
+    # objective (sparse path): the same iterates as evaluating every trial point fully
+    import eigenupdate.identify.updating as updating
+    from eigenupdate.model.parameters import Parameter
+    from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+    from eigenupdate.solve import jacobian
+
+    n = 60  # a chain on the sparse path; four of its parameters unknown
+    unknown = {"m1", "m30", "k2", "k45"}
+
+    def chain(scale):
+        ms = [Mass(Parameter(f"m{i}", 2.0 * scale.get(f"m{i}", 1.0), update=f"m{i}" in unknown),
+                   i) for i in range(1, n + 1)]
+        ks = [Spring(Parameter(f"k{i}", 1e5 * scale.get(f"k{i}", 1.0),
+                               update=f"k{i}" in unknown), (i - 1, i)) for i in range(1, n + 1)]
+        return spring_mass_model(ms, ks, n)
+
+    monkeypatch.setattr(jacobian, "DENSE_LIMIT", 20)
+    truth = chain({})
+    start = chain({"m1": 1.6, "m30": 0.5, "k2": 0.4, "k45": 1.9})
+    configs = [Configuration("base"), mass_at(1, 1.0), mass_at(30, 1.0), mass_at(50, 1.0)]
+    modes = [1, 2, 3]
+    data = simulate(truth, configs, modes)
+    turned = []
+    real = jacobian.solve_on_base
+
+    def counting(*a, **kw):
+        try:
+            return real(*a, **kw)
+        except jacobian.Rejected:
+            turned.append(1)
+            raise
+
+    monkeypatch.setattr(jacobian, "solve_on_base", counting)
+    early = update(start, configs, modes, data, max_iterations=60)
+    monkeypatch.setattr(updating, "linearise",
+                        lambda *a, reject=None, **kw: linearise(*a, **kw))
+    full = update(start, configs, modes, data, max_iterations=60)
+    assert turned, [h.kind for h in early.history]  # some trial points turned down early
+    assert [h.kind for h in early.history] == [h.kind for h in full.history]
+    np.testing.assert_allclose([h.objective for h in early.history],
+                               [h.objective for h in full.history], rtol=1e-9, atol=1e-20)
+    assert early.nit == full.nit and early.converged
 
 def test_fixed_parameters_are_not_updated():
     from dataclasses import replace

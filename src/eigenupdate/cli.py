@@ -40,6 +40,7 @@ from eigenupdate.measure.survey import extraction_doc, extraction_text
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import text as report
 from eigenupdate.report.html import render_report
+from eigenupdate.solve import parallel
 from eigenupdate.solve.memory import keep_freed_memory
 from eigenupdate.solve.sweep import mass_sweep
 
@@ -538,6 +539,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         with transaction(), np.errstate(all="ignore"), warnings.catch_warnings():
             warnings.simplefilter("always", EigenupdateWarning)
             warnings.showwarning = _show_warning  # one line, no source location
+            parallel.threads()  # a bad EIGENUPDATE_THREADS stops every command at once
             return args.func(args)
     except (InputError, NumericalError) as exc:
         # exit 2: bad input, singular matrix, repeated eigenvalue; 1: not converged

@@ -28,10 +28,12 @@ def make_dir(path: PathLike) -> None:
     removed again (if still empty) when the run fails."""
     target = Path(path)
     missing = [p for p in (target, *target.parents) if not p.exists()]
-    target.mkdir(parents=True, exist_ok=True)
-    made = _MADE.get()
-    if made is not None:
-        made.extend(reversed(missing))  # parents first
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+    finally:  # those made before a failure are removed too
+        made = _MADE.get()
+        if made is not None:
+            made.extend(p for p in reversed(missing) if p.is_dir())  # parents first
 
 
 def _unlink(path: Path) -> None:

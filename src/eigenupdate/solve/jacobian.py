@@ -66,7 +66,7 @@ class Rejected(Exception):
     before every configuration is solved."""
 
 
-Known = Callable[[dict[str, np.ndarray]], bool]
+RejectTest = Callable[[dict[str, np.ndarray]], bool]
 
 
 def solve_configurations(
@@ -77,7 +77,7 @@ def solve_configurations(
     dense: bool | None = None,
     report: CertificateReport | None = None,
     warm: WarmStart | None = None,
-    reject: Known | None = None,
+    reject: RejectTest | None = None,
 ) -> list[EigenSolution]:
     """Elastic eigen-solutions of every configuration at parameter ``values``.
 
@@ -106,8 +106,8 @@ def solve_configurations(
     # the missed-mode check factorises K - sigma M once more, in a thread: warm, at the
     # previous shift while Lanczos runs; cold, while the perturbed configurations are
     # solved (their numbers are only returned if the check passes)
-    early = None
-    if warm is not None and warm.sturm_shift is not None:
+    early = None  # without threads nothing would overlap it: a possibly wasted factorisation
+    if warm is not None and warm.sturm_shift is not None and parallel.threads() > 1:
         early = (warm.sturm_shift,
                  parallel.in_background(negative_count, K - warm.sturm_shift * M))
     try:
@@ -139,7 +139,7 @@ def solve_on_base(
     configurations: Sequence[Configuration],
     n_modes: int,
     report: CertificateReport | None = None,
-    reject: Known | None = None,
+    reject: RejectTest | None = None,
 ) -> list[EigenSolution]:
     """The sparse path of :func:`solve_configurations` once the bare structure is solved
     (``base_sol`` from ``base_operator(K, M, n_modes)``)."""
@@ -203,7 +203,7 @@ def linearise(
     values: Sequence[float] | None = None,
     dense: bool | None = None,
     warm: WarmStart | None = None,
-    reject: Known | None = None,
+    reject: RejectTest | None = None,
 ) -> Linearisation:
     """Eigenvalues and the sensitivity matrix J at ``values`` (default: the model's);
     ``warm``, ``reject``: see :func:`solve_configurations`.

@@ -8,15 +8,14 @@ page-faulted in again. On the 2-core virtual test machine that costs about 0.5 s
 an iteration get faster, the iteration more (benchmarks/README.md).
 
 :func:`keep_freed_memory` tells glibc to serve large blocks from its heap and keep them
-(``mallopt``: no mmap, no trimming, one arena). The process then keeps its peak memory
-until it exits. The command line does this; a notebook user can call it too. Other C
-libraries (macOS, musl): nothing is done.
+(``mallopt``: no mmap, no trimming, one arena). The process then keeps at least its
+peak memory until it exits (heap fragmentation can add to it). The command line does
+this; a notebook user can call it too. Other C libraries (macOS, musl): nothing is done.
 """
 
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 
 # glibc malloc.h parameter numbers
 _M_TRIM_THRESHOLD = -1
@@ -27,13 +26,9 @@ _M_ARENA_MAX = -8
 def keep_freed_memory() -> bool:
     """Ask glibc to keep freed memory for reuse; True if it accepted (for the whole
     process, for good: not undone)."""
-    name = ctypes.util.find_library("c")
-    try:
-        libc = ctypes.CDLL(name) if name else None
-        mallopt = libc.mallopt if libc is not None else None
-    except (OSError, AttributeError):
-        return False
-    if mallopt is None:
+    try:  # the C library the interpreter is linked against (no ldconfig lookup)
+        mallopt = ctypes.CDLL(None).mallopt
+    except (OSError, AttributeError, TypeError):  # not glibc / not POSIX
         return False
     mallopt.argtypes = [ctypes.c_int, ctypes.c_int]
     return all(mallopt(p, v) == 1 for p, v in ((_M_MMAP_MAX, 0),

@@ -12,18 +12,21 @@ may use, at most MAX_THREADS; 1 turns the threads off).
 
 from __future__ import annotations
 
+import contextvars
 import os
 from collections.abc import Callable, Sequence
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor, wait
 
-from eigenupdate.errors import InputError
+import numpy as np
+
+from eigenupdate.errors import InputError, shorten
 
 MAX_THREADS = 4
 """More threads than this gain little: the triangular solves are memory-bound."""
 
 MIN_ROWS = 20_000
-"""Models with fewer coordinates are solved in one thread: each share of the work would
-take about a millisecond, not worth the hand-over."""
+"""Below this many coordinates the work of one solve is not shared out (each share would
+take about a millisecond); single background tasks (the Sturm count) still run beside."""
 
 _pool: ThreadPoolExecutor | None = None
 
@@ -33,9 +36,9 @@ def threads() -> int:
     MAX_THREADS)."""
     env = os.environ.get("EIGENUPDATE_THREADS", "").strip()
     if env:
-        if not (env.isascii() and env.isdigit()) or not 1 <= int(env) <= 256:
-            raise InputError(f"must be a whole number from 1 to 256, not {env!r}",
-                             field="EIGENUPDATE_THREADS")
+        if not (env.isascii() and env.isdigit() and len(env) <= 3) or not 1 <= int(env) <= 256:
+            raise InputError(f"must be a whole number from 1 to 256, not {shorten(env, 40)!r}",
+                             source="environment", field="EIGENUPDATE_THREADS")
         return int(env)
     try:
         cores = len(os.sched_getaffinity(0))
@@ -47,6 +50,12 @@ def threads() -> int:
 def _forget_pool() -> None:  # a forked child has none of the parent's threads
     global _pool
     _pool = None
+    for reset in _AFTER_FORK:
+        reset()
+
+
+_AFTER_FORK: list[Callable[[], None]] = []
+"""Resets other modules need in a forked child (a lock held by a thread that is gone)."""
 
 
 if hasattr(os, "register_at_fork"):
@@ -72,10 +81,18 @@ def in_background(f: Callable, *args) -> Future:
         done: Future = Future()
         try:
             done.set_result(f(*args))
-        except BaseException as exc:  # re-raised by result(), as a thread's would be
+        except Exception as exc:  # re-raised by result(), as a thread's would be
             done.set_exception(exc)
         return done
-    return _executor().submit(f, *args)
+    # NumPy's floating-point error handling and context variables (an output
+    # transaction) are per thread: the task runs with the caller's
+    settings, context = np.geterr(), contextvars.copy_context()
+
+    def task():
+        with np.errstate(**settings):
+            return f(*args)
+
+    return _executor().submit(context.run, task)
 
 
 def shares(rows: int) -> int:
@@ -97,7 +114,10 @@ def map_shares(f: Callable[[list], list], items: Sequence, rows: int) -> list:
     bounds = [len(items) * i // n for i in range(n + 1)]
     parts = [items[a:b] for a, b in zip(bounds[:-1], bounds[1:], strict=True)]
     pending = [in_background(f, p) for p in parts[1:]]
-    out = list(f(parts[0]))
+    try:
+        out = list(f(parts[0]))
+    finally:  # no share left running on shared data once this returns or raises
+        wait(pending)
     for p in pending:
         out.extend(p.result())
     return out

@@ -28,8 +28,8 @@ of the mode at most rho/delta (Kato-Temple, Davis-Kahan). The bare modes are tru
 the eigen-solver's tolerance (residual 1e-10, second order in the eigenvalues). The
 Ritz values are also checked against interlacing: a positive semi-definite rank-k mass
 addition can only lower eigenvalue i, and not below bare eigenvalue i - k (a grounded
-spring: raise it, not above i + k). A configuration that fails gets one more Krylov
-level; if it still fails, the caller solves it by shift-invert Lanczos.
+spring: raise it, not above i + k). A configuration that fails gets EXTRA_LEVELS more
+Krylov levels; if it still fails, the caller solves it by shift-invert Lanczos.
 """
 
 from __future__ import annotations
@@ -162,7 +162,7 @@ class CertificateReport:
     ----------
     configurations : perturbed configurations solved (the bare structure not counted).
     passed : certified with the first Krylov subspace.
-    passed_extended : certified after one more Krylov level.
+    passed_extended : certified after EXTRA_LEVELS more Krylov levels.
     fallback : solved by shift-invert Lanczos instead (certificate failed twice, or
         more than MAX_ROWS rows, or a model too small for the subspace).
     max_eig_bound, max_vec_bound : largest certified bounds among those that passed.
@@ -310,13 +310,18 @@ class Blocks:
         MQT = self.MQT[:, :jk]
         C = np.zeros((ns, kb + jk, k))
         # classical Gram-Schmidt in the M inner product, twice. Against the bare modes
-        # only once after level 0: M Q_{j-1} is M-orthogonal to them, so A^-1 M Q_{j-1}
-        # holds only their residual's share (~1e-10), which one pass removes. The
-        # updates are BLAS products into W (beta = 1): no temporary of W's size.
+        # a second time only if the first pass removed a noticeable part: after level 0
+        # Q_{j-1} is M-orthogonal to them, so A^-1 M Q_{j-1} holds only their residual's
+        # share. The updates are BLAS products into W (beta = 1): no temporary of W's
+        # size (W and its column blocks are Fortran-contiguous, so dgemm writes in place).
+        size = np.sqrt(np.einsum("ij,ij->j", W, M @ W))
+        again = True
         for p in range(2):
-            if p == 0 or j == 0:
+            if p == 0 or again:
                 cp = Mphi.T @ W
-                blas.dgemm(-1.0, phi, cp, 1.0, W, overwrite_c=True)
+                again = bool(np.any(np.linalg.norm(cp, axis=0) > 1e-3 * size))
+                out = blas.dgemm(-1.0, phi, cp, 1.0, W, overwrite_c=True)
+                assert np.shares_memory(out, W)
                 C[:, :kb] += cp.T.reshape(ns, k, kb).transpose(0, 2, 1)
             if jk:
                 c_own = MQT @ WT.transpose(0, 2, 1)  # (ns, j k, k)

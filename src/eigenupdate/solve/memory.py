@@ -3,9 +3,10 @@
 Every update iteration allocates and frees the same large blocks: the LU factors of
 K - sigma M (SuperLU's own allocations), the Lanczos workspace, the Krylov blocks. By
 default glibc returns large freed blocks to the operating system, and each new one is
-page-faulted in again. On the 2-core virtual test machine that costs about 0.5 s of a
-1.3 s eigen-solve of the 103k benchmark frame (30,000 page faults); both the solve and
-an iteration get faster, the iteration more (benchmarks/README.md).
+page-faulted in again: on the 2-core virtual test machine about 30,000 page faults per
+eigen-solve of the 103k benchmark frame and 40,000-58,000 per update iteration; with
+the memory kept, none after the first. Both get faster; their ratio stays within the
+run-to-run spread (benchmarks/README.md).
 
 :func:`keep_freed_memory` tells glibc to serve large blocks from its heap and keep them
 (``mallopt``: no mmap, no trimming, one arena). The process then keeps at least its

@@ -605,8 +605,8 @@ class Family:
     and, for configurations that fail the certificate, one EXTRA_LEVELS wider, which
     continues the first one's Krylov sequence."""
 
-    def __init__(self, base: Base, rows: np.ndarray, blocks: Blocks | None, index: int):
-        self.base, self.rows = base, rows
+    def __init__(self, base: Base, blocks: Blocks | None, index: int):
+        self.base = base
         self._blocks, self._index = blocks, index
         self.first = None if blocks is None else blocks.subspace(index)
         self.wider: Subspace | None = None
@@ -654,4 +654,4 @@ def families(base: Base, keys: Sequence[tuple[int, ...]]) -> dict[tuple[int, ...
     n, kb = base.phi.shape
     fit = [k for k in keys if 2 * (kb + (LEVELS + EXTRA_LEVELS + 1) * len(k)) <= n]
     built = dict(zip(fit, _grown(base, [np.array(k) for k in fit], LEVELS), strict=True))
-    return {k: Family(base, np.array(k), *built.get(k, (None, 0))) for k in keys}
+    return {k: Family(base, *built.get(k, (None, 0))) for k in keys}

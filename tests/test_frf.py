@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from bounds import inverse_entry_error
 
 from eigenupdate.errors import InputError, SingularMatrixError
 from eigenupdate.model.beam import beam_model
@@ -132,10 +133,15 @@ def test_beam_reciprocity():
     model = paper_beam(0.076)
     f = np.linspace(5.0, 1600.0, 300)
     H = receptance(model, f, [11, 3, 12], [3, 11, 12], loss_factor=0.01)
-    # H[:, j, k] = x(outputs[j]) / F(inputs[k])
-    np.testing.assert_allclose(H[:, 0, 0], H[:, 1, 1], rtol=1e-10)  # 3<-11 == 11<-3
-    np.testing.assert_allclose(H[:, 2, 0], H[:, 1, 2], rtol=1e-10)  # rotation 12 <-> 11
-    np.testing.assert_allclose(H[:, 0, 2], H[:, 2, 1], rtol=1e-10)
+    # H[:, j, k] = x(outputs[j]) / F(inputs[k]), each from its own solve of the symmetric
+    # dynamic stiffness D: the two agree within two solves' error bound (tests/bounds.py;
+    # at 5 Hz the free beam's D has condition ~1e6, elsewhere it is far smaller)
+    K, M = configuration_matrices(model)
+    K, M = K.toarray(), M.toarray()
+    tol = np.array([2 * inverse_entry_error(K * (1 + 0.01j) - w(x) ** 2 * M)
+                    for x in f])
+    for a, b in (((0, 0), (1, 1)), ((2, 0), (1, 2)), ((0, 2), (2, 1))):  # 3<-11 == 11<-3 ...
+        assert np.all(np.abs(H[:, a[0], a[1]] - H[:, b[0], b[1]]) <= tol)
 
 
 def test_free_beam_low_frequency_rigid_body_asymptote():
@@ -202,7 +208,8 @@ def test_large_model_sparse_paths():
     Kd, Md = K.toarray(), M.toarray()
     for i in (17, 39):  # 700 and 1600 Hz
         x = np.linalg.solve(Kd * (1 + 0.01j) - w(f[i]) ** 2 * Md, np.eye(K.shape[0])[:, 0])
-        np.testing.assert_allclose(Hd[i], x[[0, 150]], rtol=1e-9)
+        D = Kd * (1 + 0.01j) - w(f[i]) ** 2 * Md
+        assert np.all(np.abs(Hd[i] - x[[0, 150]]) <= 2 * inverse_entry_error(D))
     # At 5 Hz the free beam's dynamic stiffness has condition ~ lambda_max / w^2 ~ 1e11:
     # any direct solve loses ~5 digits there (documented); the modal sum does not.
     np.testing.assert_allclose(Hd[0], ref[0], rtol=1e-4)

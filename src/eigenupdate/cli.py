@@ -26,7 +26,13 @@ from eigenupdate.design.montecarlo import montecarlo, study_setup
 from eigenupdate.design.montecarlo_io import write_montecarlo
 from eigenupdate.design.plan import design_plan
 from eigenupdate.design.plan_io import plan_study_text
-from eigenupdate.design.plan_report import design_doc, design_text
+from eigenupdate.design.plan_report import (
+    design_doc,
+    design_text,
+    validation_doc,
+    validation_text,
+)
+from eigenupdate.design.validate import validate_design
 from eigenupdate.errors import MAX_MESSAGE, EigenupdateWarning, InputError, NumericalError, shorten
 from eigenupdate.identify.weights import ESTIMATORS
 from eigenupdate.io.atomic import make_dir, transaction, write_text
@@ -171,6 +177,8 @@ def cmd_design(args) -> int:
     if study.design is None:
         raise InputError("the study has no [design] table", source=str(study.path),
                          field="design")
+    if args.validate is not None and args.validate < 2:
+        raise InputError(f"must be >= 2, got {args.validate}", field="--validate")
     ex = None
     if args.scheduler or args.workers:
         if args.workers is not None and args.workers < 1:
@@ -179,14 +187,24 @@ def cmd_design(args) -> int:
     try:
         res = design_plan(study.model, study.design, study.method, study.configurations[1:],
                           executor=ex)
+        val = None
+        if args.validate:
+            val = validate_design(study.model, study.design, res, study.method, args.validate,
+                                  study.max_iterations, study.tolerance, args.seed, ex)
     finally:
         if ex is not None:
             ex.close()
     write_text(args.output, plan_study_text(study.path, res.configurations, res.modes,
                                             args.output))
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
-    print(report.dumps(design_doc(res, initial)) if args.json
-          else design_text(res, initial, study.title))
+    if args.json:
+        doc = design_doc(res, initial)
+        if val is not None:
+            doc["validation"] = validation_doc(val)
+        print(report.dumps(doc))
+    else:
+        print(design_text(res, initial, study.title)
+              + (validation_text(val) if val is not None else ""))
     _progress(f"wrote the plan to {args.output}")
     return 0
 
@@ -428,6 +446,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="screen the candidates on this Dask scheduler (default: in this process)")
     s.add_argument("--workers", type=int,
                    help="screen the candidates on a local Dask cluster of this many processes")
+    s.add_argument("--validate", type=int, metavar="N",
+                   help="then run N virtual tests of the plan (truth drawn from the prior) and "
+                        "print predicted against empirical std")
+    s.add_argument("--seed", type=_seed, default=0, help="seed of the --validate trials")
     s.add_argument("--json", action="store_true")
     s.set_defaults(func=cmd_design)
 

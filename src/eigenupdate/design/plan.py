@@ -6,12 +6,13 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from eigenupdate.design.covariance import posterior_covariance
 from eigenupdate.design.criteria import criterion_value
+from eigenupdate.design.prior import PriorScorer, has_prior, predict, screen_draws
 from eigenupdate.design.screen import Screened, screen_candidates, screen_on
 from eigenupdate.design.search import PlanScorer, exhaustive, greedy_exchange
 from eigenupdate.design.spec import DesignSpec
@@ -35,6 +36,8 @@ class CandidateReport:
     relative_gap : smallest relative frequency gap of a used mode to its neighbours.
     order_kept : the used modes keep their order (mass-weighted MAC with the bare modes).
     admissible : every constraint is met.
+    exchange_risk : fraction of the prior's draws in which the candidate reorders a used
+        mode or brings it within min_relative_gap of another (None: not drawn).
     """
 
     configuration: Configuration
@@ -43,16 +46,30 @@ class CandidateReport:
     relative_gap: float
     order_kept: bool
     admissible: bool
+    exchange_risk: float | None = None
 
 
 @dataclass(frozen=True)
 class PlanSummary:
-    """Predicted accuracy of one plan (the bare structure is always part of it)."""
+    """Predicted accuracy of one plan (the bare structure is always part of it).
+
+    Attributes
+    ----------
+    std : the accuracy the plan is predicted to deliver: averaged over the prior's draws
+        (:mod:`eigenupdate.design.prior`) where they were made, else ``linear_std``.
+    linear_std : linearised posterior std at the prior mean.
+    std_error : Monte Carlo standard error of ``std`` (0 without draws).
+    gross_risk : fraction of the draws risking a gross error (None without draws).
+    criterion : the criterion of the covariance ``std`` comes from.
+    """
 
     label: str
     configurations: list[str]
     criterion: float
     std: dict[str, float]
+    linear_std: dict[str, float]
+    std_error: dict[str, float]
+    gross_risk: float | None
 
 
 @dataclass(frozen=True)
@@ -67,6 +84,8 @@ class DesignResult:
     swaps : exchanges the exchange passes made after the greedy selection.
     plans : the designed plan, the exhaustive optimum (if enumerable), the study's own plan
         (if any) and every admissible candidate at once.
+    draws : draws of the truth from the prior behind the criterion (0: prior mean only).
+    draw_seconds : what screening the candidates at the draws cost.
     """
 
     names: list[str]
@@ -77,6 +96,8 @@ class DesignResult:
     chosen: list[int]
     swaps: int
     plans: list[PlanSummary]
+    draws: int = 0
+    draw_seconds: float = 0.0
 
     @property
     def configurations(self) -> list[Configuration]:
@@ -177,33 +198,99 @@ def design_plan(model: ParametricModel, spec: DesignSpec, method: str,
 
     blocks = [block(s) for s in screened]
     scorer = PlanScorer(blocks, block(bare), prior, method, spec.criterion, names)
-    chosen, swaps = greedy_exchange(scorer, ok, spec.configurations)
-    if not np.isfinite(scorer.score(chosen)):
+    draws, seconds, pool = [], 0.0, []
+    if spec.prior_draws > 0 and has_prior(model):
+        pool = _shortlist(scorer, ok, spec.configurations)
+        own_at = list(range(len(cands), len(cands) + len(study_plan)))
+
+        def draw_scorer(b0: Screened, s: list[Screened]) -> PlanScorer:
+            return PlanScorer([block(x) for x in s], block(b0), prior, method,
+                              spec.criterion, names)
+
+        draws, seconds = screen_draws(
+            model, [cands[i] for i in pool] + list(study_plan), modes, spec.prior_draws, 0,
+            draw_scorer, screen_candidates, spec.min_relative_gap)
+        risk = np.mean([d.risk for d in draws], axis=0)
+        for k, i in enumerate(pool):
+            ok_now = bool(reports[i].admissible and risk[k] <= spec.max_exchange_risk)
+            reports[i] = replace(reports[i], exchange_risk=float(risk[k]), admissible=ok_now)
+        pool_of = {i: k for k, i in enumerate([*pool, *own_at])}
+        ok = [i for i in pool if reports[i].admissible]
+        if len(ok) < spec.configurations:
+            raise InputError(_refusal(reports, spec), field="design")
+        search = _Mapped(PriorScorer(draws, spec.criterion, names), pool_of)
+    else:
+        search = scorer
+    chosen, swaps = greedy_exchange(search, ok, spec.configurations)
+    if not np.isfinite(search.score(chosen)):
         raise InputError(
             f"no plan of {spec.configurations} configuration(s) found that determines the "
             f"{len(names)} parameters with modes {modes} (see 'eigenupdate check'); allow more "
             f"configurations, additions or modes, or give priors and use the bayesian method",
             field="design.configurations")
 
-    def summary(label: str, plan_blocks, configs) -> PlanSummary:
+    def summary(label: str, plan: list[int], configs) -> PlanSummary:
+        plan_blocks = [(blocks + [block(s) for s in own])[i] for i in plan]
         J = np.vstack([block(bare)[0], *(b[0] for b in plan_blocks)])
         w = np.concatenate([block(bare)[1], *(b[1] for b in plan_blocks)])
         cov = posterior_covariance(J, w, prior, method)
-        std = np.sqrt(np.diag(cov)) * scale
-        return PlanSummary(label, [c.name for c in configs],
-                           criterion_value(cov, spec.criterion, names),
-                           dict(zip(names, std.tolist(), strict=True)))
+        linear = np.sqrt(np.diag(cov)) * scale
+        std, err, risk, crit = linear, np.zeros_like(linear), None, criterion_value(
+            cov, spec.criterion, names)
+        if draws and all(i in search.index for i in plan):
+            at = [search.index[i] for i in plan]
+            pred = predict(search.scorer, at, scale, seconds)
+            std, err, risk = pred.std, pred.std_error, pred.gross_risk
+            crit = search.scorer.score(at)
+        named = lambda v: dict(zip(names, np.asarray(v).tolist(), strict=True))  # noqa: E731
+        return PlanSummary(label, [c.name for c in configs], crit, named(std), named(linear),
+                           named(err), risk)
 
-    plans = [summary("designed", [blocks[i] for i in chosen], [cands[i] for i in chosen])]
-    best = exhaustive(scorer, ok, spec.configurations)
+    own_idx = list(range(len(cands), len(cands) + len(study_plan)))
+    plans = [summary("designed", chosen, [cands[i] for i in chosen])]
+    best = exhaustive(search, ok, spec.configurations)
     if best is not None:
-        plans.append(summary("exhaustive optimum", [blocks[i] for i in best[0]],
-                             [cands[i] for i in best[0]]))
+        plans.append(summary("exhaustive optimum", best[0], [cands[i] for i in best[0]]))
     if study_plan:
-        plans.append(summary("study's plan", [block(s) for s in own], study_plan))
-    plans.append(summary("every admissible candidate", [blocks[i] for i in ok],
-                         [cands[i] for i in ok]))
-    return DesignResult(names, modes, method, spec.criterion, reports, chosen, swaps, plans)
+        plans.append(summary("study's plan", own_idx, study_plan))
+    plans.append(summary("every admissible candidate", ok, [cands[i] for i in ok]))
+    return DesignResult(names, modes, method, spec.criterion, reports, chosen, swaps, plans,
+                        len(draws), seconds)
+
+
+SHORTLIST = 40
+"""Most candidates screened again at every draw of the prior: the best single additions at
+the prior mean (each screening of a draw costs as much as the first one)."""
+
+
+def _shortlist(scorer: PlanScorer, ok: list[int], size: int) -> list[int]:
+    if len(ok) <= SHORTLIST:
+        return list(ok)
+    ranked = sorted(ok, key=lambda i: scorer.key([i]))
+    return sorted(ranked[:max(SHORTLIST, 4 * size)])
+
+
+@dataclass
+class _Mapped:
+    """A PriorScorer seen through the planner's candidate indices (draws screen only the
+    shortlist and the study's own configurations)."""
+
+    scorer: PriorScorer
+    index: dict[int, int]
+
+    @property
+    def prior(self) -> np.ndarray:
+        return self.scorer.prior
+
+    @property
+    def evaluations(self) -> int:
+        return self.scorer.evaluations
+
+    def score(self, plan) -> float:
+        return self.scorer.score([self.index[i] for i in plan])
+
+    def key(self, plan) -> tuple[float, float]:
+        return self.scorer.key([self.index[i] for i in plan])
 
 
 def _constraints(c: Configuration, s: Screened, f0: np.ndarray, sigma0: np.ndarray,

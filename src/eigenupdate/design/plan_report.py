@@ -13,9 +13,12 @@ def design_doc(r: DesignResult, initial: dict[str, float]) -> dict:
         "criterion": r.criterion if isinstance(r.criterion, str) else list(r.criterion),
         "modes": r.modes,
         "exchange_swaps": r.swaps,
+        "prior_draws": r.draws,
+        "prior_draw_seconds": r.draw_seconds,
         "chosen": [_candidate(r.candidates[i], r.modes) for i in r.chosen],
         "plans": [{"label": p.label, "configurations": p.configurations,
-                   "criterion": p.criterion, "std": p.std} for p in r.plans],
+                   "criterion": p.criterion, "std": p.std, "std_error": p.std_error,
+                   "linear_std": p.linear_std, "gross_risk": p.gross_risk} for p in r.plans],
         "initial": {n: initial[n] for n in r.names},
         "candidates": [_candidate(c, r.modes) for c in r.candidates],
     }
@@ -27,7 +30,8 @@ def _candidate(c, modes) -> dict:
                           for a in c.configuration.additions],
             "shifts_hz": dict(zip((str(k) for k in modes), c.shifts_hz, strict=True)),
             "shift_in_std": c.shift_in_std, "relative_gap": c.relative_gap,
-            "order_kept": c.order_kept, "admissible": c.admissible}
+            "order_kept": c.order_kept, "exchange_risk": c.exchange_risk,
+            "admissible": c.admissible}
 
 
 def design_text(r: DesignResult, initial: dict[str, float], title: str) -> str:
@@ -43,16 +47,82 @@ def design_text(r: DesignResult, initial: dict[str, float], title: str) -> str:
          "order kept"],
         [[c.configuration.name, *c.shifts_hz, c.shift_in_std, c.relative_gap,
           "yes" if c.order_kept else "no"] for c in chosen]))
-    lines += ["", "predicted std of the updated parameters:"]
+    if r.draws:
+        lines += ["", f"predicted std of the updated parameters, averaged over {r.draws} draws "
+                      f"of the truth from the prior ({r.draw_seconds:.1f} s), +- its Monte "
+                      f"Carlo error:"]
+    else:
+        lines += ["", "predicted std of the updated parameters (linearised at the prior mean; "
+                      "no draws: prior_draws = 0 or a parameter without a prior std):"]
     labels = [p.label for p in r.plans]
-    rows = [[n, initial[n], *[p.std[n] for p in r.plans]] for n in r.names]
+    rows = [[n, initial[n], *[_pm(p.std[n], p.std_error[n]) for p in r.plans]] for n in r.names]
     rows.append([f"criterion {crit}", None, *[p.criterion for p in r.plans]])
     rows.append(["perturbed configurations", None, *[len(p.configurations) for p in r.plans]])
+    if r.draws:
+        rows.append(["chance of a gross error", None,
+                     *[_pct(p.gross_risk) for p in r.plans]])
     lines.append(table(["parameter", "initial", *labels], rows))
+    if r.draws:
+        p = r.plans[0]
+        lines += ["", "designed plan: over the prior against linearised at the prior mean:"]
+        lines.append(table(["parameter", "over the prior", "at the prior mean", "ratio"],
+                           [[n, p.std[n], p.linear_std[n], p.std[n] / p.linear_std[n]]
+                            for n in r.names]))
+        lines.append("(a gross error: a draw in which a configuration reorders a used mode or "
+                     "brings it within min_relative_gap of another; 'design --validate N' "
+                     "measures it and non-convergence by Monte Carlo)")
     rejected = [c for c in r.candidates if not c.admissible]
     if rejected:
         lines += ["", "rejected candidates:"]
-        lines.append(table(["configuration", "max shift/std", "min rel gap", "order kept"],
+        lines.append(table(["configuration", "max shift/std", "min rel gap", "order kept",
+                            "exchange risk"],
                            [[c.configuration.name, c.shift_in_std, c.relative_gap,
-                             "yes" if c.order_kept else "no"] for c in rejected]))
+                             "yes" if c.order_kept else "no", _pct(c.exchange_risk)]
+                            for c in rejected]))
     return "\n".join(lines)
+
+
+def validation_text(v) -> str:
+    """Predicted against empirical std of a :class:`~eigenupdate.design.validate.Validation`."""
+    t = v.montecarlo.trials
+    conv = sum(x["converged"] for x in t)
+    refused = sum(x["refused"] for x in t)
+    lines = ["", f"validation: {len(t)} virtual tests of the designed plan: {conv} converged, "
+                 f"{len(t) - conv - refused} not converged, {refused} refused "
+                 f"(predicted chance of a gross error {_pct(v.predicted_gross_risk)})"]
+    if v.empirical_std is None:
+        lines.append("too few converged trials for an empirical std")
+        return "\n".join(lines)
+    lines.append(table(
+        ["parameter", "predicted std", "+-", "empirical std", "empirical/predicted",
+         "at prior mean", "coverage 2 std"],
+        [[n, v.predicted_std[i], v.predicted_error[i], v.empirical_std[i],
+          v.empirical_std[i] / v.predicted_std[i], v.linear_std[i], v.coverage_2std[i]]
+         for i, n in enumerate(v.names)]))
+    return "\n".join(lines)
+
+
+def validation_doc(v) -> dict:
+    """JSON-ready per-parameter comparison of a Validation."""
+    t = v.montecarlo.trials
+    conv = int(sum(bool(x["converged"]) for x in t))
+    refused = int(sum(bool(x["refused"]) for x in t))
+    out = {"trials": len(t), "converged": conv, "not_converged": len(t) - conv - refused,
+           "refused": refused, "predicted_gross_risk": v.predicted_gross_risk,
+           "parameters": {}}
+    for i, n in enumerate(v.names):
+        out["parameters"][n] = {
+            "predicted_std": float(v.predicted_std[i]),
+            "predicted_std_error": float(v.predicted_error[i]),
+            "linear_std": float(v.linear_std[i]),
+            "empirical_std": None if v.empirical_std is None else float(v.empirical_std[i]),
+            "coverage_2std": None if v.coverage_2std is None else float(v.coverage_2std[i])}
+    return out
+
+
+def _pm(value: float, error: float) -> str:
+    return f"{value:.4g} +- {error:.2g}" if error else f"{value:.6g}"
+
+
+def _pct(x: float | None) -> str:
+    return "-" if x is None else f"{100 * x:.1f} %"

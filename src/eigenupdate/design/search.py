@@ -141,10 +141,12 @@ def greedy_exchange(scorer: PlanScorer, candidates: Sequence[int], size: int,
 def exhaustive(scorer: PlanScorer, candidates: Sequence[int], size: int
                ) -> tuple[list[int], float] | None:
     """The optimal plan by enumeration, or None when there are more than EXHAUSTIVE_LIMIT
-    plans or they would cost more than EXHAUSTIVE_FLOPS."""
+    plans or they would cost more than EXHAUSTIVE_FLOPS (a scorer averaging over draws of
+    the prior says how many covariances a plan costs in ``evaluations``)."""
     n_plans = math.comb(len(candidates), size)
     p = scorer.prior.size
-    if n_plans > EXHAUSTIVE_LIMIT or n_plans * float(p) ** 3 > EXHAUSTIVE_FLOPS:
+    per_plan = float(p) ** 3 * getattr(scorer, "evaluations", 1)  # draws of the prior
+    if n_plans > EXHAUSTIVE_LIMIT or n_plans * per_plan > EXHAUSTIVE_FLOPS:
         return None
     best, best_value = None, math.inf
     for plan in itertools.combinations(candidates, size):

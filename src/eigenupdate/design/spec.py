@@ -30,6 +30,11 @@ class DesignSpec:
     min_relative_gap : every used mode of a chosen configuration stays this far (relative,
         in frequency) from its neighbouring modes.
     max_added_mass : largest total mass added in one configuration, kg, or None.
+    prior_draws : draws of the truth from the prior over which the criterion and the
+        predicted accuracy are averaged (:mod:`eigenupdate.design.prior`); 0: judge at
+        the prior mean only (also when a parameter has no prior std).
+    max_exchange_risk : largest fraction of the draws in which a chosen candidate may
+        reorder a used mode or bring it within ``min_relative_gap`` of another.
     """
 
     coordinates: tuple[int, ...]
@@ -45,3 +50,5 @@ class DesignSpec:
     min_shift_in_std: float = 3.0
     min_relative_gap: float = 0.02
     max_added_mass: float | None = None
+    prior_draws: int = 64
+    max_exchange_risk: float = 0.05

@@ -631,9 +631,15 @@ def _design(r: _Reader, model: ParametricModel, model_type: str,
     if shift < 0 or not 0 <= gap < 1 or (limit is not None and limit <= 0):
         raise r.error("min_shift_in_std", "min_shift_in_std >= 0, 0 <= min_relative_gap < 1 and "
                                           "max_added_mass > 0 are required")
+    draws = r.get("prior_draws", "int", 64)
+    if not 0 <= draws <= 10_000:
+        raise r.error("prior_draws", f"must be from 0 to 10000, got {draws}")
+    risk = r.get("max_exchange_risk", "float", 0.05)
+    if not 0 <= risk <= 1:
+        raise r.error("max_exchange_risk", f"must be between 0 and 1, got {risk}")
     r.finish()
     return DesignSpec(
         coordinates=tuple(coords), masses=masses, stiffnesses=springs, configurations=n_conf,
         additions=additions, modes=modes, max_frequency_hz=fmax, frequency_std_hz=std_hz,
         frequency_std_relative=rel, criterion=criterion, min_shift_in_std=shift,
-        min_relative_gap=gap, max_added_mass=limit)
+        min_relative_gap=gap, max_added_mass=limit, prior_draws=draws, max_exchange_risk=risk)

@@ -497,6 +497,62 @@ def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Se
     return sec
 
 
+def _design_section(doc: dict, name: str) -> Section:
+    """The document of ``eigenupdate design --json`` (optionally with ``--validate``): the
+    plan with its shifts and mode gaps, the predicted accuracy per parameter (over the
+    prior, with its Monte Carlo error, and at the prior mean), and the validation."""
+    sec = Section("design", "Test design")
+    draws = doc.get("prior_draws", 0)
+    sec.paragraphs = [
+        f"From {name}: {len(doc['chosen'])} configuration(s) chosen by criterion "
+        f"{doc['criterion']} for the {doc['method']} estimator, modes "
+        f"{', '.join(map(str, doc['modes']))}. "
+        + (f"The predicted accuracy is averaged over {draws} draws of the truth from the "
+           f"prior ({doc.get('prior_draw_seconds', 0):.1f} s), with its Monte Carlo error; "
+           f"the linearised figure at the prior mean stands beside it."
+           if draws else "The predicted accuracy is linearised at the prior mean.")]
+    modes = [str(k) for k in doc["modes"]]
+    sec.blocks.append(_table(
+        "Designed plan: bare minus perturbed frequency of each used mode (Hz), the largest "
+        "shift in measurement std, the smallest relative gap of a used mode to its "
+        "neighbours, and the fraction of the prior's draws that reorder or crowd a used mode",
+        ["configuration", *[f"shift {k}" for k in modes], "shift / std", "min gap",
+         "order kept", "exchange risk"],
+        [[c["name"], *[c["shifts_hz"][k] for k in modes], c["shift_in_std"],
+          c["relative_gap"], c["order_kept"], c.get("exchange_risk")] for c in doc["chosen"]],
+        "design-plan"))
+    plan = doc["plans"][0]
+    names = list(plan["std"])
+    sec.blocks.append(_table(
+        "Predicted std of each updated parameter for the plans compared",
+        ["parameter", "initial", *[f"{p['label']}" for p in doc["plans"]],
+         "+- (designed)", "at prior mean (designed)"],
+        [[n, doc["initial"].get(n), *[p["std"][n] for p in doc["plans"]],
+          plan.get("std_error", {}).get(n), plan.get("linear_std", {}).get(n)]
+         for n in names]
+        + [["chance of a gross error", None, *[p.get("gross_risk") for p in doc["plans"]],
+            None, None]],
+        "design-accuracy"))
+    val = doc.get("validation")
+    if val:
+        sec.blocks.append(_table(
+            f"Validation: {val['trials']} virtual tests of the designed plan ("
+            f"{val['converged']} converged, {val['not_converged']} not converged, "
+            f"{val['refused']} refused): predicted against empirical std",
+            ["parameter", "predicted", "+-", "empirical", "empirical / predicted",
+             "at prior mean", "coverage 2 std"],
+            [[n, v["predicted_std"], v["predicted_std_error"], v["empirical_std"],
+              (v["empirical_std"] / v["predicted_std"]) if v["empirical_std"] is not None
+              else None, v["linear_std"], v["coverage_2std"]]
+             for n, v in val["parameters"].items()],
+            "design-validation"))
+    return sec
+
+
+def _is_design(doc: dict) -> bool:
+    return isinstance(doc, dict) and {"chosen", "plans", "modes", "method"} <= set(doc)
+
+
 def _summary_section(key: str, title: str, doc: dict, name: str) -> Section:
     """A JSON object rendered generically: scalars as one key/value table, a list of
     objects as a table (columns = their keys), an object of objects as a table (one row
@@ -598,7 +654,8 @@ def render_report(
               _comparison_section(study, doc, fitted, ext)):
         if s is not None:
             sections.append(s)
-    sections += [_summary_section(*s) for s in summaries]
+    sections += [_design_section(s[2], s[3]) if s[0] == "design" and _is_design(s[2])
+                 else _summary_section(*s) for s in summaries]
 
     files = [("study", study_path), ("result", result), ("extraction", extracted),
              ("design", design), ("Monte Carlo", montecarlo)]

@@ -28,6 +28,10 @@ EXHAUSTIVE_FLOPS = 2e10
 """Largest work (plans x p^3, one eigen-decomposition of the p x p information matrix
 per plan) spent on the exact optimum: about a minute; beyond, it is skipped."""
 
+EXHAUSTIVE_COVARIANCES = 200_000
+"""Largest number of covariances (plans x draws of the prior) the exact optimum may cost:
+each is a p x p eigen-decomposition and some Python, ~50 us (about 10 s in all)."""
+
 INFO_RTOL = 1e-13
 """The search scores plans through the information matrix J^T W J, whose round-off is
 about 1e-16 of its largest eigenvalue: a plan with an eigenvalue below this fraction of
@@ -141,12 +145,14 @@ def greedy_exchange(scorer: PlanScorer, candidates: Sequence[int], size: int,
 def exhaustive(scorer: PlanScorer, candidates: Sequence[int], size: int
                ) -> tuple[list[int], float] | None:
     """The optimal plan by enumeration, or None when there are more than EXHAUSTIVE_LIMIT
-    plans or they would cost more than EXHAUSTIVE_FLOPS (a scorer averaging over draws of
-    the prior says how many covariances a plan costs in ``evaluations``)."""
+    plans or they would cost more than EXHAUSTIVE_FLOPS or EXHAUSTIVE_COVARIANCES (a
+    scorer averaging over draws of the prior says how many covariances a plan costs in
+    ``evaluations``)."""
     n_plans = math.comb(len(candidates), size)
     p = scorer.prior.size
-    per_plan = float(p) ** 3 * getattr(scorer, "evaluations", 1)  # draws of the prior
-    if n_plans > EXHAUSTIVE_LIMIT or n_plans * per_plan > EXHAUSTIVE_FLOPS:
+    evaluations = n_plans * getattr(scorer, "evaluations", 1)  # one per draw of the prior
+    if (n_plans > EXHAUSTIVE_LIMIT or evaluations * float(p) ** 3 > EXHAUSTIVE_FLOPS
+            or evaluations > EXHAUSTIVE_COVARIANCES):
         return None
     best, best_value = None, math.inf
     for plan in itertools.combinations(candidates, size):

@@ -7,6 +7,7 @@ from __future__ import annotations
 import itertools
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 
@@ -209,7 +210,8 @@ def design_plan(model: ParametricModel, spec: DesignSpec, method: str,
 
         draws, seconds = screen_draws(
             model, [cands[i] for i in pool] + list(study_plan), modes, spec.prior_draws, 0,
-            draw_scorer, screen_candidates, spec.min_relative_gap)
+            draw_scorer, screen_candidates if executor is None else partial(screen_on, executor),
+            spec.min_relative_gap)
         risk = np.mean([d.risk for d in draws], axis=0)
         for k, i in enumerate(pool):
             ok_now = bool(reports[i].admissible and risk[k] <= spec.max_exchange_risk)
@@ -291,6 +293,10 @@ class _Mapped:
 
     def key(self, plan) -> tuple[float, float]:
         return self.scorer.key([self.index[i] for i in plan])
+
+    def keys_adding(self, plan, candidates) -> list[tuple[float, float]]:
+        return self.scorer.keys_adding([self.index[i] for i in plan],
+                                       [self.index[c] for c in candidates])
 
 
 def _constraints(c: Configuration, s: Screened, f0: np.ndarray, sigma0: np.ndarray,

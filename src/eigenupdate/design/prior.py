@@ -124,6 +124,17 @@ class PriorScorer:
         reg = criterion_value(self.covariance(plan, ridge=True), self.criterion, self.names)
         return self.score(plan), reg
 
+    def keys_adding(self, plan: Sequence[int], candidates: Sequence[int]
+                    ) -> list[tuple[float, float]]:
+        """:meth:`key` of ``plan`` plus each candidate: the A and named-parameter criteria
+        are linear in the covariance, so the draws' low-rank updates average."""
+        if self.criterion not in ("D", "E"):
+            terms = [d.scorer.variance_terms(plan, candidates) for d in self.draws]
+            if all(t is not None for t in terms):
+                v = self.draws[0].scorer._criterion_of_variances(np.mean(terms, axis=0))
+                return [(x, x) for x in v.tolist()]
+        return [self.key([*plan, c]) for c in candidates]
+
     def gross_risk(self, plan: Sequence[int]) -> float:
         """Fraction of the draws in which the bare structure or a configuration of the plan
         reorders a used mode or brings it too close to another."""

@@ -1,8 +1,9 @@
 """Screening of candidate configurations: perturbed eigenvalues, sensitivities and mode order.
 
-This is the one seam between the planner and the eigen-solver: a faster screening path
-(rank-one updates of the bare structure's factorisation on large sparse models) can replace
-:func:`screen_candidates` without touching the search.
+The planner's view of the one screening engine,
+:func:`eigenupdate.solve.screening.screen_configurations` (Rayleigh-Ritz on Krylov
+subspaces of the bare structure's factorisation on sparse models, certified, with Lanczos
+where the certificate fails; dense solves on small ones).
 """
 
 from __future__ import annotations
@@ -12,10 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from eigenupdate.model.configurations import BASE, Configuration
+from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
-from eigenupdate.solve.jacobian import solve_configurations
-from eigenupdate.solve.sensitivity import eigenvalue_derivatives
+from eigenupdate.solve.screening import screen_configurations
 
 
 @dataclass(frozen=True)
@@ -44,7 +44,7 @@ class Screened:
 def screen_candidates(
     model: ParametricModel, candidates: Sequence[Configuration], modes: Sequence[int]
 ) -> tuple[Screened, list[Screened]]:
-    """Screen the bare structure and each candidate configuration (direct solves).
+    """Screen the bare structure and each candidate configuration.
 
     Returns ``(bare, [candidate, ...])``.
 
@@ -61,23 +61,14 @@ def screen_candidates(
     >>> round(float(bare.eigenvalues[0]), 9), round(float(c.eigenvalues[0]), 9), c.order_kept
     (400.0, 200.0, True)
     """
-    modes = sorted(set(int(k) for k in modes))
-    upd = model.updated
-    kt = [model.k_terms[j] for j in upd]
-    mt = [model.m_terms[j] for j in upd]
-    configs = [Configuration(BASE), *candidates]
-    sols = solve_configurations(model, configs, modes[-1])
-    M = model.mass()
-    base_phi = sols[0].modes
-    out = []
-    for c, sol in zip(configs, sols, strict=True):
-        J = eigenvalue_derivatives(sol, modes, kt, mt, f"configuration {c.name!r}")
-        x = base_phi.T @ (M @ sol.modes)  # both mass-normalised: x_ij = correlation
-        mac = x**2 / np.outer(np.einsum("ij,ij->j", base_phi, M @ base_phi),
-                              np.einsum("ij,ij->j", sol.modes, M @ sol.modes))
-        kept = all(int(np.argmax(mac[:, k - 1])) == k - 1 for k in modes)
-        out.append(Screened(sol.eigenvalues, sol.next_eigenvalue, J, kept))
-    return out[0], out[1:]
+    s = screen_configurations(model, candidates, modes)
+
+    def nxt(v: float) -> float | None:
+        return None if np.isnan(v) else float(v)
+
+    bare = Screened(s.base_all_eigenvalues, nxt(s.base_next_eigenvalue), s.base_J, True)
+    return bare, [Screened(s.all_eigenvalues[i], nxt(s.next_eigenvalues[i]), s.J[i],
+                           bool(s.order_kept[i])) for i in range(len(candidates))]
 
 
 SCREEN_CHUNK = 16

@@ -65,6 +65,10 @@ class PlanScorer:
 
     def __post_init__(self) -> None:
         self._info = [self._block(J, w) for J, w in self.blocks]
+        # the candidates' weighted rows, stacked for the low-rank updates of keys_adding
+        rows = {J.shape[0] for J, _ in self.blocks}
+        self._U = (np.stack([(w[:, None] * J).T for J, w in self.blocks])
+                   if len(rows) == 1 and self.method != "least-squares" else None)
         h0, g0 = self._block(*self.base)
         prior = self.prior if self.method == "bayesian" else np.zeros_like(self.prior)
         self._h0, self._g0 = h0 + np.diag(prior**2), g0
@@ -95,6 +99,43 @@ class PlanScorer:
         """Criterion of a plan (``inf`` when it does not determine every parameter)."""
         return criterion_value(self.covariance(plan), self.criterion, self.names)
 
+    def variance_terms(self, plan: Sequence[int], candidates: Sequence[int]
+                       ) -> np.ndarray | None:
+        """Diagonal of the covariance of ``plan`` plus each one of ``candidates``, (N, p),
+        by the Woodbury identity on plan's information matrix H: adding the rows U of a
+        candidate, (H + U U^T)^-1 = H^-1 - A S^-1 A^T with A = H^-1 U, S = I + U^T A.
+        None where that does not apply (the sandwich of least squares, candidates of
+        different row counts, or an H that does not yet determine every parameter)."""
+        if self._U is None or not len(candidates):
+            return None
+        H = self._h0 + sum((self._info[i][0] for i in plan), np.zeros_like(self._h0))
+        lam, v = np.linalg.eigh(H)
+        if lam[-1] <= 0 or lam[0] <= 1e3 * INFO_RTOL * lam[-1]:
+            return None
+        Hinv = (v / lam) @ v.T
+        U = self._U[np.asarray(candidates)]
+        A = Hinv @ U
+        S = np.eye(U.shape[2]) + U.transpose(0, 2, 1) @ A
+        X = np.linalg.solve(S, A.transpose(0, 2, 1))  # S^-1 A^T, (N, r, p)
+        return np.diag(Hinv)[None, :] - np.einsum("npr,nrp->np", A, X)
+
+    def keys_adding(self, plan: Sequence[int], candidates: Sequence[int]
+                    ) -> list[tuple[float, float]]:
+        """:meth:`key` of ``plan`` plus each one of ``candidates``, by low-rank updates
+        where the criterion allows (A, or a list of parameters), else one by one."""
+        if self.criterion in ("D", "E"):
+            return [self.key([*plan, c]) for c in candidates]
+        var = self.variance_terms(plan, candidates)
+        if var is None:
+            return [self.key([*plan, c]) for c in candidates]
+        return [(v, v) for v in self._criterion_of_variances(var).tolist()]
+
+    def _criterion_of_variances(self, var: np.ndarray) -> np.ndarray:
+        if self.criterion == "A":
+            return var.sum(axis=1)
+        idx = [list(self.names).index(n) for n in self.criterion]
+        return var[:, idx].sum(axis=1)
+
     def key(self, plan: Sequence[int]) -> tuple[float, float]:
         """Exact criterion, then the ridge-regularised one (which ranks undetermined plans)."""
         reg = criterion_value(self.covariance(plan, self._ridge), self.criterion, self.names)
@@ -121,21 +162,27 @@ def greedy_exchange(scorer: PlanScorer, candidates: Sequence[int], size: int,
     """
     plan: list[int] = []
     pool = list(candidates)
+    adding = getattr(scorer, "keys_adding", None) or (
+        lambda base, cands: [scorer.key([*base, c]) for c in cands])
     for _ in range(size):
-        best = min((c for c in pool if c not in plan), key=lambda c: scorer.key([*plan, c]))
-        plan.append(best)
+        free = [c for c in pool if c not in plan]
+        keys = adding(plan, free)
+        plan.append(free[min(range(len(free)), key=keys.__getitem__)])
     swaps = 0
     current = scorer.key(plan)
     for _ in range(max_passes):
         best_key, best_plan = current, None
+        free = [c for c in pool if c not in plan]
         for i in range(size):
-            for c in pool:
-                if c in plan:
-                    continue
-                trial = [*plan[:i], c, *plan[i + 1:]]
-                k = scorer.key(trial)
+            rest = [*plan[:i], *plan[i + 1:]]
+            for c, k in zip(free, adding(rest, free), strict=True):
                 if k < best_key:
-                    best_key, best_plan = k, trial
+                    # confirm with the exact criterion (the update's round-off must not
+                    # make a swap that is no improvement)
+                    trial = [*plan[:i], c, *plan[i + 1:]]
+                    exact = scorer.key(trial)
+                    if exact < best_key:
+                        best_key, best_plan = exact, trial
         if best_plan is None:
             break
         plan, current, swaps = best_plan, best_key, swaps + 1

@@ -12,7 +12,7 @@ which path gave it. Small models (dense path) are solved directly.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -26,8 +26,8 @@ from eigenupdate.solve.restricted import ProjectedTerms, RestrictedTerms
 from eigenupdate.solve.sensitivity import check_distinct
 
 CHUNK = 20
-"""Coordinates whose subspaces are built together (bounds the memory: each holds
-(levels + 1) vectors of the model's size)."""
+"""Row sets whose subspaces are built together (bounds the memory: each holds
+(levels + 1) vectors of the model's size per row)."""
 
 
 @dataclass(frozen=True)
@@ -36,7 +36,8 @@ class Screening:
 
     Attributes
     ----------
-    coordinates, masses : (N,) the candidates, in the order given.
+    coordinates, masses : (N,) the candidates, in the order given (single-mass
+        candidates of :func:`screen`; empty from :func:`screen_configurations`).
     modes : elastic mode numbers (1-based).
     eigenvalues : (N, modes) eigenvalues with the mass added, (rad/s)^2.
     J : (N, modes, parameters) d lambda / d s of the updated parameters, physical units.
@@ -45,6 +46,12 @@ class Screening:
         Lanczos, or the model is small enough for the dense solver).
     bound : (N,) certified bound on the relative eigenvalue error (NaN if not certified).
     base_eigenvalues : (modes,) of the bare structure; base_J : (modes, parameters).
+    all_eigenvalues : (N, max(modes)) elastic eigenvalues of modes 1..max(modes);
+        base_all_eigenvalues likewise for the bare structure.
+    next_eigenvalues : (N,) the next elastic eigenvalue above them (NaN: none computed);
+        base_next_eigenvalue likewise.
+    order_kept : (N,) every used mode correlates best (mass-weighted MAC) with the bare
+        structure's mode of the same number, so pairing modes by order stays valid.
     """
 
     coordinates: np.ndarray
@@ -57,6 +64,11 @@ class Screening:
     bound: np.ndarray
     base_eigenvalues: np.ndarray
     base_J: np.ndarray
+    all_eigenvalues: np.ndarray
+    base_all_eigenvalues: np.ndarray
+    next_eigenvalues: np.ndarray
+    base_next_eigenvalue: float
+    order_kept: np.ndarray
 
 
 def screen(
@@ -87,7 +99,6 @@ def screen(
     >>> s.eigenvalues.round(9).tolist(), s.J[:, 0, :].round(9).tolist()
     ([[200.0], [100.0]], [[-50.0, 0.25], [-12.5, 0.125]])
     """
-    modes, upd = modes_and_updated(model, modes, "modes")
     if len(candidates) == 0:
         raise InputError("no candidate to screen", field="candidates")
     coords = np.array([int(c) for c, _ in candidates])
@@ -98,26 +109,68 @@ def screen(
             configs.append(Configuration(f"candidate {i + 1}", (Addition(int(c), mass=m),)))
         except (InputError, NumericalError) as exc:
             raise type(exc)(str(exc), field=f"candidate {i + 1} ({c}, {m:g})") from None
+    return replace(screen_configurations(model, configs, modes, values),
+                   coordinates=coords, masses=masses)
+
+
+def screen_configurations(
+    model: ParametricModel,
+    configurations: Sequence[Configuration],
+    modes: Sequence[int],
+    values: Sequence[float] | None = None,
+) -> Screening:
+    """:class:`Screening` of any perturbed configurations (masses, rotary inertias,
+    grounded springs, several at once): the one screening engine of the planner.
+
+    On the sparse path the configurations perturbing the same rows share one Krylov
+    subspace (built CHUNK row sets at a time), solved without forming their modes; mode
+    order comes from the Ritz coefficients on the bare modes, which are the mass-weighted
+    correlations with them. Configurations of more than MAX_ROWS rows, or failing the
+    certificate, are solved by Lanczos on the base factorisation.
+    """
+    modes, upd = modes_and_updated(model, modes, "modes")
+    configs = list(configurations)
     terms = RestrictedTerms([model.k_terms[j] for j in upd], [model.m_terms[j] for j in upd])
     idx = np.asarray(modes) - 1
     n_modes = modes[-1]
     K, M = model.stiffness(values), model.mass(values)
-    lam = np.empty((len(configs), idx.size))
-    J = np.empty((len(configs), idx.size, upd.size))
-    bound = np.full(len(configs), np.nan)
+    N = len(configs)
+    lam = np.empty((N, idx.size))
+    lam_all = np.empty((N, n_modes))
+    nxt = np.full(N, np.nan)
+    kept = np.ones(N, bool)
+    J = np.empty((N, idx.size, upd.size))
+    bound = np.full(N, np.nan)
+    names = [model.names[j] for j in upd]
 
     def derivatives(sol, name):
         check_distinct(sol, modes, name)
         return sol.eigenvalues[idx], terms.derivatives(sol.modes[:, idx], sol.eigenvalues[idx])
 
+    def by_mac(base_modes, sol) -> bool:
+        x = base_modes.T @ (M @ sol.modes)
+        return all(int(np.argmax(x[:, k - 1] ** 2)) == k - 1 for k in modes)
+
+    def fill(i, sol, base_modes):
+        lam[i], J[i] = derivatives(sol, configs[i].name)
+        lam_all[i] = sol.eigenvalues[:n_modes]
+        nxt[i] = np.nan if sol.next_eigenvalue is None else sol.next_eigenvalue
+        kept[i] = by_mac(base_modes, sol)
+
+    def result(base_sol, base_lam, base_J) -> Screening:
+        empty = np.zeros(0)
+        return Screening(empty, empty, modes, lam, J, names, np.isfinite(bound), bound,
+                         base_lam, base_J, lam_all, base_sol.eigenvalues[:n_modes].copy(), nxt,
+                         np.nan if base_sol.next_eigenvalue is None
+                         else float(base_sol.next_eigenvalue), kept)
+
     if model.n <= DENSE_LIMIT:
         sols = solve_configurations(model, [Configuration("base"), *configs], n_modes, values,
                                     dense=True)
         base_lam, base_J = derivatives(sols[0], "the bare structure")
-        for i, (c, sol) in enumerate(zip(configs, sols[1:], strict=True)):
-            lam[i], J[i] = derivatives(sol, c.name)
-        return Screening(coords, masses, modes, lam, J, [model.names[j] for j in upd],
-                         np.isfinite(bound), bound, base_lam, base_J)
+        for i, sol in enumerate(sols[1:]):
+            fill(i, sol, sols[0].modes)
+        return result(sols[0], base_lam, base_J)
     try:
         base_op, base_sol = base_operator(K, M, n_modes)
     except (InputError, NumericalError) as exc:
@@ -125,31 +178,46 @@ def screen(
     base_lam, base_J = derivatives(base_sol, "the bare structure")
     base = perturbed.make_base(K, M, base_op, *base_sol.computed)
     projected = ProjectedTerms(terms, base.phi)
-    rows = np.empty(len(configs), dtype=int)
+    elastic = base_sol.n_rigid + np.arange(n_modes)  # bare elastic modes among base.phi's
+    groups: dict[tuple[int, ...], list[int]] = {}
+    rows_of = {}
     for i, c in enumerate(configs):
-        rows[i] = c.rows(model)[0]
-    unique = np.unique(rows)
-    for start in range(0, unique.size, CHUNK):
-        chunk = unique[start:start + CHUNK]
-        fams = perturbed.families(base, [(int(r),) for r in chunk])
-        for r in chunk:
-            members = np.flatnonzero(rows == r)
+        rows = c.rows(model)
+        key = tuple(np.unique(rows).tolist())
+        if not c.additions or len(key) > perturbed.MAX_ROWS:
+            sol = solve_one(model, K, M, c, n_modes, base_op, base_sol.n_rigid)
+            fill(i, sol, base_sol.modes)
+            continue
+        rows_of[i] = rows
+        groups.setdefault(key, []).append(i)
+    keys = list(groups)
+    for start in range(0, len(keys), CHUNK):
+        chunk = keys[start:start + CHUNK]
+        fams = perturbed.families(base, chunk)
+        for key in chunk:
             done: dict[int, tuple] = {}  # id(subspace) -> (subspace, [(i, coefficients)])
-            for i in members:
-                res, sub = fams[(int(r),)].solve(np.array([r]), [0.0], [masses[i]], n_modes,
-                                                 vectors=False)
+            for i in groups[key]:
+                c = configs[i]
+                res, sub = fams[key].solve(rows_of[i], [a.stiffness for a in c.additions],
+                                           [a.mass for a in c.additions], n_modes,
+                                           vectors=False)
                 if res is not None and res.passed:
-                    check_distinct(res.solution, modes, configs[i].name)
+                    check_distinct(res.solution, modes, c.name)
                     lam[i] = res.solution.eigenvalues[idx]
+                    lam_all[i] = res.solution.eigenvalues[:n_modes]
+                    nxt[i] = (np.nan if res.solution.next_eigenvalue is None
+                              else res.solution.next_eigenvalue)
+                    on_bare = res.coefficients[elastic]  # phi_j^T M x_k
+                    kept[i] = all(int(np.argmax(on_bare[:, k - 1] ** 2)) == k - 1
+                                  for k in modes)
                     bound[i] = float(np.max(res.eig_bound))
                     done.setdefault(id(sub), (sub, []))[1].append((i, res.coefficients[:, idx]))
                 else:  # Lanczos on the base factorisation
-                    sol = solve_one(model, K, M, configs[i], n_modes, base_op, base_sol.n_rigid)
-                    lam[i], J[i] = derivatives(sol, configs[i].name)
+                    fill(i, solve_one(model, K, M, c, n_modes, base_op, base_sol.n_rigid),
+                         base_sol.modes)
             for sub, items in done.values():
                 ids = [i for i, _ in items]
                 d = projected.derivatives(sub.Q, np.hstack([c for _, c in items]),
                                           lam[ids].ravel())
                 J[ids] = d.reshape(len(ids), idx.size, -1)
-    return Screening(coords, masses, modes, lam, J, [model.names[j] for j in upd],
-                     np.isfinite(bound), bound, base_lam, base_J)
+    return result(base_sol, base_lam, base_J)

@@ -28,7 +28,7 @@ from eigenupdate.design.plan import design_plan
 from eigenupdate.design.plan_io import plan_study_text
 from eigenupdate.design.plan_report import design_doc, design_text
 from eigenupdate.errors import MAX_MESSAGE, EigenupdateWarning, InputError, NumericalError, shorten
-from eigenupdate.identify.weights import ESTIMATORS
+from eigenupdate.identify.weights import ESTIMATORS, OPTIMIZERS
 from eigenupdate.io.atomic import make_dir, transaction, write_text
 from eigenupdate.io.measurements import write_measurements
 from eigenupdate.io.nastran import save_updated_bdf
@@ -146,7 +146,8 @@ def cmd_update(args) -> int:
         raise InputError("needs a study whose [model] type is \"nastran\"", field="--save-bdf")
     _not_inputs({"--save": args.save, "--save-bdf": args.save_bdf},
                 study.inputs(measurements=True))
-    res = workflow.update_study(study, args.method)
+    res = workflow.update_study(study, args.method, args.optimizer,
+                                progress=lambda line: print(line, file=sys.stderr))
     doc = res.to_dict()
     kept = None
     if args.save and (res.converged or args.force or _unconverged_result(args.save)):
@@ -412,6 +413,8 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("update", help="update the parameters from the measured frequencies")
     s.add_argument("study")
     s.add_argument("--method", choices=ESTIMATORS)
+    s.add_argument("--optimizer", choices=OPTIMIZERS,
+                   help="default: the study's (trust-region unless it says gauss-newton)")
     s.add_argument("--json", action="store_true")
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
     s.add_argument("--save-bdf", metavar="UPDATED.bdf",

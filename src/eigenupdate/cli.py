@@ -27,7 +27,14 @@ from eigenupdate.design.montecarlo_io import write_montecarlo
 from eigenupdate.design.plan import design_plan
 from eigenupdate.design.plan_io import plan_study_text
 from eigenupdate.design.plan_report import design_doc, design_text
-from eigenupdate.errors import MAX_MESSAGE, EigenupdateWarning, InputError, NumericalError, shorten
+from eigenupdate.errors import (
+    MAX_MESSAGE,
+    EigenupdateWarning,
+    InputError,
+    NotConvergedError,
+    NumericalError,
+    shorten,
+)
 from eigenupdate.identify.weights import ESTIMATORS, OPTIMIZERS
 from eigenupdate.io.atomic import make_dir, transaction, write_text
 from eigenupdate.io.measurements import write_measurements
@@ -207,14 +214,22 @@ def cmd_montecarlo(args) -> int:
         where = repr(ex)
     wall = time.perf_counter() - start
     doc = {**res.summary(), "executor": where, "wall_time_s": wall}
+    ok, bad, refused = res.counts()
+    if refused == len(res.trials):  # nothing ran: the plan or its data are refused
+        raise InputError(doc["statistics_refused"], source=str(study.path))
     if args.output:
         write_montecarlo(res, args.output, study.title)
         write_text(Path(args.output) / "summary.json", report.dumps(doc) + "\n")
     if args.json:
         print(report.dumps(doc))
     else:
-        print(f"{study.title}: {doc['trials']} virtual tests ({doc['converged']} converged, "
-              f"{doc['refused_fraction']:.1%} refused), seed entropy {doc['seed_entropy']}")
+        print(f"{study.title}: {doc['trials']} virtual tests: {ok} converged, {bad} not "
+              f"converged, {refused} refused; seed entropy {doc['seed_entropy']}")
+    if doc["statistics_refused"] is not None:
+        _progress(f"{args.trials} trials in {wall:.1f} s ({where})")
+        raise NotConvergedError(f"no statistics: {doc['statistics_refused']}",
+                                field="--trials")
+    if not args.json:
         print(report.table(
             ["parameter", "bias", "empirical std", "predicted std", "emp/pred", "coverage 2 std"],
             [[n, p["bias"], p["empirical_std"], p["predicted_std"],

@@ -152,6 +152,40 @@ def test_a_refused_trial_step_is_halved_not_fatal(monkeypatch):
     assert res.status == 3 and res.nit == 1 and "trial step was refused" in res.message
 
 
+def test_trust_region_shrinks_on_a_refused_point_and_never_runs_away(monkeypatch):
+    import eigenupdate.identify.updating as updating
+
+    start = TRUTH.with_values(TRUTH.values * 1.05)
+    data = simulate(TRUTH, FIG2_CONFIGS, [1, 2, 3, 4])
+    calls = []
+
+    def refusing(model, configs, modes, values=None, **kw):
+        calls.append(values)
+        if len(calls) == 2:  # the first trial point
+            raise InputError("cannot separate rigid-body from elastic modes")
+        return linearise(model, configs, modes, values, **kw)
+
+    monkeypatch.setattr(updating, "linearise", refusing)
+    res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data)
+    assert res.converged and res.history[1].kind == Step.SHRUNK
+    np.testing.assert_allclose([res.parameters[n] for n in TRUTH.names], TRUTH.values, rtol=1e-6)
+
+    calls.clear()
+
+    def always(model, configs, modes, values=None, **kw):
+        calls.append(values)
+        if len(calls) > 1:  # every trial point
+            raise InputError("stiffness matrix is not positive semi-definite")
+        return linearise(model, configs, modes, values, **kw)
+
+    monkeypatch.setattr(updating, "linearise", always)
+    res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data, max_iterations=5)
+    # the region shrinks until SciPy stops (its xtol, or its evaluation limit of 4 per
+    # allowed iteration + 10): not converged, in SciPy's words and ours
+    assert not res.converged and res.nit == 0 and res.status in (0, 3)
+    assert "refused: stiffness matrix" in res.message and len(calls) <= 1 + 4 * 5 + 10
+
+
 def test_turning_trial_points_down_early_changes_no_iterate(monkeypatch):
     # the line search stops a trial point once the rows solved so far reach the current
     # objective (sparse path): the same iterates as evaluating every trial point fully

@@ -353,10 +353,11 @@ def update(
         return Iterate(i, dict(zip(model.names, full(z).tolist(), strict=True)), obj, step, kind)
 
     def report(p: _Point) -> IdentifiabilityReport:
-        lam, Jn = pairing.paired(p.lin.eigenvalues, p.lin.normalised, p.perm)
-        return identifiability(pairing.S @ Jn, p.lin.names,
-                               None if weights.rows is None else pairing.weights,
-                               weights.prior)
+        Jn = pairing.paired(p.lin.eigenvalues, p.lin.normalised, p.perm)[1]
+        if weights.rows is None:  # unit weights; a cluster's sum weighs 1 / sqrt(size)
+            return identifiability(pairing.weights[:, None] * (pairing.S @ Jn), p.lin.names,
+                                   None, weights.prior)
+        return identifiability(pairing.S @ Jn, p.lin.names, pairing.weights, weights.prior)
 
     lower = FLOOR * z0  # 0 for parameters whose initial value is 0
     z = z0.copy()
@@ -415,9 +416,11 @@ def update(
         status, message, point = _gauss_newton(point, evaluate, attempt, stop_test, pairing,
                                                history, iterate, lower, max_iterations, say,
                                                t0)
+        success = status in (1, 2, 4)
     else:
-        status, message, point = _trust_region(point, evaluate, stop_test, pairing, history,
-                                               iterate, lower, max_iterations, say, t0)
+        status, message, point, success = _trust_region(point, evaluate, stop_test, pairing,
+                                                        history, iterate, lower,
+                                                        max_iterations, say, t0)
     nit = len(history) - 1
     z, lin = point.z, point.lin
 
@@ -427,9 +430,6 @@ def update(
     std = np.full(upd.size, np.nan) if cov is None else np.sqrt(np.maximum(np.diag(cov), 0.0))
     names = [model.names[j] for j in upd]
     lam_paired, J_paired = pairing.paired(lin.eigenvalues, lin.J, point.perm)
-    success = status in ((1, 2, 3, 4) if optimizer == "trust-region" else (1, 2, 4))
-    if optimizer == "trust-region" and status == -2:
-        success = message.startswith("converged")
     return UpdateResult(
         x=full(z)[upd],
         names=names,
@@ -497,20 +497,27 @@ def _trust_region(point, evaluate, stop_test, pairing, history, iterate, lower,
     """scipy.optimize.least_squares (trf) on the paired equations; our convergence
     tests and the iteration limit run in its callback at every accepted point."""
     state = {"point": point, "why": None, "t": time.perf_counter(), "rejected": 0,
-             "gn": None}
-    inf = np.full(point.f.size, np.inf)
+             "gn": None, "refused_since": 0}
+    def worse(cur):
+        # a refused or turned-down point: finite residuals far above the current ones,
+        # so that the step is rejected as one that raises the objective (SciPy 1.17's
+        # dogbox fails on a callback after non-finite residuals only)
+        return np.full(cur.f.size, np.sqrt(1e6 * (cur.obj + 1.0) / cur.f.size))
 
     def fun(z):
         cur = state["point"]
         if np.array_equal(z, cur.z):
-            return cur.f
+            # the region shrank to round-off: after refused points that is no convergence
+            return worse(cur) if state["refused_since"] else cur.f
         try:
             p = evaluate(z, above=cur.obj)
-        except (InputError, NumericalError):
+        except (InputError, NumericalError) as exc:
             p = None  # a point the eigen-solver refuses: the region shrinks
+            state["refused"] = str(exc)
+            state["refused_since"] += 1
         if p is None:
             state["rejected"] += 1
-            return inf
+            return worse(cur)
         if not p.obj < cur.obj:
             state["rejected"] += 1
         return p.f
@@ -530,7 +537,7 @@ def _trust_region(point, evaluate, stop_test, pairing, history, iterate, lower,
                 f"({kind.value}), largest change {np.max(np.abs(z - cur.z)):.2e}, "
                 f"{time.perf_counter() - state['t']:.1f} s (total "
                 f"{time.perf_counter() - t0:.1f} s)")
-            state.update(point=p, rejected=0, t=time.perf_counter(), gn=None)
+            state.update(point=p, rejected=0, t=time.perf_counter(), gn=None, refused_since=0)
         return p.A
 
     def callback(intermediate_result):  # SciPy passes the result under this name
@@ -546,7 +553,7 @@ def _trust_region(point, evaluate, stop_test, pairing, history, iterate, lower,
 
     stop = stop_test(point)
     if stop is not None:
-        return -2, f"{stop[1]} (at the initial point)", point
+        return -2, f"{stop[1]} (at the initial point)", point, True
     if np.any(point.z <= lower):  # trf starts strictly inside its bounds (as SciPy would)
         point = evaluate(np.where(point.z <= lower, lower + 1e-10 * np.maximum(1, lower),
                                   point.z))
@@ -554,10 +561,16 @@ def _trust_region(point, evaluate, stop_test, pairing, history, iterate, lower,
         state["point"] = point
     state["gn"] = _step(point.A, -point.f, point.z, lower)[0]
     res = least_squares(fun, point.z, jac=jac, bounds=(lower, np.inf), method=TR_METHOD,
-                        x_scale=1.0, max_nfev=10 * max_iterations + 10, callback=callback)
+                        x_scale=1.0, max_nfev=4 * max_iterations + 10, callback=callback)
     final = evaluate(res.x) if not np.array_equal(res.x, state["point"].z) else state["point"]
     message = res.message if state["why"] is None else f"{state['why']} ({res.message})"
-    return int(res.status), message, final
+    success = res.status in (1, 2, 3, 4) or message.startswith("converged")
+    if state["refused_since"] and res.status in (2, 3, 4):
+        success = False  # the region shrank on refused points only: no convergence
+        message += "; but every trial point since the last iterate was refused"
+    if state["refused_since"] or (res.status == 0 and state.get("refused")):
+        message += f" (a trial point was refused: {state['refused']})"
+    return int(res.status), message, final, success
 
 
 def _resolution(A: np.ndarray) -> np.ndarray | None:

@@ -169,6 +169,37 @@ def test_same_results_on_a_real_scheduler_and_two_worker_processes(tmp_path, run
             p.wait(timeout=30)
 
 
+def test_automatic_choice_keeps_a_small_study_in_process(tmp_path, run_cli):
+    # 20 trials of the beam take about a second here: no cluster is started, and the
+    # summary says which executor was chosen and why
+    code, out, err = run_cli("montecarlo", BEAM, "--trials", 20, "--seed", 11, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["executor"].startswith("in-process (automatic: 19 more tasks x ")
+    assert "automatic" in err
+    code, out2, _ = run_cli("montecarlo", BEAM, "--trials", 20, "--seed", 11, "--json",
+                            "--in-process")
+    a, b = json.loads(out2), doc
+    assert a["parameters"] == b["parameters"] and a["converged"] == b["converged"]
+
+
+@pytest.mark.slow
+def test_automatic_choice_starts_a_cluster_for_a_long_study(monkeypatch):
+    # with the threshold at 0 s the automatic executor sends the rest to a local cluster
+    # in batches: the same trials, bit for bit, as one process
+    import eigenupdate.design.executor as executor
+    from eigenupdate.design.executor import Automatic, InProcess
+
+    monkeypatch.setattr(executor, "PARALLEL_MIN_S", 0.0)
+    setup = _one_dof()
+    with Automatic(n_workers=2) as ex:
+        many = montecarlo(setup, 9, seed=5, executor=ex)
+        assert str(ex).startswith("local Dask cluster of 2 workers")
+    one = montecarlo(setup, 9, seed=5, executor=InProcess())
+    for x, y in zip(one.trials, many.trials, strict=True):
+        assert all(np.array_equal(x[k], y[k]) for k in ("truth", "estimate", "std"))
+
+
 @pytest.mark.slow
 def test_same_results_on_a_local_cluster(tmp_path, run_cli):
     assert _csv(run_cli, tmp_path / "a", "--in-process") == _csv(run_cli, tmp_path / "b",

@@ -257,7 +257,8 @@ def update(
         the objective (with noisy data the iteration stalls at round-off otherwise),
         or when the next step is below PRECISION of every posterior std.
     source : file name for error messages.
-    progress : called with one line per iteration (objective, step, time).
+    progress : called with one line per iteration, "[i/max_iterations] iteration i: ..."
+        (objective, step, largest change, seconds).
     """
     if max_iterations < 1:
         raise InputError("max_iterations must be >= 1", field="updating.max_iterations")
@@ -393,7 +394,8 @@ def update(
     history = [iterate(0, z, point.obj, 0.0, Step.INITIAL)]
     say = progress or (lambda line: None)
     clusters = pairing.to_dict()["clusters"]
-    say(f"iteration 0: objective {point.obj:.6g}, {len(pairing.groups)} equations"
+    say(f"[0/{max_iterations}] iteration 0: objective {point.obj:.6g}, "
+        f"{len(pairing.groups)} equations"
         + (f", fitted through their sum: {clusters}" if clusters else "")
         + f", {time.perf_counter() - t0:.1f} s")
 
@@ -408,8 +410,9 @@ def update(
             status = 1 if largest < xtol else 2 if predicted <= ftol * p.obj else 4
             return status, (
                 f"converged: largest normalised step {largest:.1e}, predicted objective "
-                f"decrease {predicted / p.obj if p.obj else 0:.1e} relative, step "
-                f"{resolved:.1e} of the posterior std"), dz
+                f"decrease {predicted / p.obj if p.obj else 0:.1e} relative"
+                + (f", step {resolved:.1e} of the posterior std" if std is not None else "")
+            ), dz
         return None
 
     if optimizer == "gauss-newton":
@@ -486,7 +489,8 @@ def _gauss_newton(point, evaluate, attempt, stop_test, pairing, history, iterate
         point = trial
         pairing.accept(point.perm, point.pending, point.lin.shapes, it)
         history.append(iterate(it, point.z, point.obj, alpha, kind))
-        say(f"iteration {it}: objective {point.obj:.6g}, step {alpha:g} x Gauss-Newton "
+        say(f"[{it}/{max_iterations}] iteration {it}: objective {point.obj:.6g}, "
+            f"step {alpha:g} x Gauss-Newton "
             f"({kind.value}), largest change {np.max(np.abs(alpha * dz)):.2e}, "
             f"{time.perf_counter() - t:.1f} s (total {time.perf_counter() - t0:.1f} s)")
     return status, message, point
@@ -533,7 +537,8 @@ def _trust_region(point, evaluate, stop_test, pairing, history, iterate, lower,
                 and np.linalg.norm(gn) > 0 else 1.0
             kind = Step.SHRUNK if state["rejected"] else Step.TRUST
             history.append(iterate(it, z, p.obj, frac, kind))
-            say(f"iteration {it}: objective {p.obj:.6g}, step {frac:.3g} x Gauss-Newton "
+            say(f"[{it}/{max_iterations}] iteration {it}: objective {p.obj:.6g}, "
+                f"step {frac:.3g} x Gauss-Newton "
                 f"({kind.value}), largest change {np.max(np.abs(z - cur.z)):.2e}, "
                 f"{time.perf_counter() - state['t']:.1f} s (total "
                 f"{time.perf_counter() - t0:.1f} s)")

@@ -4,12 +4,16 @@ Each iteration linearises the model (Eq. 1, J delta s = delta lambda) and takes 
 in parameters normalised by their initial values (which scales them by their sizes). Two
 optimisers:
 
-* ``trust-region`` (default): ``scipy.optimize.least_squares`` (method ``trf``, a
-  trust-region reflective method) with the exact Fox-Kapoor Jacobian as ``jac`` and the
-  bounds below; SciPy's implementation rather than our own, so that its step control and
-  its stopping reasons (status codes and words, reported as they are) are the library's.
-  Every residual is an eigen-solution of all configurations: the linearisation gives the
-  residual and J together, so ``fun`` and ``jac`` at the same point cost one solve.
+* ``trust-region`` (default): ``scipy.optimize.least_squares`` with the exact Fox-Kapoor
+  Jacobian as ``jac`` and the bounds below; SciPy's implementation rather than our own,
+  so that its step control and its stopping reasons (status codes and words, reported as
+  they are) are the library's. Method ``dogbox`` (a rectangular trust-region dogleg), not
+  ``trf``: trf's reflective scaling damps every step by the size of the gradient while
+  far from the optimum even with the bounds inactive (the weighted Fig. 2 fit from the
+  paper's start: 15 iterations with trf, 3 with dogbox, whose steps there are Gauss-
+  Newton's). Every residual is an eigen-solution of all configurations: the
+  linearisation gives the residual and J together, so ``fun`` and ``jac`` at the same
+  point cost one solve (:mod:`eigenupdate.identify.optimizers`).
 * ``gauss-newton``: the paper's plain iteration with the safeguards below; it reproduces
   Table 4's iterates exactly.
 
@@ -51,13 +55,19 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from enum import Enum
 
 import numpy as np
-from scipy.optimize import least_squares, lsq_linear
 
 from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.identify.identifiability import IdentifiabilityReport, identifiability
+from eigenupdate.identify.optimizers import (
+    Point,
+    Step,
+    gauss_newton,
+    gn_step,
+    resolution,
+    trust_region,
+)
 from eigenupdate.identify.pairing import Pairing
 from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.identify.weights import OPTIMIZERS, estimator_weights
@@ -68,12 +78,10 @@ from eigenupdate.solve.eigen import WarmStart
 from eigenupdate.solve.jacobian import Linearisation, Rejected, linearise
 from eigenupdate.solve.perturbed import CertificateReport
 
-MAX_HALVINGS = 30
 FLOOR = 1e-3
 """A parameter with a positive initial value may not fall below FLOOR times it."""
 PRECISION = 0.01
 """A next step below this fraction of every parameter's posterior std is converged."""
-TR_METHOD = "dogbox"
 
 STATUS_MESSAGES = {
     0: "iteration limit reached",
@@ -86,18 +94,6 @@ STATUS_MESSAGES = {
 for 1, 2 and 4). The ``trust-region`` optimiser reports SciPy's ``least_squares`` status
 and message (-2: stopped by our convergence test or iteration limit, named in the
 message; 0: evaluation limit; 1-4: SciPy's own convergence tests)."""
-
-
-class Step(Enum):
-    """How an iterate was reached; the value is the note the history prints."""
-
-    INITIAL = "initial"
-    FULL = "full step"
-    BOUNDED = "step bounded: a parameter would become non-physical"
-    HALVED = "step halved: objective rose"
-    FAILED = "line search failed"
-    TRUST = "trust-region step"
-    SHRUNK = "trust-region step after the region shrank"
 
 
 @dataclass(frozen=True)
@@ -213,19 +209,6 @@ class UpdateResult:
         }
 
 
-@dataclass
-class _Point:
-    """One evaluated parameter vector: its linearisation, pairing and equations."""
-
-    z: np.ndarray
-    lin: Linearisation
-    perm: np.ndarray
-    pending: list
-    f: np.ndarray  # weighted residuals (model - measured), then the prior rows
-    A: np.ndarray  # df/dz
-    obj: float
-
-
 def update(
     model: ParametricModel,
     configurations: Sequence[Configuration],
@@ -292,9 +275,9 @@ def update(
     warm = WarmStart()  # each linearisation starts the next one's eigen-solve
     index = {row: i for i, row in enumerate(rows)}
     pairing: Pairing | None = None
-    cache: dict[bytes, _Point] = {}
+    cache: dict[bytes, Point] = {}
 
-    def evaluate(z: np.ndarray, above: float | None = None) -> _Point | None:
+    def evaluate(z: np.ndarray, above: float | None = None) -> Point | None:
         """The linearisation at z, paired, and its objective; with ``above``, None as
         soon as the rows already solved give an objective of at least ``above``
         (under the current pairing; an estimate that only shortens steps)."""
@@ -331,15 +314,15 @@ def update(
         cache[key] = p
         return p
 
-    def paired(z: np.ndarray, lin: Linearisation) -> _Point:
+    def paired(z: np.ndarray, lin: Linearisation) -> Point:
         perm, pending = pairing.match(lin.shapes)
         lam, Jn = pairing.paired(lin.eigenvalues, lin.normalised, perm)
         r, Ar = pairing.equations(lam, Jn)
         f = np.concatenate([r, prior * (z - z0)])
         A = np.vstack([Ar, np.diag(prior)])
-        return _Point(z.copy(), lin, perm, pending, f, A, float(f @ f))
+        return Point(z.copy(), lin, perm, pending, f, A, float(f @ f))
 
-    def attempt(z: np.ndarray, obj: float, refused: list[str]) -> _Point | None:
+    def attempt(z: np.ndarray, obj: float, refused: list[str]) -> Point | None:
         """A trial point: evaluate(z), turned down as soon as its objective reaches
         ``obj``. A point the eigen-solver refuses (a density driven towards its floor
         leaves near-massless coordinates) is a step too long, not the end of the run:
@@ -353,7 +336,7 @@ def update(
     def iterate(i, z, obj, step, kind) -> Iterate:
         return Iterate(i, dict(zip(model.names, full(z).tolist(), strict=True)), obj, step, kind)
 
-    def report(p: _Point) -> IdentifiabilityReport:
+    def report(p: Point) -> IdentifiabilityReport:
         Jn = pairing.paired(p.lin.eigenvalues, p.lin.normalised, p.perm)[1]
         if weights.rows is None:  # unit weights; a cluster's sum weighs 1 / sqrt(size)
             return identifiability(pairing.weights[:, None] * (pairing.S @ Jn), p.lin.names,
@@ -399,12 +382,12 @@ def update(
         + (f", fitted through their sum: {clusters}" if clusters else "")
         + f", {time.perf_counter() - t0:.1f} s")
 
-    def stop_test(p: _Point) -> tuple[int, str, np.ndarray] | None:
+    def stop_test(p: Point) -> tuple[int, str, np.ndarray] | None:
         """(status, message, step) if the Gauss-Newton step at p says converged."""
-        dz = _step(p.A, -p.f, p.z, lower)[0]
+        dz = gn_step(p.A, -p.f, p.z, lower)[0]
         predicted = p.obj - float(np.sum((p.A @ dz + p.f) ** 2))
         largest = float(np.max(np.abs(dz)))
-        std = None if weights.rows is None else _resolution(p.A)
+        std = None if weights.rows is None else resolution(p.A)
         resolved = float(np.max(np.abs(dz) / std)) if std is not None else np.inf
         if largest < xtol or predicted <= ftol * p.obj or resolved < PRECISION:
             status = 1 if largest < xtol else 2 if predicted <= ftol * p.obj else 4
@@ -416,12 +399,12 @@ def update(
         return None
 
     if optimizer == "gauss-newton":
-        status, message, point = _gauss_newton(point, evaluate, attempt, stop_test, pairing,
+        status, message, point = gauss_newton(point, evaluate, attempt, stop_test, pairing,
                                                history, iterate, lower, max_iterations, say,
                                                t0)
         success = status in (1, 2, 4)
     else:
-        status, message, point, success = _trust_region(point, evaluate, stop_test, pairing,
+        status, message, point, success = trust_region(point, evaluate, stop_test, pairing,
                                                         history, iterate, lower,
                                                         max_iterations, say, t0)
     nit = len(history) - 1
@@ -459,143 +442,6 @@ def update(
         optimizer=optimizer,
         pairing=pairing.to_dict(),
     )
-
-
-def _gauss_newton(point, evaluate, attempt, stop_test, pairing, history, iterate, lower,
-                  max_iterations, say, t0):
-    """The paper's iteration: Gauss-Newton steps, bounded and halved when needed."""
-    status, message = 0, f"iteration limit ({max_iterations}) reached"
-    for it in range(1, max_iterations + 1):
-        t = time.perf_counter()
-        stop = stop_test(point)
-        if stop is not None:
-            status, message, _ = stop
-            break
-        dz, kind = _step(point.A, -point.f, point.z, lower)
-        alpha, refused = 1.0, []
-        trial = attempt(point.z + alpha * dz, point.obj, refused)
-        while (trial is None or not trial.obj < point.obj) and alpha > 0.5**MAX_HALVINGS:
-            alpha *= 0.5  # NaN is not lower
-            kind = Step.HALVED
-            trial = attempt(point.z + alpha * dz, point.obj, refused)
-        if trial is None or not trial.obj < point.obj:
-            status = 3
-            message = (
-                f"iteration {it}: no step along the Gauss-Newton direction lowers the objective"
-                + (f" (a trial step was refused: {refused[-1]})" if refused else "")
-            )
-            history.append(iterate(it, point.z, point.obj, 0.0, Step.FAILED))
-            break
-        point = trial
-        pairing.accept(point.perm, point.pending, point.lin.shapes, it)
-        history.append(iterate(it, point.z, point.obj, alpha, kind))
-        say(f"[{it}/{max_iterations}] iteration {it}: objective {point.obj:.6g}, "
-            f"step {alpha:g} x Gauss-Newton "
-            f"({kind.value}), largest change {np.max(np.abs(alpha * dz)):.2e}, "
-            f"{time.perf_counter() - t:.1f} s (total {time.perf_counter() - t0:.1f} s)")
-    return status, message, point
-
-
-def _trust_region(point, evaluate, stop_test, pairing, history, iterate, lower,
-                  max_iterations, say, t0):
-    """scipy.optimize.least_squares (trf) on the paired equations; our convergence
-    tests and the iteration limit run in its callback at every accepted point."""
-    state = {"point": point, "why": None, "t": time.perf_counter(), "rejected": 0,
-             "gn": None, "refused_since": 0}
-    def worse(cur):
-        # a refused or turned-down point: finite residuals far above the current ones,
-        # so that the step is rejected as one that raises the objective (SciPy 1.17's
-        # dogbox fails on a callback after non-finite residuals only)
-        return np.full(cur.f.size, np.sqrt(1e6 * (cur.obj + 1.0) / cur.f.size))
-
-    def fun(z):
-        cur = state["point"]
-        if np.array_equal(z, cur.z):
-            # the region shrank to round-off: after refused points that is no convergence
-            return worse(cur) if state["refused_since"] else cur.f
-        try:
-            p = evaluate(z, above=cur.obj)
-        except (InputError, NumericalError) as exc:
-            p = None  # a point the eigen-solver refuses: the region shrinks
-            state["refused"] = str(exc)
-            state["refused_since"] += 1
-        if p is None:
-            state["rejected"] += 1
-            return worse(cur)
-        if not p.obj < cur.obj:
-            state["rejected"] += 1
-        return p.f
-
-    def jac(z):
-        p = evaluate(z)
-        cur = state["point"]
-        if not np.array_equal(z, cur.z):  # an accepted step
-            it = len(history)
-            pairing.accept(p.perm, p.pending, p.lin.shapes, it)
-            gn = state["gn"]
-            frac = float(np.linalg.norm(z - cur.z) / np.linalg.norm(gn)) if gn is not None \
-                and np.linalg.norm(gn) > 0 else 1.0
-            kind = Step.SHRUNK if state["rejected"] else Step.TRUST
-            history.append(iterate(it, z, p.obj, frac, kind))
-            say(f"[{it}/{max_iterations}] iteration {it}: objective {p.obj:.6g}, "
-                f"step {frac:.3g} x Gauss-Newton "
-                f"({kind.value}), largest change {np.max(np.abs(z - cur.z)):.2e}, "
-                f"{time.perf_counter() - state['t']:.1f} s (total "
-                f"{time.perf_counter() - t0:.1f} s)")
-            state.update(point=p, rejected=0, t=time.perf_counter(), gn=None, refused_since=0)
-        return p.A
-
-    def callback(intermediate_result):  # SciPy passes the result under this name
-        p = state["point"]
-        stop = stop_test(p)
-        if stop is not None:
-            state["why"] = stop[1]
-            raise StopIteration
-        state["gn"] = _step(p.A, -p.f, p.z, lower)[0]
-        if len(history) - 1 >= max_iterations:
-            state["why"] = f"iteration limit ({max_iterations}) reached"
-            raise StopIteration
-
-    stop = stop_test(point)
-    if stop is not None:
-        return -2, f"{stop[1]} (at the initial point)", point, True
-    if np.any(point.z <= lower):  # trf starts strictly inside its bounds (as SciPy would)
-        point = evaluate(np.where(point.z <= lower, lower + 1e-10 * np.maximum(1, lower),
-                                  point.z))
-        pairing.accept(point.perm, point.pending, point.lin.shapes, 0)
-        state["point"] = point
-    state["gn"] = _step(point.A, -point.f, point.z, lower)[0]
-    res = least_squares(fun, point.z, jac=jac, bounds=(lower, np.inf), method=TR_METHOD,
-                        x_scale=1.0, max_nfev=4 * max_iterations + 10, callback=callback)
-    final = evaluate(res.x) if not np.array_equal(res.x, state["point"].z) else state["point"]
-    message = res.message if state["why"] is None else f"{state['why']} ({res.message})"
-    success = res.status in (1, 2, 3, 4) or message.startswith("converged")
-    if state["refused_since"] and res.status in (2, 3, 4):
-        success = False  # the region shrank on refused points only: no convergence
-        message += "; but every trial point since the last iterate was refused"
-    if state["refused_since"] or (res.status == 0 and state.get("refused")):
-        message += f" (a trial point was refused: {state['refused']})"
-    return int(res.status), message, final, success
-
-
-def _resolution(A: np.ndarray) -> np.ndarray | None:
-    """Posterior std of each normalised parameter from the weighted (by 1 / sigma) A;
-    None where undefined. Not for plain least squares: its variance would come from the
-    residual, which with error-free data is the very misfit the next step removes."""
-    s, vt = np.linalg.svd(A, full_matrices=False)[1:]
-    if s.size == 0 or s[-1] <= s[0] * 1e-12:
-        return None
-    return np.sqrt(np.sum((vt / s[:, None]) ** 2, axis=0))
-
-
-def _step(A, b, z, lower) -> tuple[np.ndarray, Step]:
-    """Gauss-Newton step; if it would make a parameter non-physical, the bounded
-    least-squares step instead (z + dz >= lower), so the direction stays a descent one."""
-    dz = np.linalg.lstsq(A, b, rcond=None)[0]
-    if np.all(z + dz >= lower):
-        return dz, Step.FULL
-    dz = lsq_linear(A, b, bounds=(lower - z, np.inf), method="bvls").x
-    return dz, Step.BOUNDED
 
 
 def _posterior_cov(report: IdentifiabilityReport, r: np.ndarray, method: str

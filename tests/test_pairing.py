@@ -11,6 +11,7 @@ from eigenupdate.identify.updating import update
 from eigenupdate.model.configurations import Configuration, mass_at
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+from eigenupdate.report.text import update_text
 from eigenupdate.solve.jacobian import linearise, solve_configurations
 
 CONFIGS = [Configuration("base")] + [mass_at(c, 0.15, f"at {c}") for c in (1, 2, 3, 4)]
@@ -65,6 +66,8 @@ def test_modes_that_swap_order_between_start_and_truth(optimizer, seed, swapped,
     assert any(n["kind"] == "cluster" and n["configuration"] == swapped
                for n in res.pairing["notes"])
     assert res.to_dict()["pairing"]["equations"] < len(res.rows)
+    text = update_text(res, dict(zip(start.names, start.values.tolist(), strict=True)), "")
+    assert f"({optimizer})" in text and "sum of their eigenvalues" in text
 
     # the old pairing, by order alone, from the same start: a wrong basin, far from both
     # the truth and a fit of the data

@@ -125,15 +125,14 @@ class Pairing:
             if len(g) > 1:
                 self.notes.append(PairingNote(
                     "cluster", self.rows[g[0]][0], tuple(self.rows[i][1] for i in g), 0,
-                    f"paired the other way round, the modes would move against each other "
-                    f"by no more than {KAPPA:g} x what the start model's error moves "
-                    f"adjacent modes (RMS {self.spread:.2%}): the data do not order these "
-                    f"modes; fitted through the sum of their eigenvalues"))
+                    f"the swapped pairing is as plausible (within {KAPPA:g} x the start's "
+                    f"spread of adjacent residuals, {self.spread:.2%}): fitted through the "
+                    f"sum of their eigenvalues"))
         for _, a, b in refused:
             self.notes.append(PairingNote(
                 "cluster refused", self.rows[a][0], (self.rows[a][1], self.rows[b][1]), 0,
-                "the data may not order these modes, but fitting their sum would leave the "
-                "plan rank-deficient or halve its redundancy: paired by order (tracked)"))
+                "ambiguous, but their sum would cost J its rank or half its redundancy: "
+                "paired by order, tracked"))
 
     @property
     def clustered(self) -> bool:
@@ -173,8 +172,7 @@ class Pairing:
                 now = [self.rows[perm[i]][1] for i in idx if perm[i] != self.perm[i]]
                 self.notes.append(PairingNote(
                     "re-paired", c, tuple(moved), iteration,
-                    f"tracked by MAC, modes {moved} of the previous iterate are now the "
-                    f"model's modes {now} in order of frequency"))
+                    f"tracked by MAC: now the model's modes {now} by frequency"))
         self.perm = perm
         if self._w is not None and shapes is not None:
             for (c, idx), phi in zip(self._block.items(), shapes, strict=True):

@@ -2,23 +2,30 @@
 process (the baseline, measured in the same run), and the check that both give the same
 trials bit for bit.
 
-    .venv/bin/python benchmarks/bench_montecarlo.py [--trials 500] [--workers N] [--seed S]
+    .venv/bin/python benchmarks/bench_montecarlo.py [--trials N | --seconds S] [--workers N]
+        [--seed S] [--json PATH]
+
+Without ``--trials`` the study is sized from a 20-trial pilot run in this process to take
+about ``--seconds`` (default 60) in one process. ``--json`` writes {"speedup", "workers",
+"t_inprocess", "identical", ...}. The cluster's start-up is timed apart from the study.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import time
 from pathlib import Path
 
 import numpy as np
 
-from eigenupdate.design.executor import DaskExecutor, InProcess
+from eigenupdate.design.executor import Automatic, DaskExecutor, InProcess
 from eigenupdate.design.montecarlo import montecarlo, study_setup
 from eigenupdate.io.study import load_study
 
 STUDY = Path(__file__).resolve().parents[1] / "examples" / "paper_beam" / "study.toml"
+PILOT = 20
 
 
 def _run(setup, trials, seed, executor):
@@ -29,25 +36,43 @@ def _run(setup, trials, seed, executor):
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--trials", type=int, default=500)
+    ap.add_argument("--trials", type=int, help="default: sized by --seconds")
+    ap.add_argument("--seconds", type=float, default=60.0,
+                    help="size the study to take about this long in one process")
     ap.add_argument("--workers", type=int, default=os.cpu_count())
     ap.add_argument("--seed", type=int, default=2026)
+    ap.add_argument("--json", metavar="PATH", help="also write the results to this JSON file")
     a = ap.parse_args()
     setup = study_setup(load_study(STUDY))
-    one, t_one = _run(setup, a.trials, a.seed, InProcess())
+    _, t_pilot = _run(setup, PILOT, a.seed + 1, InProcess())
+    trials = a.trials or max(PILOT, int(round(a.seconds / (t_pilot / PILOT))))
+    with Automatic(n_workers=a.workers) as auto:  # what the command line does by default
+        _, t_auto = _run(setup, PILOT, a.seed + 1, auto)
+        auto_choice = str(auto)
+    one, t_one = _run(setup, trials, a.seed, InProcess())
     start = time.perf_counter()
     with DaskExecutor(n_workers=a.workers) as ex:
         t_start = time.perf_counter() - start
-        many, t_many = _run(setup, a.trials, a.seed, ex)
+        many, t_many = _run(setup, trials, a.seed, ex)
     same = all(np.array_equal(x[k], y[k], equal_nan=True) and x["converged"] == y["converged"]
                for x, y in zip(one.trials, many.trials, strict=True)
                for k in ("truth", "estimate", "std"))
-    print(f"beam study, {a.trials} trials, {os.cpu_count()} cores "
-          f"(load average {os.getloadavg()[0]:.1f})")
+    load = os.getloadavg()[0]
+    print(f"beam study, {trials} trials (sized from a {PILOT}-trial pilot: {t_pilot:.2f} s), "
+          f"{os.cpu_count()} cores (load average {load:.1f})")
     print(f"  single process:              {t_one:8.2f} s  (baseline)")
-    print(f"  local cluster, {a.workers} workers:   {t_many:8.2f} s  ratio {t_one / t_many:.2f}x "
+    print(f"  local cluster, {a.workers} workers:   {t_many:8.2f} s  speed-up "
+          f"{t_one / t_many:.2f}x = {t_one / t_many / a.workers:.2f} x workers "
           f"(+ {t_start:.1f} s cluster start-up)")
     print(f"  same results bit for bit:    {same}")
+    print(f"  automatic choice, {PILOT} trials: {auto_choice}, {t_auto:.2f} s")
+    if a.json:
+        doc = {"speedup": t_one / t_many, "workers": a.workers, "t_inprocess": t_one,
+               "identical": bool(same), "trials": trials, "t_cluster": t_many,
+               "t_cluster_start": t_start, "cores": os.cpu_count(), "load_average": load,
+               "automatic_20_trials": {"choice": auto_choice, "seconds": t_auto}}
+        Path(a.json).write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
+        print(f"results written to {a.json}")
     if not same:
         raise SystemExit(1)
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from conftest import EXAMPLES
 
-from eigenupdate.design.montecarlo import TrialSetup, montecarlo
+from eigenupdate.design.montecarlo import MIN_CONVERGED, TrialSetup, montecarlo
 from eigenupdate.model.configurations import Configuration, mass_at
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
@@ -81,6 +81,54 @@ def test_refusals(tmp_path, run_cli):
     assert code == 2 and "--trials" in err
 
 
+def test_converged_not_converged_and_refused_are_counted_apart():
+    # one iteration cannot converge from a prior draw: statistics over no converged trial
+    # are refused with the reason, never NaN
+    from dataclasses import replace
+
+    r = montecarlo(replace(_one_dof(), max_iterations=1), 6, seed=2)
+    ok, bad, refused = r.counts()
+    assert (ok, bad, refused) == (0, 6, 0)
+    s = r.summary()
+    assert s["parameters"] == {} and s["not_converged"] == 6 and s["refused"] == 0
+    assert f"at least {MIN_CONVERGED} converged" in s["statistics_refused"]
+    assert "iteration limit" in s["statistics_refused"]
+    # a plan the update refuses for every trial: rank 1 of J for 2 parameters
+    plain = replace(_one_dof(), configurations=(Configuration("base"),),
+                    method="weighted-least-squares")
+    r = montecarlo(plain, 3, seed=2)
+    assert r.counts() == (0, 0, 3)
+    assert "every one of the 3 trials was refused" in r.refusal()
+    assert "does not determine the parameters" in r.refusal()
+    # enough converged trials: statistics, and the counts add up
+    s = montecarlo(_one_dof(), MIN_CONVERGED, seed=2).summary()
+    assert s["statistics_refused"] is None and s["converged"] == MIN_CONVERGED
+    assert all(np.isfinite(p["empirical_std"]) for p in s["parameters"].values())
+
+
+def test_cli_says_why_there_are_no_statistics(tmp_path, run_cli):
+    text = (FIG2 / "study.toml").read_text()
+    short = tmp_path / "short.toml"
+    short.write_text(text.replace("max_iterations = 20", "max_iterations = 1"))
+    (tmp_path / "measured.csv").write_text((FIG2 / "measured.csv").read_text())
+    code, out, err = run_cli("montecarlo", short, "--trials", 3, "--seed", 1, "--truth",
+                             FIG2 / "truth.toml", "--in-process")
+    assert code == 1, err
+    assert "3 virtual tests: 0 converged, 3 not converged, 0 refused" in out
+    assert "no statistics" in err and "nan" not in (out + err).lower()
+    # every trial refused (no perturbation: rank 4 of J for 10 parameters): exit 2, one line
+    bare = tmp_path / "bare.toml"
+    head, rest = text.split("[[perturbation]]", 1)
+    bare.write_text(head + "[measurement]" + rest.split("[measurement]", 1)[1])
+    lines = (FIG2 / "measured.csv").read_text().splitlines()
+    (tmp_path / "measured.csv").write_text(
+        "\n".join([lines[0]] + [x for x in lines[1:] if x.startswith("base,")]) + "\n")
+    code, out, err = run_cli("montecarlo", bare, "--trials", 2, "--truth", FIG2 / "truth.toml",
+                             "--in-process")
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "every one of the 2 trials was refused" in err and "Traceback" not in err
+
+
 def _csv(run_cli, out, *extra):
     code, _, err = run_cli("montecarlo", BEAM, "--trials", 6, "--seed", 11, "-o", out, *extra)
     assert code == 0, err
@@ -119,6 +167,37 @@ def test_same_results_on_a_real_scheduler_and_two_worker_processes(tmp_path, run
         for p in reversed(procs):
             p.terminate()
             p.wait(timeout=30)
+
+
+def test_automatic_choice_keeps_a_small_study_in_process(tmp_path, run_cli):
+    # 20 trials of the beam take about a second here: no cluster is started, and the
+    # summary says which executor was chosen and why
+    code, out, err = run_cli("montecarlo", BEAM, "--trials", 20, "--seed", 11, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["executor"].startswith("in-process (automatic: 19 more tasks x ")
+    assert "automatic" in err
+    code, out2, _ = run_cli("montecarlo", BEAM, "--trials", 20, "--seed", 11, "--json",
+                            "--in-process")
+    a, b = json.loads(out2), doc
+    assert a["parameters"] == b["parameters"] and a["converged"] == b["converged"]
+
+
+@pytest.mark.slow
+def test_automatic_choice_starts_a_cluster_for_a_long_study(monkeypatch):
+    # with the threshold at 0 s the automatic executor sends the rest to a local cluster
+    # in batches: the same trials, bit for bit, as one process
+    import eigenupdate.design.executor as executor
+    from eigenupdate.design.executor import Automatic, InProcess
+
+    monkeypatch.setattr(executor, "PARALLEL_MIN_S", 0.0)
+    setup = _one_dof()
+    with Automatic(n_workers=2) as ex:
+        many = montecarlo(setup, 9, seed=5, executor=ex)
+        assert str(ex).startswith("local Dask cluster of 2 workers")
+    one = montecarlo(setup, 9, seed=5, executor=InProcess())
+    for x, y in zip(one.trials, many.trials, strict=True):
+        assert all(np.array_equal(x[k], y[k]) for k in ("truth", "estimate", "std"))
 
 
 @pytest.mark.slow

@@ -42,9 +42,10 @@ def test_table6_updated_parameters(result):
 
 def test_converges_in_about_four_iterations(result):
     # "The convergence ... is rapid and essentially complete after two or three iterations."
-    assert result.nit <= 6
+    # it stops once the next step is below 1 % of the posterior std (here after 2)
+    assert 2 <= result.nit <= 6 and "of the posterior std" in result.message
     h = result.history
-    assert h[3].parameters["EI2"] == pytest.approx(h[-1].parameters["EI2"], abs=0.5)
+    assert h[2].parameters["EI2"] == pytest.approx(h[-1].parameters["EI2"], abs=0.5)
 
 
 def test_table7_analytical_frequencies(result):

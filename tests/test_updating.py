@@ -9,7 +9,7 @@ from models import fig2, random_network
 
 from eigenupdate.errors import InputError
 from eigenupdate.identify.identifiability import check
-from eigenupdate.identify.updating import STATUS_MESSAGES, Step, update
+from eigenupdate.identify.updating import PRECISION, STATUS_MESSAGES, Step, update
 from eigenupdate.identify.weights import estimator_weights
 from eigenupdate.io.measurements import Measurement
 from eigenupdate.model.configurations import Configuration, mass_at
@@ -99,7 +99,8 @@ def test_far_start_is_safeguarded_and_recorded():
     f = np.array([0.54, 0.66, 1.37, 1.34, 1.3, 1.0, 1.8, 1.78, 1.39, 1.35])
     start = TRUTH.with_values(TRUTH.values * f)
     data = simulate(TRUTH, FIG2_CONFIGS, [1, 2, 3, 4])
-    res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data, max_iterations=60)
+    res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data, max_iterations=60,
+                 optimizer="gauss-newton")
     kinds = {h.kind for h in res.history}
     assert {Step.BOUNDED, Step.HALVED} <= kinds, kinds
     assert all(v > 0 for h in res.history for v in h.parameters.values())
@@ -107,6 +108,13 @@ def test_far_start_is_safeguarded_and_recorded():
     assert all(b <= a for a, b in zip(objectives, objectives[1:], strict=False))
     assert res.converged
     np.testing.assert_allclose([res.parameters[n] for n in TRUTH.names], TRUTH.values, rtol=1e-6)
+    # the trust-region default from the same start: bounds instead of bounded steps
+    tr = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data, max_iterations=60)
+    assert tr.converged and tr.optimizer == "trust-region", tr.message
+    assert all(v > 0 for h in tr.history for v in h.parameters.values())
+    objectives = [h.objective for h in tr.history]
+    assert all(b < a for a, b in zip(objectives, objectives[1:], strict=False))
+    np.testing.assert_allclose([tr.parameters[n] for n in TRUTH.names], TRUTH.values, rtol=1e-6)
 
 
 def test_a_refused_trial_step_is_halved_not_fatal(monkeypatch):
@@ -127,7 +135,7 @@ def test_a_refused_trial_step_is_halved_not_fatal(monkeypatch):
         return linearise(model, configs, modes, values, **kw)
 
     monkeypatch.setattr(updating, "linearise", refusing)
-    res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data)
+    res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data, optimizer="gauss-newton")
     assert res.converged and res.history[1].kind == Step.HALVED
     np.testing.assert_allclose([res.parameters[n] for n in TRUTH.names], TRUTH.values, rtol=1e-6)
 
@@ -140,8 +148,42 @@ def test_a_refused_trial_step_is_halved_not_fatal(monkeypatch):
         return linearise(model, configs, modes, values, **kw)
 
     monkeypatch.setattr(updating, "linearise", always)
-    res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data)
+    res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data, optimizer="gauss-newton")
     assert res.status == 3 and res.nit == 1 and "trial step was refused" in res.message
+
+
+def test_trust_region_shrinks_on_a_refused_point_and_never_runs_away(monkeypatch):
+    import eigenupdate.identify.updating as updating
+
+    start = TRUTH.with_values(TRUTH.values * 1.05)
+    data = simulate(TRUTH, FIG2_CONFIGS, [1, 2, 3, 4])
+    calls = []
+
+    def refusing(model, configs, modes, values=None, **kw):
+        calls.append(values)
+        if len(calls) == 2:  # the first trial point
+            raise InputError("cannot separate rigid-body from elastic modes")
+        return linearise(model, configs, modes, values, **kw)
+
+    monkeypatch.setattr(updating, "linearise", refusing)
+    res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data)
+    assert res.converged and res.history[1].kind == Step.SHRUNK
+    np.testing.assert_allclose([res.parameters[n] for n in TRUTH.names], TRUTH.values, rtol=1e-6)
+
+    calls.clear()
+
+    def always(model, configs, modes, values=None, **kw):
+        calls.append(values)
+        if len(calls) > 1:  # every trial point
+            raise InputError("stiffness matrix is not positive semi-definite")
+        return linearise(model, configs, modes, values, **kw)
+
+    monkeypatch.setattr(updating, "linearise", always)
+    res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data, max_iterations=5)
+    # the region shrinks until SciPy stops (its xtol, or its evaluation limit of 4 per
+    # allowed iteration + 10): not converged, in SciPy's words and ours
+    assert not res.converged and res.nit == 0 and res.status in (0, 3)
+    assert "refused: stiffness matrix" in res.message and len(calls) <= 1 + 4 * 5 + 10
 
 
 def test_turning_trial_points_down_early_changes_no_iterate(monkeypatch):
@@ -179,10 +221,10 @@ def test_turning_trial_points_down_early_changes_no_iterate(monkeypatch):
             raise
 
     monkeypatch.setattr(jacobian, "solve_on_base", counting)
-    early = update(start, configs, modes, data, max_iterations=60)
+    early = update(start, configs, modes, data, max_iterations=60, optimizer="gauss-newton")
     monkeypatch.setattr(updating, "linearise",
                         lambda *a, reject=None, **kw: linearise(*a, **kw))
-    full = update(start, configs, modes, data, max_iterations=60)
+    full = update(start, configs, modes, data, max_iterations=60, optimizer="gauss-newton")
     assert turned, [h.kind for h in early.history]  # some trial points turned down early
     assert [h.kind for h in early.history] == [h.kind for h in full.history]
     np.testing.assert_allclose([h.objective for h in early.history],
@@ -204,9 +246,18 @@ def test_fixed_parameters_are_not_updated():
 def test_result_in_optimize_result_shape():
     data = simulate(TRUTH, FIG2_CONFIGS, [1, 2, 3, 4], std_hz=0.01)
     res = update(fig2(), FIG2_CONFIGS, [1, 2, 3, 4], data, method="weighted-least-squares")
-    assert res.success and res.status in (1, 2) and res.status in STATUS_MESSAGES
+    # trust-region: SciPy's status, -2 when our convergence test stopped it (its words kept)
+    assert res.success and res.optimizer == "trust-region" and res.status in (-2, 1, 2, 3, 4)
+    assert "callback" in res.message and res.message.startswith("converged")
+    gn = update(fig2(), FIG2_CONFIGS, [1, 2, 3, 4], data, method="weighted-least-squares",
+                optimizer="gauss-newton")
+    assert gn.success and gn.status in (1, 2, 4) and gn.status in STATUS_MESSAGES
     assert res.names == TRUTH.names and res.nfev >= res.nit + 1
-    np.testing.assert_allclose(res.x, TRUTH.values, rtol=1e-8)
+    # error-free data with a stated std: it stops once the next (Gauss-Newton) step, which
+    # for zero residuals is the remaining error to first order, is below PRECISION of
+    # every posterior std
+    std = np.array([res.std[n] for n in res.names])
+    assert np.all(np.abs(res.x - TRUTH.values) <= 2 * PRECISION * std)
     assert res.x.tolist() == [res.parameters[n] for n in res.names]
     assert res.jac.shape == (16, 10) and res.cov.shape == (10, 10)
     np.testing.assert_allclose(np.sqrt(np.diag(res.cov)), [res.std[n] for n in res.names])

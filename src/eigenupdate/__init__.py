@@ -21,11 +21,13 @@ the true system bare and with 0.35 kg at coordinates 1, 2 and 4.
 >>> report = eu.check(model, plan, [1, 2, 3])
 >>> report.rank, report.identifiable
 (10, True)
->>> result = eu.update(model, plan, [1, 2, 3], measured)
->>> result.success, result.status, result.nit
+>>> result = eu.update(model, plan, [1, 2, 3], measured, optimizer="gauss-newton")
+>>> result.success, result.status, result.nit      # the paper's iteration, by name
 (True, 1, 4)
 >>> [round(h.parameters["k6"] / 1e6, 4) for h in result.history[1:]]   # Table 4
 [0.4673, 0.4984, 0.5, 0.5]
+>>> eu.update(model, plan, [1, 2, 3], measured).optimizer      # the default
+'trust-region'
 >>> {n: round(v, 4) for n, v in result.parameters.items() if n.startswith("m")}
 {'m1': 10.0, 'm2': 10.0, 'm3': 5.0, 'm4': 5.0}
 
@@ -43,7 +45,12 @@ from eigenupdate.errors import (
 )
 from eigenupdate.identify.identifiability import IdentifiabilityReport, check, identifiability
 from eigenupdate.identify.updating import STATUS_MESSAGES, Iterate, Step, UpdateResult, update
-from eigenupdate.identify.weights import ESTIMATORS, EstimatorWeights, estimator_weights
+from eigenupdate.identify.weights import (
+    ESTIMATORS,
+    OPTIMIZERS,
+    EstimatorWeights,
+    estimator_weights,
+)
 from eigenupdate.io.frf_csv import read_frf_csv, write_frf_csv
 from eigenupdate.io.matrix_market import read_matrix_model
 from eigenupdate.io.measurements import Measurement, read_measurements, write_measurements
@@ -87,8 +94,9 @@ __all__ = [
     "EigenSolution", "Linearisation", "MassSweep", "linearise", "mass_sweep", "receptance",
     "solve_configurations", "solve_elastic",
     # identify
-    "ESTIMATORS", "EstimatorWeights", "IdentifiabilityReport", "Iterate", "STATUS_MESSAGES",
-    "Step", "UpdateResult", "check", "estimator_weights", "identifiability", "update",
+    "ESTIMATORS", "OPTIMIZERS", "EstimatorWeights", "IdentifiabilityReport", "Iterate",
+    "STATUS_MESSAGES", "Step", "UpdateResult", "check", "estimator_weights", "identifiability",
+    "update",
     # measure
     "ExtractedMode", "FRF", "ModalFit", "NoResonance", "dobson_fit", "dobson_fit_modes",
     "extract_configuration", "rational_fraction_fit", "simulate_measurements", "synthetic_frfs",

@@ -33,8 +33,15 @@ from eigenupdate.design.plan_report import (
     validation_text,
 )
 from eigenupdate.design.validate import validate_design
-from eigenupdate.errors import MAX_MESSAGE, EigenupdateWarning, InputError, NumericalError, shorten
-from eigenupdate.identify.weights import ESTIMATORS
+from eigenupdate.errors import (
+    MAX_MESSAGE,
+    EigenupdateWarning,
+    InputError,
+    NotConvergedError,
+    NumericalError,
+    shorten,
+)
+from eigenupdate.identify.weights import ESTIMATORS, OPTIMIZERS
 from eigenupdate.io.atomic import make_dir, transaction, write_text
 from eigenupdate.io.measurements import write_measurements
 from eigenupdate.io.nastran import save_updated_bdf
@@ -152,7 +159,8 @@ def cmd_update(args) -> int:
         raise InputError("needs a study whose [model] type is \"nastran\"", field="--save-bdf")
     _not_inputs({"--save": args.save, "--save-bdf": args.save_bdf},
                 study.inputs(measurements=True))
-    res = workflow.update_study(study, args.method)
+    res = workflow.update_study(study, args.method, args.optimizer,
+                                progress=lambda line: print(line, file=sys.stderr))
     doc = res.to_dict()
     kept = None
     if args.save and (res.converged or args.force or _unconverged_result(args.save)):
@@ -224,14 +232,22 @@ def cmd_montecarlo(args) -> int:
         where = repr(ex)
     wall = time.perf_counter() - start
     doc = {**res.summary(), "executor": where, "wall_time_s": wall}
+    ok, bad, refused = res.counts()
+    if refused == len(res.trials):  # nothing ran: the plan or its data are refused
+        raise InputError(doc["statistics_refused"], source=str(study.path))
     if args.output:
         write_montecarlo(res, args.output, study.title)
         write_text(Path(args.output) / "summary.json", report.dumps(doc) + "\n")
     if args.json:
         print(report.dumps(doc))
     else:
-        print(f"{study.title}: {doc['trials']} virtual tests ({doc['converged']} converged, "
-              f"{doc['refused_fraction']:.1%} refused), seed entropy {doc['seed_entropy']}")
+        print(f"{study.title}: {doc['trials']} virtual tests: {ok} converged, {bad} not "
+              f"converged, {refused} refused; seed entropy {doc['seed_entropy']}")
+    if doc["statistics_refused"] is not None:
+        _progress(f"{args.trials} trials in {wall:.1f} s ({where})")
+        raise NotConvergedError(f"no statistics: {doc['statistics_refused']}",
+                                field="--trials")
+    if not args.json:
         print(report.table(
             ["parameter", "bias", "empirical std", "predicted std", "emp/pred", "coverage 2 std"],
             [[n, p["bias"], p["empirical_std"], p["predicted_std"],
@@ -430,6 +446,8 @@ def build_parser() -> argparse.ArgumentParser:
     s = sub.add_parser("update", help="update the parameters from the measured frequencies")
     s.add_argument("study")
     s.add_argument("--method", choices=ESTIMATORS)
+    s.add_argument("--optimizer", choices=OPTIMIZERS,
+                   help="default: the study's (trust-region unless it says gauss-newton)")
     s.add_argument("--json", action="store_true")
     s.add_argument("--save", metavar="RESULT.json", help="also write the result as JSON")
     s.add_argument("--save-bdf", metavar="UPDATED.bdf",

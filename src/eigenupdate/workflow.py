@@ -55,12 +55,15 @@ def check_study(study: Study, method: str | None = None) -> IdentifiabilityRepor
                  prior=w.prior)
 
 
-def update_study(study: Study, method: str | None = None) -> UpdateResult:
-    """The update with the study's measurements and settings (``eigenupdate update``)."""
+def update_study(study: Study, method: str | None = None, optimizer: str | None = None,
+                 progress: Callable[[str], None] | None = None) -> UpdateResult:
+    """The update with the study's measurements and settings (``eigenupdate update``);
+    ``progress`` gets one line per iteration."""
     return update(
         study.model, study.configurations, study.require_modes(), study.measurements(),
-        method=method or study.method, max_iterations=study.max_iterations,
-        xtol=study.tolerance, source=str(study.frequencies),
+        method=method or study.method, optimizer=optimizer or study.optimizer,
+        max_iterations=study.max_iterations, xtol=study.tolerance,
+        source=str(study.frequencies), progress=progress,
     )
 
 

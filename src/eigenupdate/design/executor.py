@@ -1,14 +1,19 @@
 """Where independent tasks run: in this process, or on a Dask cluster.
 
-Both map ``fn(item, shared)`` over ``items`` and return the results in the order of
+All map ``fn(item, shared)`` over ``items`` and return the results in the order of
 ``items``; ``shared`` (the model and plan) is sent to every Dask worker once (scatter with
-broadcast), not once per task. Each task carries its own seed, so results do not depend on
-the executor or on the order in which tasks finish.
+broadcast), not once per task, and the items go in batches (BATCHES_PER_WORKER per worker)
+so that each transfer carries enough work. Each task carries its own seed, so results do
+not depend on the executor or on the order in which tasks finish. :class:`Automatic` runs
+the first task here, and starts a local cluster for the rest only if the study would take
+long enough in this process to gain from one.
 """
 
 from __future__ import annotations
 
+import math
 import os
+import time
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -18,6 +23,19 @@ SCHEDULER_ENV = "EIGENUPDATE_SCHEDULER"
 """Environment variable with the address of an existing Dask scheduler (tcp://host:port)."""
 
 Progress = Callable[[int, int], None]
+
+BATCHES_PER_WORKER = 4
+"""Items go to Dask in this many batches per worker: few transfers, yet a slow batch
+cannot hold the others up for long."""
+
+PARALLEL_MIN_S = 30.0
+"""The automatic choice starts a local cluster only for studies estimated to take at least
+this long in this process (a local cluster takes a few seconds to start, its workers to
+import NumPy and SciPy and receive the model)."""
+
+
+def _batch(items: list, shared: Any, fn: Callable) -> list:
+    return [fn(x, shared) for x in items]
 
 
 class InProcess:
@@ -71,12 +89,21 @@ class DaskExecutor:
             ) -> list:
         from distributed import as_completed
 
+        items = list(items)
+        if not items:
+            return []
         [remote] = self.client.scatter([shared], broadcast=True)
-        futures = self.client.map(fn, list(items), [remote] * len(items), pure=False)
-        for i, _ in enumerate(as_completed(futures), 1):
+        workers = max(1, len(self.client.scheduler_info()["workers"]))
+        size = math.ceil(len(items) / (BATCHES_PER_WORKER * workers))
+        chunks = [items[i:i + size] for i in range(0, len(items), size)]
+        futures = self.client.map(_batch, chunks, [remote] * len(chunks),
+                                  [fn] * len(chunks), pure=False)
+        done = 0
+        for f in as_completed(futures):
+            done += len(chunks[futures.index(f)])
             if progress:
-                progress(i, len(futures))
-        return self.client.gather(futures)
+                progress(done, len(items))
+        return [r for chunk in self.client.gather(futures) for r in chunk]
 
     def close(self) -> None:
         self.client.close()
@@ -93,10 +120,63 @@ class DaskExecutor:
         return f"Dask at {self.client.scheduler.address}"
 
 
+class Automatic:
+    """In this process or on a local cluster, whichever the study's size calls for: the
+    first task runs here and is timed; the rest go to a local cluster of ``n_workers``
+    processes only if they would take at least PARALLEL_MIN_S here and there is more than
+    one core. ``str(self)`` says which it chose and why."""
+
+    def __init__(self, n_workers: int | None = None):
+        self.n_workers = n_workers or os.cpu_count() or 1
+        self.choice = "automatic: nothing run yet"
+        self._dask: DaskExecutor | None = None
+
+    def map(self, fn: Callable, shared: Any, items: Sequence, progress: Progress | None = None
+            ) -> list:
+        items = list(items)
+        if not items:
+            return []
+        t = time.perf_counter()
+        first = [fn(items[0], shared)]
+        per_task = time.perf_counter() - t
+        if progress:
+            progress(1, len(items))
+        rest = items[1:]
+        estimate = per_task * len(rest)
+        why = (f"{len(rest)} more tasks x {per_task:.2g} s = {estimate:.2g} s in this process"
+               f"{'' if self.n_workers > 1 else ', one core'}")
+        if self.n_workers < 2 or estimate < PARALLEL_MIN_S:
+            self.choice = f"in-process (automatic: {why}, below {PARALLEL_MIN_S:g} s)"
+            return first + InProcess().map(fn, shared, rest, progress and (
+                lambda i, n: progress(i + 1, n + 1)))
+        self._dask = DaskExecutor(n_workers=self.n_workers)
+        self.choice = (f"local Dask cluster of {self.n_workers} workers at "
+                       f"{self._dask.client.scheduler.address} (automatic: {why})")
+        return first + self._dask.map(fn, shared, rest, progress and (
+            lambda i, n: progress(i + 1, n + 1)))
+
+    def close(self) -> None:
+        if self._dask is not None:
+            self._dask.close()
+
+    def __enter__(self) -> Automatic:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def __repr__(self) -> str:
+        return self.choice
+
+
 def executor_for(scheduler: str | None = None, in_process: bool = False,
-                 n_workers: int | None = None) -> InProcess | DaskExecutor:
+                 n_workers: int | None = None) -> InProcess | DaskExecutor | Automatic:
     """The executor the command line asked for: ``in_process``, else the scheduler at
-    ``scheduler`` or ``$EIGENUPDATE_SCHEDULER``, else a local cluster."""
+    ``scheduler`` or ``$EIGENUPDATE_SCHEDULER``, else a local cluster of ``n_workers``
+    if given, else the :class:`Automatic` choice."""
     if in_process:
         return InProcess()
-    return DaskExecutor(scheduler or os.environ.get(SCHEDULER_ENV) or None, n_workers)
+    address = scheduler or os.environ.get(SCHEDULER_ENV) or None
+    if address is None and n_workers is None:
+        return Automatic()
+    return DaskExecutor(address, n_workers)

@@ -84,6 +84,11 @@ def _draw(model: ParametricModel, rng: np.random.Generator) -> np.ndarray:
     return values
 
 
+MIN_CONVERGED = 3
+"""Fewest converged trials the statistics are given over: with 2 the empirical std has
+one degree of freedom (a 90 % interval spanning a factor of 30), with 1 none at all."""
+
+
 @dataclass(frozen=True)
 class MonteCarloResult:
     """Trials and their summary.
@@ -101,21 +106,44 @@ class MonteCarloResult:
     predicted_std: np.ndarray
     entropy: int
 
+    def counts(self) -> tuple[int, int, int]:
+        """Trials converged, not converged (the update ran out of iterations or could not
+        lower the objective) and refused (the update refused the truth or its data)."""
+        refused = sum(bool(t["refused"]) for t in self.trials)
+        ok = sum(bool(t["converged"]) for t in self.trials)
+        return ok, len(self.trials) - ok - refused, refused
+
+    def refusal(self) -> str | None:
+        """Why the statistics are not given (None when they are)."""
+        ok, bad, refused = self.counts()
+        if ok >= MIN_CONVERGED:
+            return None
+        first = next((t["message"] for t in self.trials if t["refused"] or not t["converged"]),
+                     "")
+        if refused == len(self.trials):
+            return (f"every one of the {refused} trials was refused by the update, e.g.: "
+                    f"{first}")
+        return (f"statistics need at least {MIN_CONVERGED} converged trials, {ok} of "
+                f"{len(self.trials)} converged ({bad} not converged, {refused} refused), "
+                f"e.g.: {first}")
+
     def summary(self) -> dict:
         """Per parameter over the converged trials: bias, empirical std of the error,
-        predicted std, mean reported std, coverage of estimate +- 2 reported std."""
+        predicted std, mean reported std, coverage of estimate +- 2 reported std; none
+        (and ``statistics_refused`` says why) with fewer than MIN_CONVERGED."""
         ok = [t for t in self.trials if t["converged"]]
         n = len(self.trials)
-        doc = {"trials": n, "converged": len(ok),
-               "not_converged_fraction": sum(not t["converged"] and not t["refused"]
-                                             for t in self.trials) / n,
-               "refused_fraction": sum(t["refused"] for t in self.trials) / n,
+        _, bad, refused = self.counts()
+        doc = {"trials": n, "converged": len(ok), "not_converged": bad, "refused": refused,
+               "not_converged_fraction": bad / n, "refused_fraction": refused / n,
+               "minimum_converged": MIN_CONVERGED,
+               "statistics_refused": self.refusal(),
                "seed_entropy": self.entropy, "parameters": {}}
-        if not ok:
+        if doc["statistics_refused"] is not None:
             return doc
         err = np.array([t["estimate"] - t["truth"] for t in ok])
         rep = np.array([t["std"] for t in ok])
-        emp = err.std(axis=0, ddof=1) if len(ok) > 1 else np.full(len(self.names), np.nan)
+        emp = err.std(axis=0, ddof=1)
         with np.errstate(invalid="ignore"):
             cover = np.mean(np.abs(err) <= 2 * rep, axis=0)
         for i, name in enumerate(self.names):

@@ -1,7 +1,23 @@
 """Iterative updating of the parameters from measured eigenvalues.
 
-Each iteration linearises the model (Eq. 1, J delta s = delta lambda) and takes a
-Gauss-Newton step, in parameters normalised by their initial values:
+Each iteration linearises the model (Eq. 1, J delta s = delta lambda) and takes a step,
+in parameters normalised by their initial values (which scales them by their sizes). Two
+optimisers:
+
+* ``trust-region`` (default): ``scipy.optimize.least_squares`` with the exact Fox-Kapoor
+  Jacobian as ``jac`` and the bounds below; SciPy's implementation rather than our own,
+  so that its step control and its stopping reasons (status codes and words, reported as
+  they are) are the library's. Method ``dogbox`` (a rectangular trust-region dogleg), not
+  ``trf``: trf's reflective scaling damps every step by the size of the gradient while
+  far from the optimum even with the bounds inactive (the weighted Fig. 2 fit from the
+  paper's start: 15 iterations with trf, 3 with dogbox, whose steps there are Gauss-
+  Newton's). Every residual is an eigen-solution of all configurations: the
+  linearisation gives the residual and J together, so ``fun`` and ``jac`` at the same
+  point cost one solve (:mod:`eigenupdate.identify.optimizers`).
+* ``gauss-newton``: the paper's plain iteration with the safeguards below; it reproduces
+  Table 4's iterates exactly.
+
+Estimators:
 
 * ``least-squares``: minimise ||delta lambda - J delta s||^2 (paper Section 5);
 * ``weighted-least-squares``: weights W_lambda = diag(1 / sigma_lambda^2), with
@@ -17,26 +33,44 @@ The weights come from :mod:`eigenupdate.identify.weights`; the rank check before
 first step and the posterior covariance after the last come from the same SVD as
 ``eigenupdate check`` (:func:`eigenupdate.identify.identifiability.identifiability`).
 
-A step that would make a parameter non-physical is replaced by the bounded
-least-squares step (parameters stay above 1e-3 of their initial value, or >= 0 when
-that is 0); a step that raises the objective is halved until it lowers it. The history
-records both; a full step that lowers the objective is taken unchanged, so plain
-Gauss-Newton iterates (Table 4) are reproduced exactly.
+Parameters stay above 1e-3 of their initial value (>= 0 when that is 0): bounds of the
+trust-region method; in Gauss-Newton a step that would cross them is replaced by the
+bounded least-squares step, and a step that raises the objective is halved until it
+lowers it. The history records both; a full step that lowers the objective is taken
+unchanged, so plain Gauss-Newton iterates (Table 4) are reproduced exactly.
+
+Which model mode each measured frequency is fitted to, and through which equation (one
+per mode, or the sum over a cluster of modes the data cannot order), is
+:mod:`eigenupdate.identify.pairing`'s.
+
+Both optimisers stop when the Gauss-Newton step at an accepted point is below ``xtol``,
+when it would change no parameter by more than ``PRECISION`` of its posterior standard
+deviation (the data cannot resolve it), or when the decrease it predicts is below
+``ftol``: checked before the step's point is solved, so a converged fit costs no extra
+eigen-solution.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import time
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from enum import Enum
 
 import numpy as np
-from scipy.optimize import lsq_linear
 
 from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.identify.identifiability import IdentifiabilityReport, identifiability
+from eigenupdate.identify.optimizers import (
+    Point,
+    Step,
+    gauss_newton,
+    gn_step,
+    resolution,
+    trust_region,
+)
+from eigenupdate.identify.pairing import Pairing
 from eigenupdate.identify.plausibility import check_measured_frequencies
-from eigenupdate.identify.weights import estimator_weights
+from eigenupdate.identify.weights import OPTIMIZERS, estimator_weights
 from eigenupdate.io.measurements import Measurement, select, to_eigenvalue
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
@@ -44,27 +78,22 @@ from eigenupdate.solve.eigen import WarmStart
 from eigenupdate.solve.jacobian import Linearisation, Rejected, linearise
 from eigenupdate.solve.perturbed import CertificateReport
 
-MAX_HALVINGS = 30
 FLOOR = 1e-3
 """A parameter with a positive initial value may not fall below FLOOR times it."""
+PRECISION = 0.01
+"""A next step below this fraction of every parameter's posterior std is converged."""
 
 STATUS_MESSAGES = {
     0: "iteration limit reached",
     1: "converged: the largest normalised step is below xtol",
     2: "converged: the predicted relative objective decrease is below ftol",
     3: "stopped: no step along the Gauss-Newton direction lowers the objective",
+    4: "converged: the next step is below what the data resolve",
 }
-"""Meaning of :attr:`UpdateResult.status` (``success`` for 1 and 2)."""
-
-
-class Step(Enum):
-    """How an iterate was reached; the value is the note the history prints."""
-
-    INITIAL = "initial"
-    FULL = "full step"
-    BOUNDED = "step bounded: a parameter would become non-physical"
-    HALVED = "step halved: objective rose"
-    FAILED = "line search failed"
+"""Meaning of :attr:`UpdateResult.status` of the ``gauss-newton`` optimiser (``success``
+for 1, 2 and 4). The ``trust-region`` optimiser reports SciPy's ``least_squares`` status
+and message (-2: stopped by our convergence test or iteration limit, named in the
+message; 0: evaluation limit; 1-4: SciPy's own convergence tests)."""
 
 
 @dataclass(frozen=True)
@@ -114,6 +143,8 @@ class UpdateResult:
     solver : sparse models: what the perturbed-configuration fast path did over all
         linearisations (:meth:`eigenupdate.solve.perturbed.CertificateReport.as_dict`
         plus ``linearisations``); None on the dense path.
+    optimizer : ``trust-region`` or ``gauss-newton``.
+    pairing : equations, clusters and re-pairings (:meth:`Pairing.to_dict`).
     """
 
     x: np.ndarray
@@ -137,6 +168,8 @@ class UpdateResult:
     identifiability: IdentifiabilityReport = field(repr=False)
     model: ParametricModel = field(repr=False)
     solver: dict | None = field(default=None, repr=False)
+    optimizer: str = "trust-region"
+    pairing: dict | None = field(default=None, repr=False)
 
     @property
     def converged(self) -> bool:
@@ -146,6 +179,7 @@ class UpdateResult:
         """JSON-ready dictionary (``eigenupdate update --json`` and ``--save``)."""
         return {
             "method": self.method,
+            "optimizer": self.optimizer,
             "converged": self.success,
             "success": self.success,
             "status": self.status,
@@ -171,6 +205,7 @@ class UpdateResult:
                                            self.updated_hz, strict=True)
             ],
             **({"solver": self.solver} if self.solver is not None else {}),
+            **({"pairing": self.pairing} if self.pairing is not None else {}),
         }
 
 
@@ -181,10 +216,12 @@ def update(
     measurements: Mapping[tuple[str, int], Measurement],
     *,
     method: str = "least-squares",
+    optimizer: str = "trust-region",
     max_iterations: int = 20,
     xtol: float = 1e-8,
     ftol: float = 1e-10,
     source: str | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> UpdateResult:
     """Update the model's updated parameters from measured natural frequencies.
 
@@ -195,15 +232,22 @@ def update(
     modes : elastic mode numbers used in every configuration.
     measurements : {(configuration name, mode): Measurement}; frequencies in Hz.
     method : one of :data:`eigenupdate.identify.weights.ESTIMATORS`.
-    max_iterations : iteration limit.
+    optimizer : one of :data:`OPTIMIZERS`.
+    max_iterations : iteration limit (accepted steps).
     xtol : converged when the largest change of a normalised parameter s_j / s_j0 that
         the next step would make is below ``xtol``,
     ftol : or when the objective decrease the next step predicts is below ``ftol`` times
-        the objective (with noisy data the iteration stalls at round-off otherwise).
+        the objective (with noisy data the iteration stalls at round-off otherwise),
+        or when the next step is below PRECISION of every posterior std.
     source : file name for error messages.
+    progress : called with one line per iteration, "[i/max_iterations] iteration i: ..."
+        (objective, step, largest change, seconds).
     """
     if max_iterations < 1:
         raise InputError("max_iterations must be >= 1", field="updating.max_iterations")
+    if optimizer not in OPTIMIZERS:
+        raise InputError(f"unknown optimizer {optimizer!r}; expected one of {list(OPTIMIZERS)}",
+                         field="updating.optimizer")
     upd = model.updated
     if upd.size == 0:
         raise InputError("no parameter is updated (every parameter has update = false)",
@@ -214,6 +258,8 @@ def update(
     check_measured_frequencies(configurations, measurements, source=source)
     lam_meas = to_eigenvalue(f_meas)
     w = np.ones_like(lam_meas) if weights.rows is None else weights.rows
+    std_hz = np.array([measurements[r].std_hz or 0.0 for r in rows])
+    std_rel = 2 * std_hz / f_meas  # of lambda = (2 pi f)^2
 
     scale = np.array([model.parameters[j].scale for j in upd])
     z0 = model.values[upd] / scale
@@ -227,113 +273,159 @@ def update(
 
     solver, n_lin = CertificateReport(), [0]
     warm = WarmStart()  # each linearisation starts the next one's eigen-solve
-
     index = {row: i for i, row in enumerate(rows)}
+    pairing: Pairing | None = None
+    cache: dict[bytes, Point] = {}
 
-    def evaluate(z: np.ndarray, above: float | None = None) -> tuple[Linearisation, float]:
-        """The linearisation at z and its objective; with ``above``, (None, inf) as soon
-        as the rows already solved give an objective of at least ``above``."""
+    def evaluate(z: np.ndarray, above: float | None = None) -> Point | None:
+        """The linearisation at z, paired, and its objective; with ``above``, None as
+        soon as the rows already solved give an objective of at least ``above``
+        (under the current pairing; an estimate that only shortens steps)."""
         nonlocal nfev
+        key = z.tobytes()
+        if key in cache:
+            return cache[key]
         nfev += 1
         a = prior * (z - z0)
 
         def reject(known: dict[str, np.ndarray]) -> bool:
             part = float(a @ a)
-            for (name, k), i in index.items():
-                if name in known:
-                    part += float(w[i] * (lam_meas[i] - known[name][k - 1])) ** 2
+            for (name, _k), i in index.items():
+                j = pairing.perm[i]  # position of this row's tracked mode
+                if name in known and len(pairing.groups[pairing.group_of[i]]) == 1:
+                    part += float(w[i] * (lam_meas[i] - known[name][rows[j][1] - 1])) ** 2
             return part >= above
 
+        nonlocal pairing
         try:
             lin = linearise(model, configurations, modes, full(z), warm=warm,
-                            reject=None if above is None else reject)
+                            reject=None if above is None or pairing is None else reject)
         except Rejected:
-            return None, np.inf
+            return None
         if lin.certificate is not None:
             solver.merge(lin.certificate)
             n_lin[0] += 1
-        r = w * (lam_meas - lin.eigenvalues)
-        return lin, float(r @ r + a @ a)
+        if pairing is None:  # the start: which modes the data can order, which not
+            pairing = Pairing(rows, lam_meas, lin.eigenvalues, std_rel, w,
+                              None if lin.shapes is None else mass_diagonal)
+        p = paired(z, lin)
+        if len(cache) > 2:  # fun and jac at the same point: one solve; keep few (memory)
+            cache.pop(next(iter(cache)))
+        cache[key] = p
+        return p
 
-    def attempt(z: np.ndarray, obj: float, refused: list[str]):
-        """A trial point of the line search: evaluate(z), turned down as soon as its
-        objective reaches ``obj``. A point the eigen-solver refuses (a density driven
-        towards its floor leaves near-massless coordinates) is a step too long, not the
-        end of the run: (None, inf), the reason appended to ``refused``."""
+    def paired(z: np.ndarray, lin: Linearisation) -> Point:
+        perm, pending = pairing.match(lin.shapes)
+        lam, Jn = pairing.paired(lin.eigenvalues, lin.normalised, perm)
+        r, Ar = pairing.equations(lam, Jn)
+        f = np.concatenate([r, prior * (z - z0)])
+        A = np.vstack([Ar, np.diag(prior)])
+        return Point(z.copy(), lin, perm, pending, f, A, float(f @ f))
+
+    def attempt(z: np.ndarray, obj: float, refused: list[str]) -> Point | None:
+        """A trial point: evaluate(z), turned down as soon as its objective reaches
+        ``obj``. A point the eigen-solver refuses (a density driven towards its floor
+        leaves near-massless coordinates) is a step too long, not the end of the run:
+        None, the reason appended to ``refused``."""
         try:
             return evaluate(z, above=obj)
         except (InputError, NumericalError) as exc:
             refused.append(str(exc))
-            return None, np.inf
+            return None
 
     def iterate(i, z, obj, step, kind) -> Iterate:
         return Iterate(i, dict(zip(model.names, full(z).tolist(), strict=True)), obj, step, kind)
 
-    def report(lin: Linearisation) -> IdentifiabilityReport:
-        return identifiability(lin.normalised, lin.names, weights.rows, weights.prior)
+    def report(p: Point) -> IdentifiabilityReport:
+        Jn = pairing.paired(p.lin.eigenvalues, p.lin.normalised, p.perm)[1]
+        if weights.rows is None:  # unit weights; a cluster's sum weighs 1 / sqrt(size)
+            return identifiability(pairing.weights[:, None] * (pairing.S @ Jn), p.lin.names,
+                                   None, weights.prior)
+        return identifiability(pairing.S @ Jn, p.lin.names, pairing.weights, weights.prior)
 
     lower = FLOOR * z0  # 0 for parameters whose initial value is 0
     z = z0.copy()
-    lin, obj = evaluate(z)
-    lin0 = lin
-    plan = report(lin)
+    t0 = time.perf_counter()
+    mass_diagonal = np.asarray(model.mass().diagonal(), dtype=float)
+    point = evaluate(z)
+    lin0 = point.lin
+    if pairing.candidates:  # cluster the most ambiguous pairs first, while J keeps its rank
+        kept, refused = [], []
+        fewest = z.size + (len(rows) - z.size + 1) // 2  # keep half of the redundancy
+        for cand in pairing.candidates:
+            pairing.cluster([c[1:] for c in kept + [cand]])
+            ok = len(pairing.groups) >= fewest and report(paired(z, lin0)).identifiable
+            (kept if ok else refused).append(cand)
+        pairing.cluster([c[1:] for c in kept], refused)
+        point = paired(z, lin0)
+        cache.clear()
+        cache[z.tobytes()] = point
+    pairing.accept(point.perm, point.pending, point.lin.shapes, 0)
+    plan = report(point)
     if not plan.identifiable:
         # the minimum-norm step would leave the undetermined combinations at their initial
         # values and call that converged: a silently wrong answer
+        clusters = (f" ({len(pairing.groups)} equations: modes the data cannot order are "
+                    f"fitted through their sum)" if pairing.clustered else "")
         raise InputError(
             f"the test plan does not determine the parameters: rank {plan.rank} of J for "
-            f"{z.size} updated parameters (see 'eigenupdate check'); add perturbations or "
-            f"modes, hold parameters fixed, or give priors and use the bayesian method",
+            f"{z.size} updated parameters{clusters} (see 'eigenupdate check'); add "
+            f"perturbations or modes, hold parameters fixed, or give priors and use the "
+            f"bayesian method",
             field="perturbation / measurement.modes",
         )
-    history = [iterate(0, z, obj, 0.0, Step.INITIAL)]
-    status, message = 0, f"iteration limit ({max_iterations}) reached"
-    for it in range(1, max_iterations + 1):
-        A = np.vstack([w[:, None] * lin.normalised, np.diag(prior)])
-        b = np.concatenate([w * (lam_meas - lin.eigenvalues), prior * (z0 - z)])
-        dz, kind = _step(A, b, z, lower)
-        predicted = obj - float(np.sum((A @ dz - b) ** 2))  # decrease the linear model expects
-        largest = float(np.max(np.abs(dz)))
-        if largest < xtol or predicted <= ftol * obj:
-            status = 1 if largest < xtol else 2
-            message = (
-                f"converged: largest normalised step {largest:.1e}, "
-                f"predicted objective decrease {predicted / obj if obj else 0:.1e} relative"
-            )
-            break
-        alpha, refused = 1.0, []
-        trial, trial_obj = attempt(z + alpha * dz, obj, refused)
-        while not trial_obj < obj and alpha > 0.5**MAX_HALVINGS:  # NaN is not lower
-            alpha *= 0.5
-            kind = Step.HALVED
-            trial, trial_obj = attempt(z + alpha * dz, obj, refused)
-        if not trial_obj < obj:
-            status = 3
-            message = (
-                f"iteration {it}: no step along the Gauss-Newton direction lowers the objective"
-                + (f" (a trial step was refused: {refused[-1]})" if refused else "")
-            )
-            history.append(iterate(it, z, obj, 0.0, Step.FAILED))
-            break
-        z, lin, obj = z + alpha * dz, trial, trial_obj
-        history.append(iterate(it, z, obj, alpha, kind))
-    nit = len(history) - 1
+    history = [iterate(0, z, point.obj, 0.0, Step.INITIAL)]
+    say = progress or (lambda line: None)
+    clusters = pairing.to_dict()["clusters"]
+    say(f"[0/{max_iterations}] iteration 0: objective {point.obj:.6g}, "
+        f"{len(pairing.groups)} equations"
+        + (f", fitted through their sum: {clusters}" if clusters else "")
+        + f", {time.perf_counter() - t0:.1f} s")
 
-    final = report(lin)  # lin is always the linearisation at the current z
-    cov = _posterior_cov(final, lin, w, lam_meas, method)
+    def stop_test(p: Point) -> tuple[int, str, np.ndarray] | None:
+        """(status, message, step) if the Gauss-Newton step at p says converged."""
+        dz = gn_step(p.A, -p.f, p.z, lower)[0]
+        predicted = p.obj - float(np.sum((p.A @ dz + p.f) ** 2))
+        largest = float(np.max(np.abs(dz)))
+        std = None if weights.rows is None else resolution(p.A)
+        resolved = float(np.max(np.abs(dz) / std)) if std is not None else np.inf
+        if largest < xtol or predicted <= ftol * p.obj or resolved < PRECISION:
+            status = 1 if largest < xtol else 2 if predicted <= ftol * p.obj else 4
+            return status, (
+                f"converged: largest normalised step {largest:.1e}, predicted objective "
+                f"decrease {predicted / p.obj if p.obj else 0:.1e} relative"
+                + (f", step {resolved:.1e} of the posterior std" if std is not None else "")
+            ), dz
+        return None
+
+    if optimizer == "gauss-newton":
+        status, message, point = gauss_newton(point, evaluate, attempt, stop_test, pairing,
+                                               history, iterate, lower, max_iterations, say,
+                                               t0)
+        success = status in (1, 2, 4)
+    else:
+        status, message, point, success = trust_region(point, evaluate, stop_test, pairing,
+                                                        history, iterate, lower,
+                                                        max_iterations, say, t0)
+    nit = len(history) - 1
+    z, lin = point.z, point.lin
+
+    final = report(point)
+    cov = _posterior_cov(final, point.f[:len(pairing.groups)], method)
     cov = None if cov is None else cov * np.outer(scale, scale)
     std = np.full(upd.size, np.nan) if cov is None else np.sqrt(np.maximum(np.diag(cov), 0.0))
     names = [model.names[j] for j in upd]
+    lam_paired, J_paired = pairing.paired(lin.eigenvalues, lin.J, point.perm)
     return UpdateResult(
         x=full(z)[upd],
         names=names,
-        success=status in (1, 2),
+        success=bool(success),
         status=status,
         message=message,
         nit=nit,
         nfev=nfev,
-        cost=0.5 * obj,
-        jac=lin.J.copy(),
+        cost=0.5 * point.obj,
+        jac=J_paired.copy(),
         cov=cov,
         std={n: (None if not np.isfinite(s) else float(s)) for n, s in zip(names, std,
                                                                             strict=True)},
@@ -343,33 +435,25 @@ def update(
         rows=rows,
         measured_hz=f_meas,
         initial_hz=np.sqrt(lin0.eigenvalues) / (2 * np.pi),
-        updated_hz=np.sqrt(np.maximum(lin.eigenvalues, 0)) / (2 * np.pi),
+        updated_hz=np.sqrt(np.maximum(pairing.by_row(lam_paired), 0)) / (2 * np.pi),
         identifiability=final,
         model=model.with_values(full(z)),
         solver={**solver.as_dict(), "linearisations": n_lin[0]} if n_lin[0] else None,
+        optimizer=optimizer,
+        pairing=pairing.to_dict(),
     )
 
 
-def _step(A, b, z, lower) -> tuple[np.ndarray, Step]:
-    """Gauss-Newton step; if it would make a parameter non-physical, the bounded
-    least-squares step instead (z + dz >= lower), so the direction stays a descent one."""
-    dz = np.linalg.lstsq(A, b, rcond=None)[0]
-    if np.all(z + dz >= lower):
-        return dz, Step.FULL
-    dz = lsq_linear(A, b, bounds=(lower - z, np.inf), method="bvls").x
-    return dz, Step.BOUNDED
-
-
-def _posterior_cov(report: IdentifiabilityReport, lin: Linearisation, w: np.ndarray,
-                   lam_meas: np.ndarray, method: str) -> np.ndarray | None:
+def _posterior_cov(report: IdentifiabilityReport, r: np.ndarray, method: str
+                   ) -> np.ndarray | None:
     """Posterior covariance of the normalised parameters from the report's SVD; for plain
-    least squares scaled by the residual variance (None where undefined)."""
+    least squares scaled by the variance of the residuals ``r`` of the equations (None
+    where undefined)."""
     if report.cov is None:
         return None
     if method != "least-squares":
         return report.cov
-    dof = lin.J.shape[0] - lin.J.shape[1]
+    dof = r.size - report.cov.shape[0]
     if dof <= 0:
         return None
-    r = lam_meas - lin.eigenvalues
     return report.cov * float(r @ r) / dof

@@ -22,6 +22,8 @@ from eigenupdate.model.parametric import ParametricModel
 
 ESTIMATORS = ("least-squares", "weighted-least-squares", "bayesian")
 """The estimators :func:`eigenupdate.identify.updating.update` offers."""
+OPTIMIZERS = ("trust-region", "gauss-newton")
+"""Its optimisers (kept here with the estimators, which the study loader validates)."""
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,7 @@ from typing import Any
 
 from eigenupdate.design.spec import CRITERIA, DesignSpec
 from eigenupdate.errors import InputError
-from eigenupdate.identify.weights import ESTIMATORS
+from eigenupdate.identify.weights import ESTIMATORS, OPTIMIZERS
 from eigenupdate.io.matrix_market import read_matrix_model
 from eigenupdate.io.measurements import Measurement, read_measurements
 from eigenupdate.measure.frf import FRF_KINDS
@@ -43,6 +43,7 @@ class Study:
     modes: list[int]
     frequencies: Path | None = None
     method: str = "least-squares"
+    optimizer: str = "trust-region"
     max_iterations: int = 20
     tolerance: float = 1e-8
     frf: dict[str, list[Path]] = field(default_factory=dict)
@@ -229,6 +230,10 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
     method = up.get("method", "str", "least-squares")
     if method not in ESTIMATORS:
         raise up.error("method", f"unknown method {method!r}; expected one of {list(ESTIMATORS)}")
+    optimizer = up.get("optimizer", "str", "trust-region")
+    if optimizer not in OPTIMIZERS:
+        raise up.error("optimizer", f"unknown optimizer {optimizer!r}; expected one of "
+                                    f"{list(OPTIMIZERS)}")
     max_it = up.get("max_iterations", "int", 20)
     if not 1 <= max_it <= 10_000:
         raise up.error("max_iterations", f"must be 1 to 10000, got {max_it}")
@@ -249,6 +254,7 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
         modes=sorted(modes),
         frequencies=None if freq is None else path.parent / freq,
         method=method,
+        optimizer=optimizer,
         max_iterations=max_it,
         tolerance=tol,
         frf=frf,

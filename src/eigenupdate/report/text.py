@@ -76,7 +76,7 @@ def _sig3(x: float | None) -> str:
 
 
 def update_text(r: UpdateResult, initial: dict[str, float], title: str) -> str:
-    head = f"{title}: {r.method}, {r.message} after {r.nit} iteration(s)"
+    head = f"{title}: {r.method} ({r.optimizer}), {r.message} after {r.nit} iteration(s)"
     params = table(
         ["parameter", "initial", "updated", "std", "change %"],
         [[n, initial[n], v, _sig3(r.std.get(n)),
@@ -93,4 +93,10 @@ def update_text(r: UpdateResult, initial: dict[str, float], title: str) -> str:
          for (c, k), m, i, u in zip(r.rows, r.measured_hz, r.initial_hz, r.updated_hz,
                                     strict=True)],
     )
-    return "\n\n".join([head, params, steps, freqs])
+    notes = (r.pairing or {}).get("notes", [])
+    pairing = table(
+        ["pairing", "configuration", "modes", "iteration", "why"],
+        [[n["kind"], n["configuration"], ", ".join(map(str, n["modes"])), n["iteration"],
+          n["reason"]] for n in notes],
+    ) if notes else None
+    return "\n\n".join(x for x in [head, params, steps, freqs, pairing] if x)

@@ -47,6 +47,8 @@ class Linearisation:
     names : names of the updated parameters.
     certificate : sparse path: what the perturbed-configuration fast path did
         (:class:`eigenupdate.solve.perturbed.CertificateReport`); None on the dense path.
+    shapes : the used modes of each configuration, (n, modes) mass-normalised, in the
+        order of ``rows`` (to track mode identities from one linearisation to the next).
     """
 
     rows: list[tuple[str, int]]
@@ -55,6 +57,7 @@ class Linearisation:
     scale: np.ndarray
     names: list[str]
     certificate: CertificateReport | None = None
+    shapes: tuple[np.ndarray, ...] | None = None
 
     @property
     def normalised(self) -> np.ndarray:
@@ -233,6 +236,7 @@ def linearise(
                                 reject)
     idx = np.asarray(modes) - 1
     rows, lam, blocks = [], [], []
+    phi = tuple(s.modes if s.modes.shape[1] == idx.size else s.modes[:, idx] for s in sols)
     for c, sol in zip(configurations, sols, strict=True):
         if sparse:
             check_distinct(sol, modes, f"configuration {c.name!r}")
@@ -242,9 +246,7 @@ def linearise(
         lam.extend(sol.eigenvalues[idx])
         rows.extend((c.name, k) for k in modes)
     if sparse:  # all configurations' modes in one product per parameter
-        phi = [s.modes if s.modes.shape[1] == idx.size else s.modes[:, idx] for s in sols]
-        blocks = [terms.result().derivatives(phi, np.array(lam))]
+        blocks = [terms.result().derivatives(list(phi), np.array(lam))]
     scale = np.array([model.parameters[j].scale for j in upd])  # initial values, not current
-    return Linearisation(
-        rows, np.array(lam), np.vstack(blocks), scale, [model.names[j] for j in upd], report
-    )
+    return Linearisation(rows, np.array(lam), np.vstack(blocks), scale,
+                         [model.names[j] for j in upd], report, phi)

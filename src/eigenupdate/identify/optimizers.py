@@ -1,0 +1,188 @@
+"""The two optimisers of :func:`eigenupdate.identify.updating.update`, on the paired
+equations it builds (:mod:`eigenupdate.identify.pairing`).
+
+* :func:`trust_region`: ``scipy.optimize.least_squares`` with the exact Jacobian, method
+  ``dogbox`` (see :mod:`eigenupdate.identify.updating` for why not ``trf``); the
+  convergence tests and the iteration limit run in its callback at every accepted point;
+* :func:`gauss_newton`: the paper's iteration, bounded and halved steps.
+
+Both work on :class:`Point` (a linearisation, its pairing, residuals f and df/dz) given
+by the caller's ``evaluate``.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from enum import Enum
+
+import numpy as np
+from scipy.optimize import least_squares, lsq_linear
+
+from eigenupdate.errors import InputError, NumericalError
+from eigenupdate.solve.jacobian import Linearisation
+
+MAX_HALVINGS = 30
+TR_METHOD = "dogbox"
+
+
+class Step(Enum):
+    """How an iterate was reached; the value is the note the history prints."""
+
+    INITIAL = "initial"
+    FULL = "full step"
+    BOUNDED = "step bounded: a parameter would become non-physical"
+    HALVED = "step halved: objective rose"
+    FAILED = "line search failed"
+    TRUST = "trust-region step"
+    SHRUNK = "trust-region step after the region shrank"
+
+
+@dataclass
+class Point:
+    """One evaluated parameter vector: its linearisation, pairing and equations."""
+
+    z: np.ndarray
+    lin: Linearisation
+    perm: np.ndarray
+    pending: list
+    f: np.ndarray  # weighted residuals (model - measured), then the prior rows
+    A: np.ndarray  # df/dz
+    obj: float
+
+
+def gauss_newton(point, evaluate, attempt, stop_test, pairing, history, iterate, lower,
+                  max_iterations, say, t0):
+    """The paper's iteration: Gauss-Newton steps, bounded and halved when needed."""
+    status, message = 0, f"iteration limit ({max_iterations}) reached"
+    for it in range(1, max_iterations + 1):
+        t = time.perf_counter()
+        stop = stop_test(point)
+        if stop is not None:
+            status, message, _ = stop
+            break
+        dz, kind = gn_step(point.A, -point.f, point.z, lower)
+        alpha, refused = 1.0, []
+        trial = attempt(point.z + alpha * dz, point.obj, refused)
+        while (trial is None or not trial.obj < point.obj) and alpha > 0.5**MAX_HALVINGS:
+            alpha *= 0.5  # NaN is not lower
+            kind = Step.HALVED
+            trial = attempt(point.z + alpha * dz, point.obj, refused)
+        if trial is None or not trial.obj < point.obj:
+            status = 3
+            message = (
+                f"iteration {it}: no step along the Gauss-Newton direction lowers the objective"
+                + (f" (a trial step was refused: {refused[-1]})" if refused else "")
+            )
+            history.append(iterate(it, point.z, point.obj, 0.0, Step.FAILED))
+            break
+        point = trial
+        pairing.accept(point.perm, point.pending, point.lin.shapes, it)
+        history.append(iterate(it, point.z, point.obj, alpha, kind))
+        say(f"[{it}/{max_iterations}] iteration {it}: objective {point.obj:.6g}, "
+            f"step {alpha:g} x Gauss-Newton "
+            f"({kind.value}), largest change {np.max(np.abs(alpha * dz)):.2e}, "
+            f"{time.perf_counter() - t:.1f} s (total {time.perf_counter() - t0:.1f} s)")
+    return status, message, point
+
+
+def trust_region(point, evaluate, stop_test, pairing, history, iterate, lower,
+                  max_iterations, say, t0):
+    """scipy.optimize.least_squares (trf) on the paired equations; our convergence
+    tests and the iteration limit run in its callback at every accepted point."""
+    state = {"point": point, "why": None, "t": time.perf_counter(), "rejected": 0,
+             "gn": None, "refused_since": 0}
+    def worse(cur):
+        # a refused or turned-down point: finite residuals far above the current ones,
+        # so that the step is rejected as one that raises the objective (SciPy 1.17's
+        # dogbox fails on a callback after non-finite residuals only)
+        return np.full(cur.f.size, np.sqrt(1e6 * (cur.obj + 1.0) / cur.f.size))
+
+    def fun(z):
+        cur = state["point"]
+        if np.array_equal(z, cur.z):
+            # the region shrank to round-off: after refused points that is no convergence
+            return worse(cur) if state["refused_since"] else cur.f
+        try:
+            p = evaluate(z, above=cur.obj)
+        except (InputError, NumericalError) as exc:
+            p = None  # a point the eigen-solver refuses: the region shrinks
+            state["refused"] = str(exc)
+            state["refused_since"] += 1
+        if p is None:
+            state["rejected"] += 1
+            return worse(cur)
+        if not p.obj < cur.obj:
+            state["rejected"] += 1
+        return p.f
+
+    def jac(z):
+        p = evaluate(z)
+        cur = state["point"]
+        if not np.array_equal(z, cur.z):  # an accepted step
+            it = len(history)
+            pairing.accept(p.perm, p.pending, p.lin.shapes, it)
+            gn = state["gn"]
+            frac = float(np.linalg.norm(z - cur.z) / np.linalg.norm(gn)) if gn is not None \
+                and np.linalg.norm(gn) > 0 else 1.0
+            kind = Step.SHRUNK if state["rejected"] else Step.TRUST
+            history.append(iterate(it, z, p.obj, frac, kind))
+            say(f"[{it}/{max_iterations}] iteration {it}: objective {p.obj:.6g}, "
+                f"step {frac:.3g} x Gauss-Newton "
+                f"({kind.value}), largest change {np.max(np.abs(z - cur.z)):.2e}, "
+                f"{time.perf_counter() - state['t']:.1f} s (total "
+                f"{time.perf_counter() - t0:.1f} s)")
+            state.update(point=p, rejected=0, t=time.perf_counter(), gn=None, refused_since=0)
+        return p.A
+
+    def callback(intermediate_result):  # SciPy passes the result under this name
+        p = state["point"]
+        stop = stop_test(p)
+        if stop is not None:
+            state["why"] = stop[1]
+            raise StopIteration
+        state["gn"] = gn_step(p.A, -p.f, p.z, lower)[0]
+        if len(history) - 1 >= max_iterations:
+            state["why"] = f"iteration limit ({max_iterations}) reached"
+            raise StopIteration
+
+    stop = stop_test(point)
+    if stop is not None:
+        return -2, f"{stop[1]} (at the initial point)", point, True
+    if np.any(point.z <= lower):  # trf starts strictly inside its bounds (as SciPy would)
+        point = evaluate(np.where(point.z <= lower, lower + 1e-10 * np.maximum(1, lower),
+                                  point.z))
+        pairing.accept(point.perm, point.pending, point.lin.shapes, 0)
+        state["point"] = point
+    state["gn"] = gn_step(point.A, -point.f, point.z, lower)[0]
+    res = least_squares(fun, point.z, jac=jac, bounds=(lower, np.inf), method=TR_METHOD,
+                        x_scale=1.0, max_nfev=4 * max_iterations + 10, callback=callback)
+    final = evaluate(res.x) if not np.array_equal(res.x, state["point"].z) else state["point"]
+    message = res.message if state["why"] is None else f"{state['why']} ({res.message})"
+    success = res.status in (1, 2, 3, 4) or message.startswith("converged")
+    if state["refused_since"] and res.status in (2, 3, 4):
+        success = False  # the region shrank on refused points only: no convergence
+        message += "; but every trial point since the last iterate was refused"
+    if state["refused_since"] or (res.status == 0 and state.get("refused")):
+        message += f" (a trial point was refused: {state['refused']})"
+    return int(res.status), message, final, success
+
+
+def resolution(A: np.ndarray) -> np.ndarray | None:
+    """Posterior std of each normalised parameter from the weighted (by 1 / sigma) A;
+    None where undefined. Not for plain least squares: its variance would come from the
+    residual, which with error-free data is the very misfit the next step removes."""
+    s, vt = np.linalg.svd(A, full_matrices=False)[1:]
+    if s.size == 0 or s[-1] <= s[0] * 1e-12:
+        return None
+    return np.sqrt(np.sum((vt / s[:, None]) ** 2, axis=0))
+
+
+def gn_step(A, b, z, lower) -> tuple[np.ndarray, Step]:
+    """Gauss-Newton step; if it would make a parameter non-physical, the bounded
+    least-squares step instead (z + dz >= lower), so the direction stays a descent one."""
+    dz = np.linalg.lstsq(A, b, rcond=None)[0]
+    if np.all(z + dz >= lower):
+        return dz, Step.FULL
+    dz = lsq_linear(A, b, bounds=(lower - z, np.inf), method="bvls").x
+    return dz, Step.BOUNDED

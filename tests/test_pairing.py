@@ -1,0 +1,120 @@
+"""Robust mode pairing (issue 21): model modes tracked by MAC, and clusters of modes the
+data cannot order fitted through the sum of their eigenvalues."""
+
+import numpy as np
+import pytest
+from test_updating import simulate
+
+import eigenupdate.identify.pairing as pairing_mod
+from eigenupdate.identify.pairing import Pairing
+from eigenupdate.identify.updating import update
+from eigenupdate.model.configurations import Configuration, mass_at
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
+from eigenupdate.report.text import update_text
+from eigenupdate.solve.jacobian import linearise, solve_configurations
+
+CONFIGS = [Configuration("base")] + [mass_at(c, 0.15, f"at {c}") for c in (1, 2, 3, 4)]
+MODES = [1, 2, 3, 4]
+
+
+def chains(kA, kB, mA=(1.0, 1.0), mB=(1.0, 1.0)):
+    """Two chains ground-k-m-k-m that are not coupled: their modes cross exactly."""
+    ms = [Mass(Parameter(f"mA{i + 1}", mA[i]), i + 1) for i in range(2)] + \
+         [Mass(Parameter(f"mB{i + 1}", mB[i]), i + 3) for i in range(2)]
+    ks = [Spring(Parameter("kA1", kA[0]), (0, 1)), Spring(Parameter("kA2", kA[1]), (1, 2)),
+          Spring(Parameter("kB1", kB[0]), (0, 3)), Spring(Parameter("kB2", kB[1]), (3, 4))]
+    return spring_mass_model(ms, ks, 4)
+
+
+def swapped_case(seed):
+    """Truth and a start within 5 % whose modes come in another order in one
+    configuration (found by the MAC of the order-paired shapes, below)."""
+    rng = np.random.default_rng(seed)
+    truth = chains((1e5, 1e5 * rng.uniform(0.9, 1.1)), (1.02e5, 1e5 * rng.uniform(0.9, 1.1)))
+    start = truth.with_values(truth.values * rng.uniform(0.95, 1.05, 8))
+    return truth, start
+
+
+def order_differs(a, b):
+    """Configurations whose order-paired modes of a and b are different shapes."""
+    out = []
+    for c, s, t in zip(CONFIGS, solve_configurations(a, CONFIGS, 4),
+                       solve_configurations(b, CONFIGS, 4), strict=True):
+        if np.any(np.abs(np.diag(s.modes.T @ t.modes)) < 0.5):  # unit masses: plain MAC
+            out.append(c.name)
+    return out
+
+
+def error(res, truth):
+    return max(abs(res.parameters[n] / v - 1) for n, v in zip(truth.names, truth.values,
+                                                             strict=True))
+
+
+@pytest.mark.parametrize("optimizer", ["trust-region", "gauss-newton"])
+@pytest.mark.parametrize(("seed", "swapped"), [(0, "at 1"), (5, "at 4")])
+def test_modes_that_swap_order_between_start_and_truth(optimizer, seed, swapped, monkeypatch):
+    # of seeds 0-59, 29 give one configuration whose modes swap order; with the pairing
+    # of issue 21 both optimisers reach the truth in all 29, by order alone the trust
+    # region in 16 and Gauss-Newton in 15 (a scan run once, not shipped); two cases where
+    # order alone fails with both are checked here
+    truth, start = swapped_case(seed)
+    assert order_differs(start, truth) == [swapped]
+    data = simulate(truth, CONFIGS, MODES)
+    res = update(start, CONFIGS, MODES, data, optimizer=optimizer, max_iterations=50)
+    assert res.success and error(res, truth) < 1e-6, res.message
+    assert any(c == swapped for c, _ in res.pairing["clusters"])
+    assert any(n["kind"] == "cluster" and n["configuration"] == swapped
+               for n in res.pairing["notes"])
+    assert res.to_dict()["pairing"]["equations"] < len(res.rows)
+    text = update_text(res, dict(zip(start.names, start.values.tolist(), strict=True)), "")
+    assert f"({optimizer})" in text and "sum of their eigenvalues" in text
+
+    # the old pairing, by order alone, from the same start: a wrong basin, far from both
+    # the truth and a fit of the data
+    monkeypatch.setattr(pairing_mod, "KAPPA", 0.0)
+    monkeypatch.setattr(Pairing, "match", lambda self, shapes: (np.arange(len(self.rows)), []))
+    old = update(start, CONFIGS, MODES, data, optimizer=optimizer, max_iterations=50)
+    assert error(old, truth) > 0.1 and old.cost > 1e6 * max(res.cost, 1e-3)
+
+
+def test_cluster_sum_sensitivity_is_smooth_across_a_crossing():
+    # the sum of a cluster's eigenvalues and its derivative (the sum of the Fox-Kapoor
+    # rows) against central differences, at a point where the two modes cross exactly
+    # (kA1 = kB1, equal masses: a repeated eigenvalue, where each eigenvalue alone has
+    # no derivative): the step is taken off the crossing, the sum is differentiable
+    model = chains((1e5, 1e5), (1e5 * (1 + 1e-3), 1e5))
+    lin = linearise(model, [Configuration("base")], [1, 2])
+    total = lin.J[0] + lin.J[1]  # 1e-3 off the crossing: Fox-Kapoor is defined
+    x = model.values.copy()
+    x[6] = 1e5  # kB1 onto the crossing
+    for j in range(8):
+        h = 1e-6 * x[j]
+        up, dn = x.copy(), x.copy()
+        up[j] += h
+        dn[j] -= h
+        s = [np.sum(solve_configurations(model, [Configuration("base")], 2, v)[0]
+                    .eigenvalues) for v in (up, dn)]
+        fd = (s[0] - s[1]) / (2 * h)
+        # the sum at the crossing and 1e-3 off differ by O(1e-3) of the entry
+        assert fd == pytest.approx(total[j], rel=3e-3, abs=1e-9 * np.max(np.abs(total))), j
+
+
+def test_tracking_follows_the_shapes_not_the_order():
+    rows = [("base", 1), ("base", 2)]
+    lam = np.array([1.0, 2.0])
+    p = Pairing(rows, lam, lam, np.zeros(2), np.ones(2), np.ones(2))
+    e1, e2 = np.array([[1.0], [0.0]]), np.array([[0.0], [1.0]])
+    p.accept(np.arange(2), [], (np.hstack([e1, e2]),), 0)
+    perm, pending = p.match((np.hstack([e2, e1 + 0.1 * e2]),))  # the two have crossed
+    assert perm.tolist() == [1, 0] and pending == []
+    p.accept(perm, pending, (np.hstack([e2, e1]),), 3)
+    assert [n.kind for n in p.notes] == ["re-paired"] and p.notes[0].iteration == 3
+    # four modes mixed beyond recognition (every MAC 1/4): order, and the result says so
+    rows = [("base", k) for k in (1, 2, 3, 4)]
+    lam = np.arange(1.0, 5.0)
+    p = Pairing(rows, lam, lam, np.zeros(4), np.ones(4), np.ones(4))
+    p.accept(np.arange(4), [], (np.eye(4),), 0)
+    hadamard = np.array([[1, 1, 1, 1], [1, -1, 1, -1], [1, 1, -1, -1], [1, -1, -1, 1]]) / 2
+    perm, pending = p.match((hadamard,))
+    assert perm.tolist() == [0, 1, 2, 3] and pending[0][0] == "tracking lost"

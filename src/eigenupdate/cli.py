@@ -248,10 +248,15 @@ def cmd_montecarlo(args) -> int:
         raise NotConvergedError(f"no statistics: {doc['statistics_refused']}",
                                 field="--trials")
     if not args.json:
+        if "prior_draws" in doc:
+            print(f"predicted std: averaged over {doc['prior_draws']} draws of the truth from "
+                  f"the prior ({doc['prior_draw_seconds']:.1f} s), +- its Monte Carlo error; "
+                  f"linear: at the prior mean")
         print(report.table(
-            ["parameter", "bias", "empirical std", "predicted std", "emp/pred", "coverage 2 std"],
-            [[n, p["bias"], p["empirical_std"], p["predicted_std"],
-              p["ratio_empirical_to_predicted"], p["coverage_2std"]]
+            ["parameter", "bias", "empirical std", "predicted std", "+-", "emp/pred",
+             "linear std", "coverage 2 std"],
+            [[n, p["bias"], p["empirical_std"], p["predicted_std"], p["predicted_std_error"],
+              p["ratio_empirical_to_predicted"], p["linear_std"], p["coverage_2std"]]
              for n, p in doc["parameters"].items()]))
     _progress(f"{args.trials} trials in {wall:.1f} s ({where})"
               + (f"; wrote {args.output}" if args.output else ""))

@@ -17,6 +17,7 @@ import numpy as np
 from eigenupdate.design.covariance import posterior_covariance
 from eigenupdate.design.executor import InProcess, Progress
 from eigenupdate.design.plan import frequency_std
+from eigenupdate.design.prior import PriorPrediction, draw_values, predict_plan
 from eigenupdate.design.spec import DesignSpec
 from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.identify.updating import update
@@ -46,7 +47,7 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
     rng = np.random.default_rng(seed)
     model = setup.model
     upd = model.updated
-    truth = setup.truth.copy() if setup.truth is not None else _draw(model, rng)
+    truth = setup.truth.copy() if setup.truth is not None else draw_values(model, rng)
     out = {"truth": truth[upd], "estimate": np.full(upd.size, np.nan),
            "std": np.full(upd.size, np.nan), "converged": False, "refused": False, "nit": 0,
            "message": ""}
@@ -70,20 +71,6 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
     return out
 
 
-def _draw(model: ParametricModel, rng: np.random.Generator) -> np.ndarray:
-    values = model.values.copy()
-    for j in model.updated:
-        p = model.parameters[j]
-        if p.std is None:
-            raise InputError(f"parameter {p.name!r} has no std to draw its true value from; "
-                             f"give one, or a truth file (--truth)", field="model")
-        v = -1.0
-        while v < 0:  # physical values only: the prior truncated at 0
-            v = p.value + p.std * rng.normal()
-        values[j] = v
-    return values
-
-
 MIN_CONVERGED = 3
 """Fewest converged trials the statistics are given over: with 2 the empirical std has
 one degree of freedom (a 90 % interval spanning a factor of 30), with 1 none at all."""
@@ -97,14 +84,24 @@ class MonteCarloResult:
     ----------
     names : updated parameters.
     trials : one dict per trial (see :func:`run_trial`).
-    predicted_std : linearised posterior std at the initial model with the stated noise.
+    linear_std : linearised posterior std at the initial model (at the truth if one is
+        given) with the stated noise.
     entropy : the root seed; the same entropy repeats the run exactly.
+    prior : the plan's accuracy averaged over draws of the truth from the prior
+        (:func:`eigenupdate.design.prior.predict_plan`), what the trials' spread is to
+        match; None when a truth is given.
     """
 
     names: list[str]
     trials: list[dict]
-    predicted_std: np.ndarray
+    linear_std: np.ndarray
     entropy: int
+    prior: PriorPrediction | None = None
+
+    @property
+    def predicted_std(self) -> np.ndarray:
+        """The prediction the trials test: over the prior, or linear at a given truth."""
+        return self.prior.std if self.prior is not None else self.linear_std
 
     def counts(self) -> tuple[int, int, int]:
         """Trials converged, not converged (the update ran out of iterations or could not
@@ -146,10 +143,17 @@ class MonteCarloResult:
         emp = err.std(axis=0, ddof=1)
         with np.errstate(invalid="ignore"):
             cover = np.mean(np.abs(err) <= 2 * rep, axis=0)
+        if self.prior is not None:
+            doc["prior_draws"] = self.prior.draws
+            doc["prior_draw_seconds"] = self.prior.seconds
+            doc["predicted_gross_risk"] = self.prior.gross_risk
         for i, name in enumerate(self.names):
             doc["parameters"][name] = {
                 "bias": float(err[:, i].mean()), "empirical_std": float(emp[i]),
                 "predicted_std": float(self.predicted_std[i]),
+                "predicted_std_error": (float(self.prior.std_error[i])
+                                        if self.prior is not None else None),
+                "linear_std": float(self.linear_std[i]),
                 "mean_reported_std": float(np.nanmean(rep[:, i])) if np.isfinite(
                     rep[:, i]).any() else None,
                 "ratio_empirical_to_predicted": float(emp[i] / self.predicted_std[i]),
@@ -215,18 +219,27 @@ def montecarlo(setup: TrialSetup, trials: int, seed: int | None = None, executor
     >>> setup = TrialSetup(model, configs, (1,), {(c.name, 1): 0.01 for c in configs},
     ...                    "bayesian", 20, 1e-8)
     >>> s = montecarlo(setup, 20, seed=1).summary()
-    >>> s["converged"], round(s["parameters"]["m"]["predicted_std"], 4)
-    (20, 0.0468)
+    >>> p = s["parameters"]["m"]     # over 64 draws of the prior, and at the prior mean
+    >>> s["converged"], round(p["predicted_std"], 4), round(p["linear_std"], 4)
+    (20, 0.0467, 0.0468)
     """
     if trials < 1:
         raise InputError(f"must be >= 1, got {trials}", field="--trials")
     if setup.truth is None:
-        _draw(setup.model, np.random.default_rng(0))  # refuses a parameter without a prior
+        draw_values(setup.model, np.random.default_rng(0))  # refuses a parameter without prior
     root = np.random.SeedSequence(seed)
     names = [setup.model.names[j] for j in setup.model.updated]
-    pred = predicted_std(setup)
+    linear = predicted_std(setup)
+    prior = None if setup.truth is not None else predict_plan(
+        setup.model, setup.configurations, setup.modes, setup.std_hz, setup.method,
+        PRIOR_DRAWS)
     results = (executor or InProcess()).map(run_trial, setup, root.spawn(trials), progress)
-    return MonteCarloResult(names, results, pred, int(root.entropy))
+    return MonteCarloResult(names, results, linear, int(root.entropy), prior)
+
+
+PRIOR_DRAWS = 64
+"""Draws of the truth behind the prediction over the prior a Monte Carlo is compared with
+(the design's default)."""
 
 
 def study_setup(study, truth: str | None = None) -> TrialSetup:

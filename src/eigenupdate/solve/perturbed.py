@@ -16,11 +16,15 @@ Rayleigh-Ritz step uses Phi and Q_1..Q_L; the extra block Q_{L+1} makes
 A_c^-1 M_c x exactly representable for every Ritz vector x, which gives the residual of
 the shift-inverted problem in the A_c norm from small projected matrices only:
 
-* ``V^T A V`` is formed from explicit products A Q_j = K Q_j - sigma M Q_j, one sparse
-  product per level. Recovering A Q_j from the recurrence instead (through R_j^-1) lost
-  up to 4e-7 of G's largest entry on a 90-coordinate network and moved its Ritz values by
-  3e-11, 50 times the certified bound; the explicit product's rounding is the
-  eigenvalue's own rounding floor (eps |x|^T|K||x| / lambda), which no solver avoids;
+* ``V^T A V``: A Q_j is known from the right-hand side of the solve that produced Q_j
+  (A Q_j = (rhs_j - A V C_j) R_j^-1), which avoids forming K x: K x cancels on stiff
+  models (on the 103k frame explicit products moved the Ritz values by 4e-11, the
+  recurrence by 2.5e-13). But the recurrence amplifies the solve's rounding by the
+  Gram-Schmidt cancellation rho_j = |W_j|_M / sigma_min(R_j); where that exceeds RHO_MAX
+  (the bare modes nearly span A^-1 U, or the Krylov space is nearly exhausted) the level
+  is formed by explicit products A Q_j = K Q_j - sigma M Q_j instead (on a 90-coordinate
+  network level 0 had rho = 1e7 and the recurrence moved the Ritz values by 3e-11,
+  beyond the certified 1e-11; explicit: 3e-13);
 * ``A^-1 M V`` and ``A^-1 U`` are known in V from the orthogonalisation coefficients;
   the configuration's A_c^-1 follows by Woodbury in those coordinates.
 
@@ -60,6 +64,11 @@ MAX_ROWS = 6
 """Configurations perturbing more rows use shift-invert Lanczos: each Krylov level costs
 one solve per row, and a Lanczos run about 50."""
 
+RHO_MAX = 1e3
+"""Largest Gram-Schmidt cancellation |W_j|_M / sigma_min(R_j) of a Krylov level whose
+projected stiffness comes from the recurrence (which amplifies the solve's rounding by it,
+so by at most 1e3 x 1e-16 here); a level beyond it is formed by explicit products."""
+
 EIG_RTOL = 1e-11
 """Certified bound on the relative error of every wanted eigenvalue."""
 
@@ -90,9 +99,7 @@ class Base:
         modes included.
     phi : (n, kb) their mass-normalised modes.
     Mphi : M phi.
-    K : stiffness matrix (CSR).
-    Gphi : (kb, kb) phi^T A phi, formed explicitly (the bare modes are Lanczos Ritz
-        vectors, not exact eigenvectors).
+    K : stiffness matrix (CSR), for the levels formed by explicit products.
     """
 
     op: ShiftInvert
@@ -102,7 +109,6 @@ class Base:
     phi: np.ndarray
     Mphi: np.ndarray
     K: sp.csr_array
-    Gphi: np.ndarray
 
     @property
     def theta(self) -> np.ndarray:
@@ -236,10 +242,8 @@ def make_base(K, M, op: ShiftInvert, lam: np.ndarray, phi: np.ndarray) -> Base:
     k, m = np.asarray(K.diagonal(), float), np.asarray(M.diagonal(), float)
     ok = m > 0
     scale = float(np.max(k[ok] / m[ok])) if ok.any() else 1.0
-    K = sp.csr_array(K)
-    Mphi = np.asfortranarray(M @ phi)
-    Gphi = phi.T @ (K @ phi) - op.sigma * (phi.T @ Mphi)
-    return Base(op, M, scale, np.asarray(lam, float), phi, Mphi, K, (Gphi + Gphi.T) / 2)
+    return Base(op, M, scale, np.asarray(lam, float), phi, np.asfortranarray(M @ phi),
+                sp.csr_array(K))
 
 
 def build_subspaces(
@@ -280,8 +284,9 @@ class Blocks:
     Level j of set g is Q_j (n x k), M-orthonormal and M-orthogonal to the bare modes and
     to the set's earlier levels; W_j = A^-1 rhs_j = V C_j + Q_j R_j records how it was
     obtained (rhs_0 = U, rhs_{j+1} = M Q_j), which :func:`_assemble` turns into the
-    projected matrices; V^T A Q_j is formed explicitly (see the module docstring). A set
-    can be continued later with more levels (:meth:`take`), so
+    projected matrices (V^T A Q_j by explicit products where the recurrence would amplify
+    rounding, see the module docstring). A set can be continued later with more levels
+    (:meth:`take`), so
     a configuration that fails the certificate costs one more solve per level, not a
     new subspace.
     """
@@ -298,7 +303,10 @@ class Blocks:
         self.R: list[np.ndarray] = []  # R[j]: (ns, k, k)
         self.alive = np.ones(ns, bool)
         self.Z = np.zeros((ns, k, k))
-        self.GQ: list[np.ndarray] = []  # GQ[j]: (ns, kb + (j + 1) k, k) V^T A Q_j
+        # explicit[j]: (ns,) which sets have level j by explicit products; GQ[j]: their
+        # V^T A Q_j, (ns, kb + (j + 1) k, k) (NaN for the others)
+        self.explicit: list[np.ndarray] = []
+        self.GQ: list[np.ndarray] = []
 
     def grow(self, levels: int) -> None:
         """Build levels until ``levels`` are built (at most the capacity)."""
@@ -347,9 +355,10 @@ class Blocks:
         MWT = self.MQT[:, jk:jk + k]
         MWT[:] = MW.T.reshape(ns, k, n)
         del MW
-        KWT = (base.K @ W).T.reshape(ns, k, n)
         gram = WT @ MWT.transpose(0, 2, 1)
         ev, U = np.linalg.eigh((gram + gram.transpose(0, 2, 1)) / 2)
+        with np.errstate(divide="ignore"):
+            rho = size.reshape(ns, k).max(axis=1) / np.sqrt(np.maximum(ev[:, 0], 0.0))
         bad = ~(ev[:, 0] > 1e-24 * ev[:, -1])  # the Krylov space is exhausted
         self.alive &= ~bad
         ev[bad] = 1.0
@@ -358,16 +367,16 @@ class Blocks:
         if k == 1:
             np.multiply(WT, Tt, out=QTj)
             MWT *= Tt
-            KWT *= Tt
         else:
             np.matmul(Tt, WT, out=QTj)
             MWT[:] = Tt @ MWT
-            KWT = Tt @ KWT
-        KWT -= base.op.sigma * MWT  # (A Q_j)^T
-        GQ = np.empty((ns, kb + jk + k, k))
-        GQ[:, :kb] = (KWT @ phi).transpose(0, 2, 1)
-        GQ[:, kb:] = self.QT[:, :jk + k] @ KWT.transpose(0, 2, 1)
-        del KWT
+        explicit = self.alive & (rho > RHO_MAX)
+        GQ = np.full((ns, kb + jk + k, k), np.nan)
+        for g in np.flatnonzero(explicit):  # A Q_j = K Q_j - sigma M Q_j
+            AQT = (base.K @ QTj[g].T).T - base.op.sigma * MWT[g]
+            GQ[g, :kb] = (AQT @ phi).T
+            GQ[g, kb:] = self.QT[g, :jk + k] @ AQT.T
+        self.explicit.append(explicit)
         self.GQ.append(GQ)
         self.C.append(C)
         self.R.append(np.sqrt(ev)[:, :, None] * U.transpose(0, 2, 1))
@@ -383,6 +392,7 @@ class Blocks:
         out.MQT[:, :jk] = self.MQT[sel, :jk]
         out.C = [c[sel] for c in self.C]
         out.GQ = [g[sel] for g in self.GQ]
+        out.explicit = [e[sel] for e in self.explicit]
         out.R = [r[sel] for r in self.R]
         out.alive, out.Z, out.done = self.alive[sel], self.Z[sel], self.done
         return out
@@ -395,7 +405,9 @@ class Blocks:
         k = self.rows.shape[1]
         return _assemble(self.base, self.rows[g], self.QT[g, :self.done * k].T,
                          [c[g] for c in self.C], [r[g] for r in self.R], self.Z[g],
-                         [q[g] for q in self.GQ], self.done - 1)
+                         [q[g] if e[g] else None for q, e in zip(self.GQ, self.explicit,
+                                                                 strict=True)],
+                         self.done - 1)
 
 
 def _assemble(base: Base, rows, Qmat, C, R, Z, GQ, levels: int) -> Subspace:
@@ -406,13 +418,30 @@ def _assemble(base: Base, rows, Qmat, C, R, Z, GQ, levels: int) -> Subspace:
     nl = levels + 1
     me = kb + nl * k
     m = me - k
-    G = np.zeros((me, me))  # V^T A V
-    G[:kb, :kb] = base.Gphi
+    # G = V^T A V from small matrices: A Q_j = (rhs_j - A V C_j) R_j^-1, where V^T rhs_j
+    # is V[rows]^T for j = 0 and selects block j - 1 after (V^T M Q_{j-1}); a level with
+    # explicit products (GQ[j] not None) takes those instead
+    G = np.zeros((me, me))
+    G[np.arange(kb), np.arange(kb)] = theta
+    QR = Qmat[rows]
     for j in range(nl):
         c = kb + j * k
-        G[:c + k, c:c + k] = GQ[j]
-        G[c:c + k, :c] = GQ[j][:c].T
-        G[c:c + k, c:c + k] = (GQ[j][c:] + GQ[j][c:].T) / 2
+        if GQ[j] is not None:
+            VtAQ, QtAQ = GQ[j][:c], GQ[j][c:]
+        else:
+            Vt_rhs = np.zeros((c, k))
+            Qt_rhs = np.zeros((k, k))
+            if j == 0:
+                Vt_rhs[:kb] = phi[rows].T
+                Qt_rhs = QR[:, :k].T
+            else:
+                Vt_rhs[c - k:c] = np.eye(k)
+            Rinv = np.linalg.inv(R[j])
+            VtAQ = (Vt_rhs - G[:c, :c] @ C[j]) @ Rinv
+            QtAQ = (Qt_rhs - VtAQ.T @ C[j]) @ Rinv
+        G[:c, c:c + k] = VtAQ
+        G[c:c + k, :c] = VtAQ.T
+        G[c:c + k, c:c + k] = (QtAQ + QtAQ.T) / 2
     H = np.zeros((me, m))
     H[np.arange(kb), np.arange(kb)] = 1.0 / theta
     for j in range(levels):  # A^-1 M Q_j = V_{<= j} C_{j+1} + Q_{j+1} R_{j+1}

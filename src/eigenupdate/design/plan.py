@@ -321,8 +321,11 @@ def _refusal(reports: list[CandidateReport], spec: DesignSpec) -> str:
     n = len(reports)
     small = sum(r.shift_in_std <= spec.min_shift_in_std for r in reports)
     order = sum(not r.order_kept or r.relative_gap < spec.min_relative_gap for r in reports)
+    risky = sum(r.exchange_risk is not None and r.exchange_risk > spec.max_exchange_risk
+                for r in reports)
     return (f"only {sum(r.admissible for r in reports)} of {n} candidates are admissible, "
             f"{spec.configurations} configurations asked for: {order} change the mode order or "
             f"leave a relative gap below min_relative_gap = {spec.min_relative_gap:g} (masses "
             f"too large?), {small} shift no used mode by more than min_shift_in_std = "
-            f"{spec.min_shift_in_std:g} std (masses too small?)")
+            f"{spec.min_shift_in_std:g} std (masses too small?), {risky} do either in more "
+            f"than max_exchange_risk = {spec.max_exchange_risk:g} of the prior's draws")

@@ -39,7 +39,8 @@ def scatter(dofs: np.ndarray, blocks: np.ndarray, n: int) -> sp.csr_array:
     >>> scatter(np.array([[0, 1], [1, 2]]), np.stack([k, k]), 3).toarray().tolist()
     [[1.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]]
     """
-    dofs = np.asarray(dofs, dtype=np.int64)
+    index = np.int32 if n < 2**31 - 1 else np.int64  # halves the index arrays' memory
+    dofs = np.asarray(dofs, dtype=index)
     k = dofs.shape[1]
     rows = np.repeat(dofs, k, axis=1).ravel()
     cols = np.tile(dofs, (1, k)).ravel()
@@ -47,11 +48,25 @@ def scatter(dofs: np.ndarray, blocks: np.ndarray, n: int) -> sp.csr_array:
 
 
 def assemble(dofs: np.ndarray, blocks: Callable[[slice], np.ndarray], n: int,
-             chunk: int = 20000) -> sp.csr_array:
+             chunk: int = 8192) -> sp.csr_array:
     """:func:`scatter` of ``blocks(s)`` for the elements of each slice ``s`` of ``chunk``
-    elements, summed."""
-    total = sp.csr_array((n, n))
+    elements, summed once at the end (adding CSR matrices chunk by chunk would cost the
+    whole matrix's size per chunk).
+
+    Examples
+    --------
+    >>> k = np.array([[1.0, -1.0], [-1.0, 1.0]])
+    >>> d = np.array([[0, 1], [1, 2], [2, 3]])
+    >>> a = assemble(d, lambda s: np.broadcast_to(k, (s.stop - s.start, 2, 2)), 4, chunk=2)
+    >>> bool(np.array_equal(a.toarray(), scatter(d, np.stack([k, k, k]), 4).toarray()))
+    True
+    """
+    parts = []
     for start in range(0, dofs.shape[0], chunk):
         s = slice(start, min(start + chunk, dofs.shape[0]))
-        total = total + scatter(dofs[s], blocks(s), n)
-    return total
+        parts.append(scatter(dofs[s], blocks(s), n).tocoo())
+    if not parts:
+        return sp.csr_array((n, n))
+    return sp.coo_array((np.concatenate([p.data for p in parts]),
+                         (np.concatenate([p.row for p in parts]),
+                          np.concatenate([p.col for p in parts]))), shape=(n, n)).tocsr()

@@ -47,6 +47,8 @@ STIFFNESS_PARTS = ("membrane", "drilling", "bending", "shear")
 """Thickness power of each part: T, T, T^3, T."""
 THICKNESS_POWER = {"membrane": 1, "drilling": 1, "bending": 3, "shear": 1}
 ALPHA = 0.1
+_PART_COLUMNS = {"membrane": [0, 1], "drilling": [0, 1, 5], "bending": [3, 4],
+                 "shear": [2, 3, 4]}  # each part's columns of a node's six
 """Shear stabilisation of CTRIA3 (Lyly, Stenberg & Vihinen's alpha)."""
 K6ROT = 100.0
 """MSC/NX NASTRAN's default PARAM K6ROT."""
@@ -242,18 +244,53 @@ def _tria_shear(r: float, s: float, xy: np.ndarray, inv: np.ndarray) -> np.ndarr
     return inv @ np.stack([er1 + c * s, es2 - c * r], axis=1)
 
 
-def _btdb(b: np.ndarray, d: np.ndarray, w: np.ndarray) -> np.ndarray:
-    return np.transpose(b, (0, 2, 1)) @ (d @ b) * w[:, None, None]
-
-
 def rotate(local: np.ndarray, R: np.ndarray) -> np.ndarray:
-    """T^T k T for blocks (n, 6k, 6k) whose every 3 coordinates are in the axes whose
-    rows are R (n, 3, 3): the blocks in global axes."""
+    """T^T k T for symmetric blocks (n, m, m) whose every 3 coordinates are in the axes
+    whose rows are R (n, 3, 3) (T = diag(R, R, ...)): the blocks in global axes."""
     n, m = local.shape[:2]
-    q = m // 3
-    x = local.reshape(n, q, 3, q, 3) @ R[:, None, None]
-    x = np.transpose(R, (0, 2, 1))[:, None, None] @ np.transpose(x, (0, 1, 3, 2, 4))
-    return np.transpose(x, (0, 1, 3, 2, 4)).reshape(n, m, m)
+    y = (local.reshape(n, m * m // 3, 3) @ R).reshape(n, m // 3, 3, m)  # k T
+    return (np.swapaxes(R, 1, 2)[:, None] @ y).reshape(n, m, m)
+
+
+def _expand(terms, n: int, m: int) -> np.ndarray:
+    """Sum (n, m, m) of compact parts ``(columns, (n, c, c) block, factor (n, 1, 1))``."""
+    out = np.zeros((n, m, m))
+    for cols, block, factor in terms:
+        out[:, cols[:, None], cols[None, :]] += block * factor
+    return out
+
+
+def _local_parts(xyz, membrane, bending, shear, k6rot, labels):
+    """Element axes R and the stiffness parts in element axes, each as its columns and
+    its block on them (membrane: u, v; drilling: u, v, rz; bending: rx, ry; shear: w,
+    rx, ry), all integration points in one product."""
+    xyz = np.asarray(xyz, float)
+    n, k = xyz.shape[:2]
+    R, xy = shell_axes(xyz, labels)
+    cm, cb, cs = (np.broadcast_to(np.asarray(c, float), (n,) + np.shape(c)[-2:])
+                  for c in (membrane, bending, shear))
+    gd = np.broadcast_to((1e-6 * k6rot * cm[:, 2, 2]).reshape(n, 1, 1), (n, 1, 1))
+    cols = {name: (6 * np.arange(k)[:, None] + np.array(c)).ravel()
+            for name, c in _PART_COLUMNS.items()}
+    b_all = {name: [] for name in STIFFNESS_PARTS}
+    db_all = {name: [] for name in STIFFNESS_PARTS}
+    if k == 4:
+        points, shape, shear_b = _QUAD_POINTS, _quad_shape, _quad_shear
+    else:
+        points, shape, shear_b = _TRIA_POINTS, _tria_shape, _tria_shear
+    for p, q, weight in points:
+        N, dn = shape(p, q)
+        _, det, inv, g = _jacobian(dn, xy)
+        w = (weight * det)[:, None, None]
+        for name, b, d in (("membrane", _b_membrane(g), cm), ("drilling", _b_drilling(N, g), gd),
+                           ("bending", _b_bending(g), cb),
+                           ("shear", shear_b(p, q, xy, inv), cs)):
+            b = b[:, :, cols[name]]
+            b_all[name].append(b)
+            db_all[name].append(np.einsum("nab,nbj->naj", d, b) * w)
+    return R, {name: (cols[name], np.einsum("nai,naj->nij", np.concatenate(b_all[name], 1),
+                                            np.concatenate(db_all[name], 1)))
+               for name in STIFFNESS_PARTS}
 
 
 def shell_stiffness_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
@@ -266,26 +303,9 @@ def shell_stiffness_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.nda
     (n, 3, 3), (n, 2, 2) (or one of each, shared), in element axes. The drilling penalty
     uses the membrane shear modulus (MID1's G) and ``k6rot`` (PARAM K6ROT).
     """
-    xyz = np.asarray(xyz, float)
-    n, k = xyz.shape[:2]
-    R, xy = shell_axes(xyz, labels)
-    cm, cb, cs = (np.broadcast_to(np.asarray(c, float), (n,) + np.shape(c)[-2:])
-                  for c in (membrane, bending, shear))
-    gd = (1e-6 * k6rot * cm[:, 2, 2]).reshape(n, 1, 1)
-    out = {p: np.zeros((n, 6 * k, 6 * k)) for p in STIFFNESS_PARTS}
-    if k == 4:
-        points, shape, shear_b = _QUAD_POINTS, _quad_shape, _quad_shear
-    else:
-        points, shape, shear_b = _TRIA_POINTS, _tria_shape, _tria_shear
-    for p, q, weight in points:
-        N, dn = shape(p, q)
-        _, det, inv, g = _jacobian(dn, xy)
-        w = weight * det
-        out["membrane"] += _btdb(_b_membrane(g), cm, w)
-        out["drilling"] += _btdb(_b_drilling(N, g), gd, w)
-        out["bending"] += _btdb(_b_bending(g), cb, w)
-        out["shear"] += _btdb(shear_b(p, q, xy, inv), cs, w)
-    return {name: rotate(m, R) for name, m in out.items()}
+    R, parts = _local_parts(xyz, membrane, bending, shear, k6rot, labels)
+    n, m, one = R.shape[0], 6 * np.shape(xyz)[1], np.ones((1, 1, 1))
+    return {name: rotate(_expand([(c, b, one)], n, m), R) for name, (c, b) in parts.items()}
 
 
 def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None) -> np.ndarray:
@@ -350,6 +370,20 @@ def shear_thickness_derivative(T: np.ndarray, size: np.ndarray) -> np.ndarray:
     return T**2 * (T**2 + 3.0 * c) / (T**2 + c) ** 2
 
 
+def pshell_stiffness(xyz: np.ndarray, T: np.ndarray, membrane: np.ndarray,
+                     bending: np.ndarray, shear: np.ndarray, k6rot: float = K6ROT,
+                     labels: list[str] | None = None) -> np.ndarray:
+    """K (n, 6k, 6k) in global axes of PSHELL elements of thickness T (n,): the ``K`` of
+    :func:`pshell_matrices` without its derivative and mass (for assembly)."""
+    xyz = np.asarray(xyz, float)
+    T = np.broadcast_to(np.asarray(T, float), (xyz.shape[0],))[:, None, None]
+    size = stabilisation_size(xyz)[:, None, None]
+    R, p = _local_parts(xyz, membrane, bending, shear, k6rot, labels)
+    factors = {"membrane": T, "drilling": T, "bending": T**3, "shear": shear_thickness(T, size)}
+    return rotate(_expand([(*p[name], factors[name]) for name in STIFFNESS_PARTS],
+                          xyz.shape[0], 6 * xyz.shape[1]), R)
+
+
 def pshell_matrices(xyz: np.ndarray, T: np.ndarray, membrane: np.ndarray,
                     bending: np.ndarray, shear: np.ndarray, rho: np.ndarray,
                     nsm: np.ndarray = 0.0, lumped: bool = False, k6rot: float = K6ROT,
@@ -373,15 +407,17 @@ def pshell_matrices(xyz: np.ndarray, T: np.ndarray, membrane: np.ndarray,
     n = xyz.shape[0]
     T = np.broadcast_to(np.asarray(T, float), (n,))[:, None, None]
     size = stabilisation_size(xyz)[:, None, None]
-    p = shell_stiffness_parts(xyz, membrane, bending, shear, k6rot, labels)
+    R, p = _local_parts(xyz, membrane, bending, shear, k6rot, labels)
     m = shell_mass(xyz, lumped, labels)
     rho = np.broadcast_to(np.asarray(rho, float), (n,))[:, None, None]
     nsm = np.broadcast_to(np.asarray(nsm, float), (n,))[:, None, None]
-    linear = p["membrane"] + p["drilling"]
+    k = {"membrane": T, "drilling": T, "bending": T**3, "shear": shear_thickness(T, size)}
+    dk = {"membrane": 1.0 + 0 * T, "drilling": 1.0 + 0 * T, "bending": 3 * T**2,
+          "shear": shear_thickness_derivative(T, size)}
+    # rotation is linear: combine in element axes, rotate once
     return {
-        "K": T * linear + T**3 * p["bending"] + shear_thickness(T, size) * p["shear"],
-        "dK": linear + 3 * T**2 * p["bending"]
-        + shear_thickness_derivative(T, size) * p["shear"],
+        "K": rotate(_expand([(*p[q], k[q]) for q in STIFFNESS_PARTS], n, 6 * xyz.shape[1]), R),
+        "dK": rotate(_expand([(*p[q], dk[q]) for q in STIFFNESS_PARTS], n, 6 * xyz.shape[1]), R),
         "M": (rho * T + nsm) * m,
         "dM": rho * m,
     }

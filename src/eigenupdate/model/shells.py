@@ -12,6 +12,9 @@ normal): displacements ``u + z ry``, ``v - z rx``, ``w``, so that
   1000), so the triangle's shear moduli are scaled by T^2 / (T^2 + alpha h_e^2) (Lyly,
   Stenberg & Vihinen, Comput. Mech. 13, 1993; alpha = 0.1, h_e its longest edge), which
   tends to 1 as the mesh is refined and makes the error independent of the thickness;
+* membrane of CQUAD4: bilinear plus Wilson's incompatible modes (Taylor's QM6,
+  condensed per element), free of the bilinear element's parasitic shear in in-plane
+  bending, as NASTRAN's QUAD4 membrane is;
 * drilling rotation: MSC/NX NASTRAN's penalty ``1e-6 K6ROT G T (rz - (v,x - u,y)/2)^2``
   (PARAM K6ROT, default 100), whose only job is to keep ``rz`` from being singular.
 
@@ -276,21 +279,34 @@ def _local_parts(xyz, membrane, bending, shear, k6rot, labels):
     db_all = {name: [] for name in STIFFNESS_PARTS}
     if k == 4:
         points, shape, shear_b = _QUAD_POINTS, _quad_shape, _quad_shear
+        _, det0, inv0, _ = _jacobian(_quad_shape(0.0, 0.0)[1], xy)
     else:
         points, shape, shear_b = _TRIA_POINTS, _tria_shape, _tria_shear
     for p, q, weight in points:
         N, dn = shape(p, q)
         _, det, inv, g = _jacobian(dn, xy)
         w = (weight * det)[:, None, None]
-        for name, b, d in (("membrane", _b_membrane(g), cm), ("drilling", _b_drilling(N, g), gd),
+        bm = _b_membrane(g)[:, :, cols["membrane"]]
+        if k == 4:
+            # Wilson's modes 1 - xi^2, 1 - eta^2 in u and v, with Taylor's centre
+            # Jacobian (det J0 / det J) so that constant strains stay exact
+            ga = inv0 @ np.diag([-2.0 * p, -2.0 * q]) * (det0 / det)[:, None, None]
+            bm = np.concatenate([bm, _b_membrane(ga)[:, :, [0, 1, 6, 7]]], axis=2)
+        for name, b, d in (("membrane", bm, cm), ("drilling", _b_drilling(N, g), gd),
                            ("bending", _b_bending(g), cb),
                            ("shear", shear_b(p, q, xy, inv), cs)):
-            b = b[:, :, cols[name]]
+            if name != "membrane":
+                b = b[:, :, cols[name]]
             b_all[name].append(b)
             db_all[name].append(np.einsum("nab,nbj->naj", d, b) * w)
-    return R, {name: (cols[name], np.einsum("nai,naj->nij", np.concatenate(b_all[name], 1),
-                                            np.concatenate(db_all[name], 1)))
-               for name in STIFFNESS_PARTS}
+    out = {name: (cols[name], np.einsum("nai,naj->nij", np.concatenate(b_all[name], 1),
+                                        np.concatenate(db_all[name], 1)))
+           for name in STIFFNESS_PARTS}
+    if k == 4:  # condense the incompatible modes element by element
+        c, km = out["membrane"]
+        out["membrane"] = (c, km[:, :8, :8] - km[:, :8, 8:] @ np.linalg.solve(
+            km[:, 8:, 8:], km[:, 8:, :8]))
+    return R, out
 
 
 def shell_stiffness_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,

@@ -6,7 +6,8 @@ Times, in the same run:
   coordinates (the frame-element assembly, vectorised, with its 30 parameter matrices);
 * CQUAD4: element stiffness parts and mass of a square plate of 290 x 290 MITC4 elements
   (508,086 coordinates), combined for one thickness (K = T (K_m + K_drill + K_s) +
-  T^3 K_b, M = rho T M) and scattered into CSR, in chunks of 8192 elements;
+  T^3 K_b, M = rho T M) and summed into CSR 6 x 6 node block by node block, in chunks
+  of 8192 elements;
 * CTRIA3: the same grid cut into 2 x 290 x 290 triangles.
 
 Run: ``.venv/bin/python benchmarks/bench_shells.py`` (``--size small`` for a quick run).
@@ -23,10 +24,11 @@ import time
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
+import scipy.sparse as sp  # noqa: E402
 from frame import build_frame  # noqa: E402
 
 from eigenupdate.model import shells  # noqa: E402
-from eigenupdate.model.assembly import assemble, node_dofs  # noqa: E402
+from eigenupdate.model.assembly import assemble  # noqa: E402
 
 SIZES = {"full": (290, 37), "small": (60, 4)}  # plate cells per side, frame n_sub
 
@@ -44,13 +46,14 @@ def plate(nx: int, triangles: bool):
 
 def assemble_plate(xyz, el, T=0.005, E=70e9, nu=0.33, rho=2700.0):
     moduli = shells.pshell_moduli(E, nu)
-    n = 6 * xyz.shape[0]
-    dofs = node_dofs(el, 6)
-    K = assemble(dofs, lambda s: shells.pshell_stiffness(xyz[el[s]], T, *moduli), n)
-    # the mass couples translations only: scatter that quarter of each block
+    N = xyz.shape[0]
+    K = assemble(el, lambda s: shells.pshell_stiffness(xyz[el[s]], T, *moduli), N, 6)
+    # the mass couples translations only: sum 3 x 3 node blocks, then place them
     tr = (6 * np.arange(el.shape[1])[:, None] + np.arange(3)).ravel()
-    M = assemble(dofs[:, tr],
-                 lambda s: rho * T * shells.shell_mass(xyz[el[s]], False)[:, tr[:, None], tr], n)
+    M3 = assemble(el, lambda s: rho * T * shells.shell_mass(xyz[el[s]], False)[:, tr[:, None], tr],
+                  N, 3).tocoo()
+    M = sp.coo_array((M3.data, (6 * (M3.row // 3) + M3.row % 3, 6 * (M3.col // 3) + M3.col % 3)),
+                     shape=(6 * N, 6 * N)).tocsr()
     return K, M
 
 

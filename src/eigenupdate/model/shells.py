@@ -14,7 +14,7 @@ normal): displacements ``u + z ry``, ``v - z rx``, ``w``, so that
   tends to 1 as the mesh is refined and makes the error independent of the thickness;
 * membrane of CQUAD4: bilinear plus Wilson's incompatible modes (Taylor's QM6,
   condensed per element), free of the bilinear element's parasitic shear in in-plane
-  bending, as NASTRAN's QUAD4 membrane is;
+  bending (MacNeal's QUAD4 avoids it too, by other means);
 * drilling rotation: MSC/NX NASTRAN's penalty ``1e-6 K6ROT G T (rz - (v,x - u,y)/2)^2``
   (PARAM K6ROT, default 100), whose only job is to keep ``rz`` from being singular.
 
@@ -47,17 +47,19 @@ import numpy as np
 from eigenupdate.errors import InputError
 
 STIFFNESS_PARTS = ("membrane", "drilling", "bending", "shear")
-"""Thickness power of each part: T, T, T^3, T."""
 THICKNESS_POWER = {"membrane": 1, "drilling": 1, "bending": 3, "shear": 1}
+"""Thickness power of each part (CTRIA3's shear: :func:`shear_thickness` instead)."""
 ALPHA = 0.1
+"""Shear stabilisation of CTRIA3 (Lyly, Stenberg & Vihinen's alpha)."""
 _PART_COLUMNS = {"membrane": [0, 1], "drilling": [0, 1, 5], "bending": [3, 4],
                  "shear": [2, 3, 4]}  # each part's columns of a node's six
-"""Shear stabilisation of CTRIA3 (Lyly, Stenberg & Vihinen's alpha)."""
 K6ROT = 100.0
 """MSC/NX NASTRAN's default PARAM K6ROT."""
 MAX_WARP = 0.05
 """Largest warp (distance of a CQUAD4 node from the mean plane over sqrt(area)) that the
-flat projection accepts; NASTRAN's own warning level (GEOMCHECK Q4_WARP) is 0.05 too."""
+flat projection accepts; beyond it the projection (no rigid-link warp correction) would
+change the answer unnoticed. NASTRAN only warns (GEOMCHECK Q4_WARP, default 0.05 in its
+own measure)."""
 
 _G = 1.0 / np.sqrt(3.0)
 _QUAD_XI = np.array([-1.0, 1.0, 1.0, -1.0])

@@ -10,7 +10,8 @@ CHEXA8 adds Wilson's incompatible bubble modes ``1 - xi^2``, ``1 - eta^2``, ``1 
 centre-Jacobian gradients so that the patch test is passed on distorted elements),
 condensed out element by element: in bending it does not lock in shear as the plain
 trilinear brick does, as NASTRAN's CHEXA avoids it by default. CPENTA6 and CTETRA4 are
-the plain linear elements (stiff in bending, as in NASTRAN); CTETRA10 is quadratic.
+the plain linear elements (stiff in bending; no bubble functions here); CTETRA10 is
+quadratic.
 
 Stiffness is per unit modulus matrix (PSOLID + MAT1: :func:`isotropic_elasticity`), so
 dK/dE is K / E; mass is per unit density, consistent (shape functions' products) or

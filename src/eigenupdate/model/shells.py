@@ -87,8 +87,11 @@ def plane_stress(E: np.ndarray, nu: np.ndarray) -> np.ndarray:
     return c
 
 
-def pshell_moduli(E1, nu1, E2=None, nu2=None, G3=None, bending_ratio=1.0,
-                  shear_ratio=5.0 / 6.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def pshell_moduli(E1: np.ndarray, nu1: np.ndarray, E2: np.ndarray | None = None,
+                  nu2: np.ndarray | None = None, G3: np.ndarray | None = None,
+                  bending_ratio: np.ndarray | float = 1.0,
+                  shear_ratio: np.ndarray | float = 5.0 / 6.0
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Moduli per unit thickness power of PSHELL with MAT1 materials.
 
     Returns ``membrane`` (n, 3, 3) (MID1), ``bending`` (n, 3, 3) = MID2's plane-stress
@@ -265,7 +268,8 @@ def _expand(terms, n: int, m: int) -> np.ndarray:
     return out
 
 
-def _local_parts(xyz, membrane, bending, shear, k6rot, labels):
+def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
+                 shear: np.ndarray, k6rot: float, labels: list[str] | None):
     """Element axes R and the stiffness parts in element axes, each as its columns and
     its block on them (membrane: u, v; drilling: u, v, rz; bending: rx, ry; shear: w,
     rx, ry), all integration points in one product."""

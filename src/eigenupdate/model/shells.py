@@ -1,0 +1,445 @@
+"""Flat shell elements CQUAD4 (MITC4) and CTRIA3 (MITC3), vectorised over elements.
+
+Reissner-Mindlin kinematics in element axes x, y (in the element's plane) and z (its
+normal): displacements ``u + z ry``, ``v - z rx``, ``w``, so that
+
+* membrane strains ``u,x``, ``v,y``, ``u,y + v,x``;
+* curvatures ``ry,x``, ``-rx,y``, ``ry,y - rx,x``;
+* transverse shear strains ``w,x + ry`` and ``w,y - rx``, interpolated as MITC4 (Bathe &
+  Dvorkin, Int. J. Numer. Meth. Eng. 21, 1985: covariant strains tied at the edge
+  mid-points) and MITC3 (Lee & Bathe, Comput. Struct. 82, 2004). MITC4 does not lock;
+  MITC3 alone does (5.7 % on a thin plate's first mode with 32 x 32 x 2 elements, a/h =
+  1000), so the triangle's shear moduli are scaled by T^2 / (T^2 + alpha h_e^2) (Lyly,
+  Stenberg & Vihinen, Comput. Mech. 13, 1993; alpha = 0.1, h_e its longest edge), which
+  tends to 1 as the mesh is refined and makes the error independent of the thickness;
+* membrane of CQUAD4: bilinear plus Wilson's incompatible modes (Taylor's QM6,
+  condensed per element), free of the bilinear element's parasitic shear in in-plane
+  bending (MacNeal's QUAD4 avoids it too, by other means);
+* drilling rotation: MSC/NX NASTRAN's penalty ``1e-6 K6ROT G T (rz - (v,x - u,y)/2)^2``
+  (PARAM K6ROT, default 100), whose only job is to keep ``rz`` from being singular.
+
+Element axes are NASTRAN's: CQUAD4's normal is the cross product of the diagonals
+G1-G3 and G2-G4, its x axis bisects the angle between them (the mean plane's nodes are
+projected onto it, as NASTRAN's flat QUAD4 does); CTRIA3's x axis runs from G1 to G2.
+Element matrices come back in global axes, 6 coordinates per node
+``[u, v, w, rx, ry, rz]``, nodes in the card's order.
+
+PSHELL's fields enter as *parts* of fixed matrices times a power of the thickness T:
+
+    K(T) = T K_membrane + T K_drilling + T^3 K_bending + s(T) K_shear
+    M(T) = (rho T + NSM) M_translation
+
+where s(T) = T for CQUAD4 and T^3 / (T^2 + alpha h_e^2) for CTRIA3
+(:func:`shear_thickness`, derivative :func:`shear_thickness_derivative`)
+with the moduli of :func:`pshell_moduli` (MID1 plane-stress matrix; MID2's times
+(12 I / T^3) / 12; MID3's transverse shear moduli times TS/T), so a thickness parameter
+has the exact derivative dK/dT = K_membrane + K_drilling + 3 T^2 K_bending + s'(T) K_shear
+(:func:`pshell_matrices` forms both).
+The mass has no rotary inertia (as NASTRAN's CQUAD4/CTRIA3 with MID4 blank): the
+consistent mass couples the translations with the bilinear (linear) shape functions,
+the lumped one puts the integral of each shape function at its node.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from eigenupdate.errors import InputError
+
+STIFFNESS_PARTS = ("membrane", "drilling", "bending", "shear")
+THICKNESS_POWER = {"membrane": 1, "drilling": 1, "bending": 3, "shear": 1}
+"""Thickness power of each part (CTRIA3's shear: :func:`shear_thickness` instead)."""
+ALPHA = 0.1
+"""Shear stabilisation of CTRIA3 (Lyly, Stenberg & Vihinen's alpha)."""
+_PART_COLUMNS = {"membrane": [0, 1], "drilling": [0, 1, 5], "bending": [3, 4],
+                 "shear": [2, 3, 4]}  # each part's columns of a node's six
+K6ROT = 100.0
+"""MSC/NX NASTRAN's default PARAM K6ROT."""
+MAX_WARP = 0.05
+"""Largest warp (distance of a CQUAD4 node from the mean plane over sqrt(area)) that the
+flat projection accepts; beyond it the projection (no rigid-link warp correction) would
+change the answer unnoticed. NASTRAN only warns (GEOMCHECK Q4_WARP, default 0.05 in its
+own measure)."""
+
+_G = 1.0 / np.sqrt(3.0)
+_QUAD_XI = np.array([-1.0, 1.0, 1.0, -1.0])
+_QUAD_ETA = np.array([-1.0, -1.0, 1.0, 1.0])
+_QUAD_POINTS = [(a * _G, b * _G, 1.0) for b in (-1.0, 1.0) for a in (-1.0, 1.0)]
+# Strang-Fix 3-point rule, exact for quadratics on the reference triangle (area 1/2)
+_TRIA_POINTS = [(1 / 6, 1 / 6, 1 / 6), (2 / 3, 1 / 6, 1 / 6), (1 / 6, 2 / 3, 1 / 6)]
+
+
+def plane_stress(E: np.ndarray, nu: np.ndarray) -> np.ndarray:
+    """Isotropic plane-stress matrices (n, 3, 3) for strains ``[exx, eyy, gxy]``.
+
+    Examples
+    --------
+    >>> plane_stress(np.array([2.0]), np.array([0.0]))[0].tolist()
+    [[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]]
+    """
+    E, nu = np.broadcast_arrays(np.atleast_1d(np.asarray(E, float)),
+                                np.atleast_1d(np.asarray(nu, float)))
+    c = np.zeros((E.size, 3, 3))
+    f = E / (1.0 - nu**2)
+    c[:, 0, 0] = c[:, 1, 1] = f
+    c[:, 0, 1] = c[:, 1, 0] = f * nu
+    c[:, 2, 2] = E / (2.0 * (1.0 + nu))
+    return c
+
+
+def pshell_moduli(E1: np.ndarray, nu1: np.ndarray, E2: np.ndarray | None = None,
+                  nu2: np.ndarray | None = None, G3: np.ndarray | None = None,
+                  bending_ratio: np.ndarray | float = 1.0,
+                  shear_ratio: np.ndarray | float = 5.0 / 6.0
+                  ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Moduli per unit thickness power of PSHELL with MAT1 materials.
+
+    Returns ``membrane`` (n, 3, 3) (MID1), ``bending`` (n, 3, 3) = MID2's plane-stress
+    matrix times ``bending_ratio`` (PSHELL 12I/T^3) / 12, and ``shear`` (n, 2, 2) = MID3's
+    G times ``shear_ratio`` (PSHELL TS/T, NASTRAN's default 5/6) on ``[gxz, gyz]``.
+    MID2 and MID3 default to MID1 (``G3`` to E1 / (2 (1 + nu1))); pass zeros for a
+    membrane-only shell.
+    """
+    membrane = plane_stress(E1, nu1)
+    bending = plane_stress(E1 if E2 is None else E2, nu1 if nu2 is None else nu2)
+    bending = bending * (np.asarray(bending_ratio, float) / 12.0).reshape(-1, 1, 1)
+    g = membrane[:, 2, 2] if G3 is None else np.broadcast_to(np.asarray(G3, float),
+                                                            (membrane.shape[0],))
+    shear = np.zeros((membrane.shape[0], 2, 2))
+    shear[:, 0, 0] = shear[:, 1, 1] = g * np.asarray(shear_ratio, float)
+    return membrane, bending, shear
+
+
+def shell_axes(xyz: np.ndarray, labels: list[str] | None = None
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """NASTRAN element axes (rows x, y, z; (n, 3, 3)) and the nodes' in-plane element
+    coordinates (n, k, 2) of CTRIA3 (k = 3) or CQUAD4 (k = 4) elements.
+
+    A zero area, a warped quadrilateral (:data:`MAX_WARP`), and a quadrilateral that is
+    not convex (or whose nodes are not in order round it) are :class:`InputError`
+    naming the element (``labels``).
+
+    Examples
+    --------
+    >>> R, xy = shell_axes(np.array([[[0., 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0]]]))
+    >>> bool(np.allclose(R[0], np.eye(3))), bool(np.allclose(xy[0, 2], [1.0, 0.5]))
+    (True, True)
+    """
+    xyz = np.asarray(xyz, float)
+    n, k = xyz.shape[:2]
+
+    def name(i: int) -> str:
+        return labels[i] if labels else f"element {i}"
+
+    if k == 4:
+        d13, d24 = xyz[:, 2] - xyz[:, 0], xyz[:, 3] - xyz[:, 1]
+        z = np.cross(d13, d24)
+        x = (d13 / np.linalg.norm(d13, axis=1, keepdims=True)
+             - d24 / np.linalg.norm(d24, axis=1, keepdims=True))
+    elif k == 3:
+        x = xyz[:, 1] - xyz[:, 0]
+        z = np.cross(x, xyz[:, 2] - xyz[:, 0])
+    else:
+        raise ValueError(f"{k} nodes: a shell element has 3 or 4")
+    area2 = np.linalg.norm(z, axis=1)  # twice the (projected) area
+    size2 = np.max(np.sum((xyz - xyz.mean(axis=1, keepdims=True)) ** 2, axis=2), axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        bad = np.flatnonzero(~(area2 > 1e-10 * size2))
+    if bad.size:
+        raise InputError(f"{name(bad[0])}: zero area (nodes coincide or lie on a line)")
+    z = z / area2[:, None]
+    x = x - np.sum(x * z, axis=1)[:, None] * z
+    x /= np.linalg.norm(x, axis=1, keepdims=True)
+    R = np.stack([x, np.cross(z, x), z], axis=1)
+    local = np.einsum("nij,nkj->nki", R, xyz - xyz.mean(axis=1, keepdims=True))
+    if k == 4:
+        warp = np.max(np.abs(local[:, :, 2]), axis=1) / np.sqrt(area2 / 2.0)
+        bad = np.flatnonzero(warp > MAX_WARP)
+        if bad.size:
+            raise InputError(f"{name(bad[0])}: warped by {warp[bad[0]]:.3g} (nodes' distance "
+                             f"from the mean plane / sqrt(area); at most {MAX_WARP})")
+        # every corner turns left: convex and numbered round the element
+        xy = local[:, :, :2]
+        e = np.roll(xy, -1, axis=1) - xy
+        prev = np.roll(e, 1, axis=1)
+        turn = e[:, :, 0] * prev[:, :, 1] - e[:, :, 1] * prev[:, :, 0]
+        bad = np.flatnonzero(~np.all(turn < 0, axis=1))
+        if bad.size:
+            raise InputError(f"{name(bad[0])}: not convex, or its nodes are not in order round "
+                             "it (negative Jacobian)")
+    return R, local[:, :, :2]
+
+
+def _jacobian(dn: np.ndarray, xy: np.ndarray):
+    """J[a, b] = d x_b / d xi_a (n, 2, 2), det J, J^-1, and the shape functions'
+    gradients (n, 2, k) at one point whose natural gradients are ``dn`` (2, k)."""
+    J = np.einsum("ak,nkb->nab", dn, xy)
+    det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+    inv = np.empty_like(J)
+    inv[:, 0, 0], inv[:, 1, 1] = J[:, 1, 1], J[:, 0, 0]
+    inv[:, 0, 1], inv[:, 1, 0] = -J[:, 0, 1], -J[:, 1, 0]
+    inv /= det[:, None, None]
+    return J, det, inv, inv @ dn
+
+
+def _b_membrane(g: np.ndarray) -> np.ndarray:
+    n, _, k = g.shape
+    b = np.zeros((n, 3, 6 * k))
+    b[:, 0, 0::6] = g[:, 0]
+    b[:, 1, 1::6] = g[:, 1]
+    b[:, 2, 0::6] = g[:, 1]
+    b[:, 2, 1::6] = g[:, 0]
+    return b
+
+
+def _b_bending(g: np.ndarray) -> np.ndarray:
+    n, _, k = g.shape
+    b = np.zeros((n, 3, 6 * k))
+    b[:, 0, 4::6] = g[:, 0]
+    b[:, 1, 3::6] = -g[:, 1]
+    b[:, 2, 4::6] = g[:, 1]
+    b[:, 2, 3::6] = -g[:, 0]
+    return b
+
+
+def _b_drilling(N: np.ndarray, g: np.ndarray) -> np.ndarray:
+    n, _, k = g.shape
+    b = np.zeros((n, 1, 6 * k))
+    b[:, 0, 5::6] = N
+    b[:, 0, 1::6] = -0.5 * g[:, 0]
+    b[:, 0, 0::6] = 0.5 * g[:, 1]
+    return b
+
+
+def _covariant_shear(N: np.ndarray, dn: np.ndarray, J: np.ndarray, a: int) -> np.ndarray:
+    """Row (n, 6k) of the covariant shear strain w,a + x,a ry - y,a rx along natural
+    direction ``a`` at a point with shape functions N (k,), gradients dn (2, k)."""
+    k = N.size
+    row = np.zeros((J.shape[0], 6 * k))
+    row[:, 2::6] = dn[a]
+    row[:, 4::6] = J[:, a, 0:1] * N
+    row[:, 3::6] = -J[:, a, 1:2] * N
+    return row
+
+
+def _quad_shape(xi: float, eta: float) -> tuple[np.ndarray, np.ndarray]:
+    N = 0.25 * (1 + _QUAD_XI * xi) * (1 + _QUAD_ETA * eta)
+    dn = 0.25 * np.array([_QUAD_XI * (1 + _QUAD_ETA * eta), _QUAD_ETA * (1 + _QUAD_XI * xi)])
+    return N, dn
+
+
+def _tria_shape(r: float, s: float) -> tuple[np.ndarray, np.ndarray]:
+    return np.array([1 - r - s, r, s]), np.array([[-1.0, 1.0, 0.0], [-1.0, 0.0, 1.0]])
+
+
+def _quad_shear(xi: float, eta: float, xy: np.ndarray, inv: np.ndarray) -> np.ndarray:
+    """MITC4: gxi tied at (0, +-1), geta at (+-1, 0), interpolated linearly between."""
+    def cov(p, q, a):
+        N, dn = _quad_shape(p, q)
+        return _covariant_shear(N, dn, np.einsum("ak,nkb->nab", dn, xy), a)
+    gxi = 0.5 * (1 + eta) * cov(0.0, 1.0, 0) + 0.5 * (1 - eta) * cov(0.0, -1.0, 0)
+    geta = 0.5 * (1 + xi) * cov(1.0, 0.0, 1) + 0.5 * (1 - xi) * cov(-1.0, 0.0, 1)
+    return inv @ np.stack([gxi, geta], axis=1)
+
+
+def _tria_shear(r: float, s: float, xy: np.ndarray, inv: np.ndarray) -> np.ndarray:
+    """MITC3: e_r tied at (1/2, 0), e_s at (0, 1/2), both at (1/2, 1/2)."""
+    def cov(p, q, a):
+        N, dn = _tria_shape(p, q)
+        return _covariant_shear(N, dn, np.einsum("ak,nkb->nab", dn, xy), a)
+    er1, es2 = cov(0.5, 0.0, 0), cov(0.0, 0.5, 1)
+    c = es2 - er1 - cov(0.5, 0.5, 1) + cov(0.5, 0.5, 0)
+    return inv @ np.stack([er1 + c * s, es2 - c * r], axis=1)
+
+
+def rotate(local: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """T^T k T for symmetric blocks (n, m, m) whose every 3 coordinates are in the axes
+    whose rows are R (n, 3, 3) (T = diag(R, R, ...)): the blocks in global axes."""
+    n, m = local.shape[:2]
+    y = (local.reshape(n, m * m // 3, 3) @ R).reshape(n, m // 3, 3, m)  # k T
+    return (np.swapaxes(R, 1, 2)[:, None] @ y).reshape(n, m, m)
+
+
+def _expand(terms, n: int, m: int) -> np.ndarray:
+    """Sum (n, m, m) of compact parts ``(columns, (n, c, c) block, factor (n, 1, 1))``."""
+    out = np.zeros((n, m, m))
+    for cols, block, factor in terms:
+        out[:, cols[:, None], cols[None, :]] += block * factor
+    return out
+
+
+def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
+                 shear: np.ndarray, k6rot: float, labels: list[str] | None):
+    """Element axes R and the stiffness parts in element axes, each as its columns and
+    its block on them (membrane: u, v; drilling: u, v, rz; bending: rx, ry; shear: w,
+    rx, ry), all integration points in one product."""
+    xyz = np.asarray(xyz, float)
+    n, k = xyz.shape[:2]
+    R, xy = shell_axes(xyz, labels)
+    cm, cb, cs = (np.broadcast_to(np.asarray(c, float), (n,) + np.shape(c)[-2:])
+                  for c in (membrane, bending, shear))
+    gd = np.broadcast_to((1e-6 * k6rot * cm[:, 2, 2]).reshape(n, 1, 1), (n, 1, 1))
+    cols = {name: (6 * np.arange(k)[:, None] + np.array(c)).ravel()
+            for name, c in _PART_COLUMNS.items()}
+    b_all = {name: [] for name in STIFFNESS_PARTS}
+    db_all = {name: [] for name in STIFFNESS_PARTS}
+    if k == 4:
+        points, shape, shear_b = _QUAD_POINTS, _quad_shape, _quad_shear
+        _, det0, inv0, _ = _jacobian(_quad_shape(0.0, 0.0)[1], xy)
+    else:
+        points, shape, shear_b = _TRIA_POINTS, _tria_shape, _tria_shear
+    for p, q, weight in points:
+        N, dn = shape(p, q)
+        _, det, inv, g = _jacobian(dn, xy)
+        w = (weight * det)[:, None, None]
+        bm = _b_membrane(g)[:, :, cols["membrane"]]
+        if k == 4:
+            # Wilson's modes 1 - xi^2, 1 - eta^2 in u and v, with Taylor's centre
+            # Jacobian (det J0 / det J) so that constant strains stay exact
+            ga = inv0 @ np.diag([-2.0 * p, -2.0 * q]) * (det0 / det)[:, None, None]
+            bm = np.concatenate([bm, _b_membrane(ga)[:, :, [0, 1, 6, 7]]], axis=2)
+        for name, b, d in (("membrane", bm, cm), ("drilling", _b_drilling(N, g), gd),
+                           ("bending", _b_bending(g), cb),
+                           ("shear", shear_b(p, q, xy, inv), cs)):
+            if name != "membrane":
+                b = b[:, :, cols[name]]
+            b_all[name].append(b)
+            db_all[name].append(np.einsum("nab,nbj->naj", d, b) * w)
+    out = {name: (cols[name], np.einsum("nai,naj->nij", np.concatenate(b_all[name], 1),
+                                        np.concatenate(db_all[name], 1)))
+           for name in STIFFNESS_PARTS}
+    if k == 4:  # condense the incompatible modes element by element
+        c, km = out["membrane"]
+        out["membrane"] = (c, km[:, :8, :8] - km[:, :8, 8:] @ np.linalg.solve(
+            km[:, 8:, 8:], km[:, 8:, :8]))
+    return R, out
+
+
+def shell_stiffness_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
+                          shear: np.ndarray, k6rot: float = K6ROT,
+                          labels: list[str] | None = None) -> dict[str, np.ndarray]:
+    """Stiffness parts (n, 6k, 6k) in global axes of CTRIA3 (xyz (n, 3, 3)) or CQUAD4
+    (xyz (n, 4, 3)) elements, per unit thickness power (:data:`THICKNESS_POWER`).
+
+    ``membrane``, ``bending``, ``shear``: the moduli of :func:`pshell_moduli`, (n, 3, 3),
+    (n, 3, 3), (n, 2, 2) (or one of each, shared), in element axes. The drilling penalty
+    uses the membrane shear modulus (MID1's G) and ``k6rot`` (PARAM K6ROT).
+    """
+    R, parts = _local_parts(xyz, membrane, bending, shear, k6rot, labels)
+    n, m, one = R.shape[0], 6 * np.shape(xyz)[1], np.ones((1, 1, 1))
+    return {name: rotate(_expand([(c, b, one)], n, m), R) for name, (c, b) in parts.items()}
+
+
+def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None) -> np.ndarray:
+    """Translational mass (n, 6k, 6k) per unit mass per area (rho T + NSM) of CTRIA3 or
+    CQUAD4 elements: consistent (shape functions' products) or lumped (each shape
+    function's integral at its node). Rotations carry no mass.
+
+    Examples
+    --------
+    Either keeps the element's mass, here a 2 x 1 rectangle:
+
+    >>> xyz = np.array([[[0., 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0]]])
+    >>> [bool(np.isclose(shell_mass(xyz, c)[0, 0::6, 0::6].sum(), 2.0)) for c in (False, True)]
+    [True, True]
+    """
+    xyz = np.asarray(xyz, float)
+    n, k = xyz.shape[:2]
+    _, xy = shell_axes(xyz, labels)
+    if k == 4:
+        points, shape = _QUAD_POINTS, _quad_shape
+    else:
+        points, shape = _TRIA_POINTS, _tria_shape
+    m = np.zeros((n, k, k))
+    for p, q, weight in points:
+        N, dn = shape(p, q)
+        det = _jacobian(dn, xy)[1]
+        m += (weight * det)[:, None, None] * np.outer(N, N)
+    if lumped:
+        m = np.einsum("nij,ij->nij", np.broadcast_to(m.sum(axis=2)[:, :, None], m.shape),
+                      np.eye(k))
+    out = np.zeros((n, 6 * k, 6 * k))
+    for d in range(3):
+        out[:, d::6, d::6] = m
+    return out
+
+
+def stabilisation_size(xyz: np.ndarray) -> np.ndarray:
+    """h_e (n,) of :func:`shear_thickness`: a CTRIA3's longest edge, 0 for a CQUAD4
+    (MITC4 needs no stabilisation)."""
+    xyz = np.asarray(xyz, float)
+    if xyz.shape[1] == 4:
+        return np.zeros(xyz.shape[0])
+    return np.max(np.linalg.norm(xyz - np.roll(xyz, 1, axis=1), axis=2), axis=1)
+
+
+def shear_thickness(T: np.ndarray, size: np.ndarray) -> np.ndarray:
+    """s(T) = T^3 / (T^2 + alpha h_e^2): the factor of the part ``shear``.
+
+    Examples
+    --------
+    >>> bool(shear_thickness(0.5, 0.0) == 0.5), bool(shear_thickness(1.0, 3.0) < 1.0)
+    (True, True)
+    """
+    T, h = np.asarray(T, float), np.asarray(size, float)
+    return T**3 / (T**2 + ALPHA * h**2)
+
+
+def shear_thickness_derivative(T: np.ndarray, size: np.ndarray) -> np.ndarray:
+    """ds/dT of :func:`shear_thickness`."""
+    T, h = np.asarray(T, float), np.asarray(size, float)
+    c = ALPHA * h**2
+    return T**2 * (T**2 + 3.0 * c) / (T**2 + c) ** 2
+
+
+def pshell_stiffness(xyz: np.ndarray, T: np.ndarray, membrane: np.ndarray,
+                     bending: np.ndarray, shear: np.ndarray, k6rot: float = K6ROT,
+                     labels: list[str] | None = None) -> np.ndarray:
+    """K (n, 6k, 6k) in global axes of PSHELL elements of thickness T (n,): the ``K`` of
+    :func:`pshell_matrices` without its derivative and mass (for assembly)."""
+    xyz = np.asarray(xyz, float)
+    T = np.broadcast_to(np.asarray(T, float), (xyz.shape[0],))[:, None, None]
+    size = stabilisation_size(xyz)[:, None, None]
+    R, p = _local_parts(xyz, membrane, bending, shear, k6rot, labels)
+    factors = {"membrane": T, "drilling": T, "bending": T**3, "shear": shear_thickness(T, size)}
+    return rotate(_expand([(*p[name], factors[name]) for name in STIFFNESS_PARTS],
+                          xyz.shape[0], 6 * xyz.shape[1]), R)
+
+
+def pshell_matrices(xyz: np.ndarray, T: np.ndarray, membrane: np.ndarray,
+                    bending: np.ndarray, shear: np.ndarray, rho: np.ndarray,
+                    nsm: np.ndarray = 0.0, lumped: bool = False, k6rot: float = K6ROT,
+                    labels: list[str] | None = None) -> dict[str, np.ndarray]:
+    """K, M and their thickness derivatives dK/dT, dM/dT (each (n, 6k, 6k), global
+    axes) of PSHELL elements of thickness T (n,) and mass density ``rho`` (MID1's),
+    ``nsm`` per area.
+
+    Examples
+    --------
+    The derivative is exact: K is a cubic in T.
+
+    >>> xyz = np.array([[[0., 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]])
+    >>> m = pshell_moduli(1.0, 0.3)
+    >>> a, b = (pshell_matrices(xyz, t, *m, rho=1.0)["K"] for t in (0.1, 0.1 + 1e-6))
+    >>> d = pshell_matrices(xyz, 0.1 + 5e-7, *m, rho=1.0)["dK"]
+    >>> bool(np.allclose((b - a) / 1e-6, d, rtol=1e-6, atol=1e-9 * abs(d).max()))
+    True
+    """
+    xyz = np.asarray(xyz, float)
+    n = xyz.shape[0]
+    T = np.broadcast_to(np.asarray(T, float), (n,))[:, None, None]
+    size = stabilisation_size(xyz)[:, None, None]
+    R, p = _local_parts(xyz, membrane, bending, shear, k6rot, labels)
+    m = shell_mass(xyz, lumped, labels)
+    rho = np.broadcast_to(np.asarray(rho, float), (n,))[:, None, None]
+    nsm = np.broadcast_to(np.asarray(nsm, float), (n,))[:, None, None]
+    k = {"membrane": T, "drilling": T, "bending": T**3, "shear": shear_thickness(T, size)}
+    dk = {"membrane": 1.0 + 0 * T, "drilling": 1.0 + 0 * T, "bending": 3 * T**2,
+          "shear": shear_thickness_derivative(T, size)}
+    # rotation is linear: combine in element axes, rotate once
+    return {
+        "K": rotate(_expand([(*p[q], k[q]) for q in STIFFNESS_PARTS], n, 6 * xyz.shape[1]), R),
+        "dK": rotate(_expand([(*p[q], dk[q]) for q in STIFFNESS_PARTS], n, 6 * xyz.shape[1]), R),
+        "M": (rho * T + nsm) * m,
+        "dM": rho * m,
+    }

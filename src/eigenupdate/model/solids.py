@@ -1,0 +1,234 @@
+"""Solid elements CTETRA (4, 10 nodes), CPENTA (6) and CHEXA (8), vectorised over elements.
+
+Isoparametric displacement elements with NASTRAN's node order (corners first, then the
+mid-edge nodes of CTETRA10 on edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4); three translations per
+node in the basic system, ``[u, v, w]`` node after node. Strains in Voigt order
+``[exx, eyy, ezz, gxy, gyz, gzx]`` (engineering shears).
+
+CHEXA8 adds Wilson's incompatible bubble modes ``1 - xi^2``, ``1 - eta^2``, ``1 - zeta^2``
+(Wilson, Taylor, Doherty & Ghaboussi 1973, with Taylor, Beresford & Wilson's 1976
+centre-Jacobian gradients so that the patch test is passed on distorted elements),
+condensed out element by element: in bending it does not lock in shear as the plain
+trilinear brick does, as NASTRAN's CHEXA avoids it by default. CPENTA6 and CTETRA4 are
+the plain linear elements (stiff in bending; no bubble functions here); CTETRA10 is
+quadratic.
+
+Stiffness is per unit modulus matrix (PSOLID + MAT1: :func:`isotropic_elasticity`), so
+dK/dE is K / E; mass is per unit density, consistent (shape functions' products) or
+lumped (the consistent matrix's diagonal scaled to the element's mass, Hinton, Rock &
+Zienkiewicz 1976: the row sums of a linear element, positive corner masses for CTETRA10).
+A zero or changing-sign Jacobian (a flat, inside-out or folded element) is an
+:class:`InputError` naming the element; a consistently negative one (nodes numbered the
+other way round) gives the same matrices as the positive one.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from eigenupdate.errors import InputError
+
+NODES = {"CTETRA4": 4, "CTETRA10": 10, "CPENTA6": 6, "CHEXA8": 8}
+
+_TET_EDGES = np.array([[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]])
+_HEX = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                 [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
+
+
+def isotropic_elasticity(E: np.ndarray, nu: np.ndarray) -> np.ndarray:
+    """Isotropic moduli (n, 6, 6) in Voigt order with engineering shear strains.
+
+    Examples
+    --------
+    >>> c = isotropic_elasticity(np.array([2.5]), np.array([0.25]))[0]
+    >>> bool(np.allclose([c[0, 0], c[0, 1], c[3, 3]], [3.0, 1.0, 1.0]))
+    True
+    """
+    E, nu = np.broadcast_arrays(np.atleast_1d(np.asarray(E, float)),
+                                np.atleast_1d(np.asarray(nu, float)))
+    lam = E * nu / ((1 + nu) * (1 - 2 * nu))
+    mu = E / (2 * (1 + nu))
+    c = np.zeros((E.size, 6, 6))
+    c[:, :3, :3] = lam[:, None, None]
+    for i in range(3):
+        c[:, i, i] += 2 * mu
+        c[:, i + 3, i + 3] = mu
+    return c
+
+
+def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
+    return np.polynomial.legendre.leggauss(n)
+
+
+def _tet_rule(n: int) -> list[tuple[np.ndarray, float]]:
+    """Collapsed Gauss-Legendre (Stroud's conical product) rule on the unit tetrahedron,
+    exact for polynomials of degree 2 n - 3."""
+    x, w = _gauss(n)
+    x, w = (x + 1) / 2, w / 2
+    out = []
+    for a, wa in zip(x, w, strict=True):
+        for b, wb in zip(x, w, strict=True):
+            for c, wc in zip(x, w, strict=True):
+                p = np.array([a, b * (1 - a), c * (1 - a) * (1 - b)])
+                out.append((p, wa * wb * wc * (1 - a) ** 2 * (1 - b)))
+    return out
+
+
+def _hex_rule(n: int) -> list[tuple[np.ndarray, float]]:
+    x, w = _gauss(n)
+    return [(np.array([a, b, c]), wa * wb * wc) for a, wa in zip(x, w, strict=True)
+            for b, wb in zip(x, w, strict=True) for c, wc in zip(x, w, strict=True)]
+
+
+def _wedge_rule(n: int) -> list[tuple[np.ndarray, float]]:
+    tri = [((1 / 6, 1 / 6), 1 / 6), ((2 / 3, 1 / 6), 1 / 6), ((1 / 6, 2 / 3), 1 / 6)]
+    x, w = _gauss(n)
+    return [(np.array([r, s, z]), wt * wz) for (r, s), wt in tri
+            for z, wz in zip(x, w, strict=True)]
+
+
+def _shape(kind: str, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Shape functions N (k,) and natural gradients (3, k) at natural point p."""
+    r, s, t = p
+    if kind in ("CTETRA4", "CTETRA10"):
+        L = np.array([1 - r - s - t, r, s, t])
+        dL = np.array([[-1.0, 1, 0, 0], [-1.0, 0, 1, 0], [-1.0, 0, 0, 1]])
+        if kind == "CTETRA4":
+            return L, dL
+        a, b = _TET_EDGES.T
+        N = np.concatenate([L * (2 * L - 1), 4 * L[a] * L[b]])
+        dN = np.concatenate([dL * (4 * L - 1), 4 * (dL[:, a] * L[b] + L[a] * dL[:, b])], axis=1)
+        return N, dN
+    if kind == "CPENTA6":
+        L = np.array([1 - r - s, r, s])
+        dL = np.array([[-1.0, 1, 0], [-1.0, 0, 1]])
+        lo, hi = (1 - t) / 2, (1 + t) / 2
+        N = np.concatenate([L * lo, L * hi])
+        dN = np.vstack([np.hstack([dL * lo, dL * hi]), np.concatenate([-L / 2, L / 2])])
+        return N, dN
+    f = 1 + _HEX * p  # (8, 3)
+    N = f.prod(axis=1) / 8
+    dN = np.stack([_HEX[:, 0] * f[:, 1] * f[:, 2], f[:, 0] * _HEX[:, 1] * f[:, 2],
+                   f[:, 0] * f[:, 1] * _HEX[:, 2]]) / 8
+    return N, dN
+
+
+def _rule(kind: str, mass: bool) -> list[tuple[np.ndarray, float]]:
+    if kind == "CTETRA4":
+        return _tet_rule(2 if not mass else 3)
+    if kind == "CTETRA10":
+        return _tet_rule(3 if not mass else 4)
+    if kind == "CPENTA6":
+        return _wedge_rule(2 if not mass else 3)
+    return _hex_rule(2 if not mass else 3)
+
+
+def _kind(xyz: np.ndarray) -> str:
+    k = xyz.shape[1]
+    for name, nodes in NODES.items():
+        if nodes == k:
+            return name
+    raise ValueError(f"{k} nodes: solids have 4, 6, 8 or 10")
+
+
+def _jacobians(kind: str, xyz: np.ndarray, rule, labels) -> list[tuple]:
+    """(N, det |J|, Cartesian gradients (n, 3, k)) at each point of ``rule``; checks
+    that det J keeps one sign over the points and the corners."""
+    corners = [(c, 0.0) for c in _HEX] if kind == "CHEXA8" else []
+    found = []
+    for p, w in list(rule) + corners:
+        N, dn = _shape(kind, p)
+        J = np.einsum("ak,nkb->nab", dn, xyz)
+        found.append((N, dn, w, J, np.linalg.det(J)))
+    dets = np.array([f[4] for f in found])
+    size = np.max(np.ptp(xyz, axis=1), axis=1) ** 3
+    bad = np.flatnonzero(~((np.all(dets > 1e-10 * size, axis=0))
+                           | np.all(dets < -1e-10 * size, axis=0)))
+    if bad.size:
+        name = labels[bad[0]] if labels else f"element {bad[0]}"
+        raise InputError(f"{name}: zero or changing-sign Jacobian (a flat, inside-out or "
+                         "folded element, or nodes out of order)")
+    return [(N, w * np.abs(det), np.linalg.solve(J, np.broadcast_to(dn, (xyz.shape[0],)
+                                                                     + dn.shape)))
+            for N, dn, w, J, det in found if w]
+
+
+def _strain(g: np.ndarray) -> np.ndarray:
+    """B (n, 6, 3k) from Cartesian gradients g (n, 3, k)."""
+    n, _, k = g.shape
+    b = np.zeros((n, 6, 3 * k))
+    for i in range(3):
+        b[:, i, i::3] = g[:, i]
+    for row, (i, j) in zip((3, 4, 5), ((0, 1), (1, 2), (2, 0)), strict=True):
+        b[:, row, i::3] = g[:, j]
+        b[:, row, j::3] = g[:, i]
+    return b
+
+
+def solid_stiffness(xyz: np.ndarray, elasticity: np.ndarray,
+                    labels: list[str] | None = None) -> np.ndarray:
+    """Stiffness (n, 3k, 3k) of solids with nodes xyz (n, k, 3) (k = 4, 6, 8, 10:
+    CTETRA4, CPENTA6, CHEXA8, CTETRA10) and moduli (n, 6, 6) or (6, 6).
+
+    Examples
+    --------
+    A unit cube's stiffness has six zero eigenvalues (rigid-body motions):
+
+    >>> xyz = (np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1],
+    ...                  [1, 0, 1], [1, 1, 1], [0, 1, 1]], float) + 0.1)[None]
+    >>> lam = np.linalg.eigvalsh(solid_stiffness(xyz, isotropic_elasticity(1.0, 0.3))[0])
+    >>> int(np.sum(np.abs(lam) < 1e-12 * lam.max()))
+    6
+    """
+    xyz = np.asarray(xyz, float)
+    n = xyz.shape[0]
+    kind = _kind(xyz)
+    C = np.broadcast_to(np.asarray(elasticity, float), (n, 6, 6))
+    K = np.zeros((n, 3 * xyz.shape[1], 3 * xyz.shape[1]))
+    points = _jacobians(kind, xyz, _rule(kind, False), labels)
+    for _, w, g in points:
+        b = _strain(g)
+        K += np.transpose(b, (0, 2, 1)) @ (C @ b) * w[:, None, None]
+    if kind != "CHEXA8":
+        return K
+    # incompatible modes: gradients of 1 - xi^2 ... with the centre's Jacobian, so that
+    # they integrate to zero over any element and constant strains stay exact
+    _, dn0 = _shape(kind, np.zeros(3))
+    J0 = np.einsum("ak,nkb->nab", dn0, xyz)
+    det0 = np.abs(np.linalg.det(J0))
+    Kaa = np.zeros((n, 9, 9))
+    Kua = np.zeros((n, 24, 9))
+    for (p, _), (_, w, g) in zip(_rule(kind, False), points, strict=True):
+        ga = np.linalg.solve(J0, np.broadcast_to(np.diag(-2 * p), (n, 3, 3)))
+        # Taylor's det J0 / det J; the 2 x 2 x 2 Gauss weights are 1, so w = |det J|
+        ba = _strain(ga) * (det0 / w)[:, None, None]
+        Kaa += np.transpose(ba, (0, 2, 1)) @ (C @ ba) * w[:, None, None]
+        Kua += np.transpose(_strain(g), (0, 2, 1)) @ (C @ ba) * w[:, None, None]
+    return K - Kua @ np.linalg.solve(Kaa, np.transpose(Kua, (0, 2, 1)))
+
+
+def solid_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None) -> np.ndarray:
+    """Mass (n, 3k, 3k) per unit density of the solids of :func:`solid_stiffness`.
+
+    Examples
+    --------
+    Either formulation keeps a unit tetrahedron's mass, 1/6 per direction:
+
+    >>> xyz = np.array([[[0., 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]])
+    >>> [bool(np.isclose(solid_mass(xyz, c)[0, 0::3, 0::3].sum(), 1 / 6)) for c in (0, 1)]
+    [True, True]
+    """
+    xyz = np.asarray(xyz, float)
+    n, k = xyz.shape[:2]
+    kind = _kind(xyz)
+    m = np.zeros((n, k, k))
+    for N, w, _ in _jacobians(kind, xyz, _rule(kind, True), labels):
+        m += w[:, None, None] * np.outer(N, N)
+    if lumped:
+        d = np.diagonal(m, axis1=1, axis2=2)
+        d = d * (m.sum(axis=(1, 2)) / d.sum(axis=1))[:, None]
+        m = d[:, :, None] * np.eye(k)
+    out = np.zeros((n, 3 * k, 3 * k))
+    for i in range(3):
+        out[:, i::3, i::3] = m
+    return out

@@ -1,0 +1,62 @@
+"""Flat-plate meshes and their lowest frequencies, for the shell element tests."""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+from eigenupdate.model import shells
+from eigenupdate.model.assembly import node_dofs, scatter
+
+E, NU, RHO = 200e9, 0.3, 7850.0
+
+
+def square_mesh(nx: int, a: float, triangles: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes (N, 3) and elements (n, 4) (or (2n, 3)) of an a x a square in z = 0."""
+    x, y = np.meshgrid(np.linspace(0, a, nx + 1), np.linspace(0, a, nx + 1), indexing="ij")
+    xyz = np.column_stack([x.ravel(), y.ravel(), np.zeros(x.size)])
+    nid = np.arange(x.size).reshape(nx + 1, nx + 1)
+    quads = np.column_stack([nid[:-1, :-1].ravel(), nid[1:, :-1].ravel(),
+                             nid[1:, 1:].ravel(), nid[:-1, 1:].ravel()])
+    if triangles:
+        return xyz, np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+    return xyz, quads
+
+
+def plate_matrices(xyz, elements, h, lumped=False):
+    """Global K, M (CSR) of a PSHELL plate of thickness h, steel."""
+    moduli = shells.pshell_moduli(E, NU)
+    m = shells.pshell_matrices(xyz[elements], h, *moduli, rho=RHO, lumped=lumped)
+    d = node_dofs(elements, 6)
+    n = 6 * xyz.shape[0]
+    return scatter(d, m["K"], n), scatter(d, m["M"], n)
+
+
+def plate_frequency(nx: int, a: float, h: float, edge: str, triangles: bool) -> float:
+    """Lowest angular frequency of a square plate, edges simply supported ("ss": w and
+    the rotation about the edge's normal fixed, the hard support) or clamped."""
+    xyz, el = square_mesh(nx, a, triangles)
+    K, M = plate_matrices(xyz, el, h)
+    x, y = xyz[:, 0], xyz[:, 1]
+    on_x = np.isclose(x, 0) | np.isclose(x, a)
+    on_y = np.isclose(y, 0) | np.isclose(y, a)
+    fixed = np.zeros((xyz.shape[0], 6), bool)
+    fixed[:, [0, 1, 5]] = True  # a flat plate's in-plane motion is uncoupled
+    fixed[on_x | on_y, 2] = True
+    if edge == "clamped":
+        fixed[on_x | on_y, 3:5] = True
+    else:
+        fixed[on_x, 3] = True
+        fixed[on_y, 4] = True
+    free = np.flatnonzero(~fixed.ravel())
+    K, M = K[free][:, free], M[free][:, free]
+    # M is singular (rotations carry no mass): the largest 1/lambda of M x = (1/lambda) K x
+    mu = spla.eigsh(M, 1, K, which="LA", return_eigenvectors=False)
+    return float(np.sqrt(1.0 / mu[0]))
+
+
+def navier(a: float, h: float, m: int = 1, n: int = 1) -> float:
+    """Navier's omega_mn = pi^2 (m^2 + n^2) / a^2 sqrt(D / (rho h)) of a simply supported
+    square Kirchhoff plate."""
+    D = E * h**3 / (12 * (1 - NU**2))
+    return np.pi**2 * (m**2 + n**2) / a**2 * np.sqrt(D / (RHO * h))

@@ -1,0 +1,68 @@
+"""Box meshes of CHEXA8, CPENTA6, CTETRA4 and CTETRA10 elements, and their frequencies."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import scipy.sparse.linalg as spla
+
+from eigenupdate.model import solids
+from eigenupdate.model.assembly import node_dofs, scatter
+
+# corner (i, j, k) of a hexahedron -> its CHEXA8 node
+_CORNER = {(0, 0, 0): 0, (1, 0, 0): 1, (1, 1, 0): 2, (0, 1, 0): 3,
+           (0, 0, 1): 4, (1, 0, 1): 5, (1, 1, 1): 6, (0, 1, 1): 7}
+
+
+def box_mesh(size, cells, kind: str, move=None) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes (N, 3) and elements of the box [0, size] cut into ``cells`` hexahedra, each
+    one CHEXA8, two CPENTA6, or six CTETRA4/10 (Kuhn's conforming subdivision);
+    ``move`` maps the corner nodes (N, 3) to distorted ones (mid-edge nodes stay
+    mid-edge)."""
+    axes = [np.linspace(0, s, c + 1) for s, c in zip(size, cells, strict=True)]
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1)
+    xyz = grid.reshape(-1, 3)
+    if move is not None:
+        xyz = move(xyz)
+    nid = np.arange(xyz.shape[0]).reshape(grid.shape[:3])
+    i, j, k = (a.ravel() for a in np.meshgrid(*[np.arange(c) for c in cells], indexing="ij"))
+    hexa = np.column_stack([nid[i + a, j + b, k + c] for (a, b, c) in _CORNER])
+    if kind == "CHEXA8":
+        return xyz, hexa
+    if kind == "CPENTA6":
+        return xyz, np.vstack([hexa[:, [0, 1, 2, 4, 5, 6]], hexa[:, [0, 2, 3, 4, 6, 7]]])
+    tets = []
+    for perm in itertools.permutations(range(3)):
+        path, corner = [(0, 0, 0)], [0, 0, 0]
+        for axis in perm:
+            corner[axis] = 1
+            path.append(tuple(corner))
+        tets.append(hexa[:, [_CORNER[c] for c in path]])
+    tets = np.vstack(tets)
+    if kind == "CTETRA4":
+        return xyz, tets
+    edges = np.sort(tets[:, [[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]]], axis=2)
+    unique, inverse = np.unique(edges.reshape(-1, 2), axis=0, return_inverse=True)
+    mid = xyz[unique].mean(axis=1)
+    extra = xyz.shape[0] + inverse.reshape(-1, 6)
+    return np.vstack([xyz, mid]), np.hstack([tets, extra])
+
+
+def solid_matrices(xyz, elements, E, nu, rho, lumped=False):
+    """Global K, M (CSR), three translations per node."""
+    C = solids.isotropic_elasticity(E, nu)
+    d = node_dofs(elements, 3)
+    n = 3 * xyz.shape[0]
+    K = scatter(d, solids.solid_stiffness(xyz[elements], C), n)
+    M = scatter(d, rho * solids.solid_mass(xyz[elements], lumped), n)
+    return K, M
+
+
+def lowest_frequencies(K, M, fixed_nodes, count):
+    """The ``count`` lowest angular frequencies with the given nodes fixed."""
+    fixed = node_dofs(np.asarray(fixed_nodes)[:, None], 3).ravel()
+    free = np.setdiff1d(np.arange(K.shape[0]), fixed)
+    K, M = K[free][:, free], M[free][:, free]
+    lam = spla.eigsh(K, count, M, sigma=0, which="LM", return_eigenvectors=False)
+    return np.sqrt(np.sort(lam))

@@ -1,0 +1,221 @@
+"""CQUAD4 (MITC4) and CTRIA3 (stabilised MITC3) shell elements: rigid-body modes, patch
+tests, Navier's and Leissa's plates with mesh convergence, thin-plate locking, and the
+thickness derivatives by finite differences."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from bounds import BACKWARD, EPS, solve_floor
+from plates import NU, RHO, E, navier, plate_frequency
+
+from eigenupdate.errors import InputError
+from eigenupdate.model import shells
+from eigenupdate.model.assembly import node_dofs, scatter
+
+# MacNeal & Harder's patch (Finite Elem. Anal. Des. 1, 1985, fig. 2): a 0.24 x 0.12
+# rectangle cut into five distorted quadrilaterals by four inner nodes
+PATCH_XY = np.array([[0.0, 0.0], [0.24, 0.0], [0.24, 0.12], [0.0, 0.12],
+                     [0.04, 0.02], [0.18, 0.03], [0.16, 0.08], [0.08, 0.08]])
+PATCH_QUADS = np.array([[0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7], [4, 5, 6, 7]])
+PATCH_TRIAS = np.vstack([PATCH_QUADS[:, [0, 1, 2]], PATCH_QUADS[:, [0, 2, 3]]])
+INNER = np.arange(4, 8)
+
+
+def _rotation(seed: int) -> np.ndarray:
+    q, r = np.linalg.qr(np.random.default_rng(seed).normal(size=(3, 3)))
+    return q * np.sign(np.diag(r))
+
+
+def _patch(elements, seed):
+    """The patch turned to a random orientation: nodes (8, 3), rotation."""
+    Q = _rotation(seed)
+    xyz = np.column_stack([PATCH_XY, np.zeros(8)]) @ Q.T + np.array([1.0, -2.0, 0.5])
+    return xyz, Q
+
+
+def _stiffness(xyz, elements, h=0.001):
+    moduli = shells.pshell_moduli(E, NU)
+    K = shells.pshell_matrices(xyz[elements], h, *moduli, rho=RHO)["K"]
+    return scatter(node_dofs(elements, 6), K, 6 * xyz.shape[0]).toarray()
+
+
+@pytest.mark.parametrize("elements", [PATCH_QUADS, PATCH_TRIAS], ids=["quad4", "tria3"])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_free_element_and_patch_have_six_rigid_body_modes(elements, seed):
+    """Source: a free elastic body has exactly six zero-energy motions. The zero
+    eigenvalues a backward-stable eigh returns are below BACKWARD eps ||K||; the
+    smallest elastic one (the drilling penalty, 1e-6 K6ROT G T against E T) is ~1e-4
+    ||K||, far above. The six rigid motions (translations, rotations about the basic axes,
+    u = t + theta x x) are each stress-free."""
+    xyz, _ = _patch(elements, seed)
+    for el in (elements[:1], elements):
+        used = np.unique(el)
+        K = _stiffness(xyz, el, h=0.02)
+        dofs = node_dofs(used[:, None], 6).ravel()
+        K = K[np.ix_(dofs, dofs)]
+        lam = np.linalg.eigvalsh(K)
+        norm = np.abs(lam).max()
+        zero = 1e3 * BACKWARD * EPS * norm
+        assert np.sum(np.abs(lam) <= zero) == 6
+        assert np.all(lam[6:] > 100 * zero)
+        for t, theta in [(e, np.zeros(3)) for e in np.eye(3)] + \
+                [(np.zeros(3), e) for e in np.eye(3)]:
+            u = np.column_stack([t + np.cross(theta, xyz[used]),
+                                 np.broadcast_to(theta, (used.size, 3))]).ravel()
+            assert np.linalg.norm(K @ u) <= BACKWARD * EPS * norm * np.linalg.norm(u) * 24
+
+
+def _linear_state(xy, which):
+    """Exact nodal values (n, 6) in element axes of a constant-strain state: membrane
+    (u, v linear, rz their rotation) or Kirchhoff bending (w quadratic, rx = w,y,
+    ry = -w,x: constant curvature, no transverse shear)."""
+    x, y = xy[:, 0], xy[:, 1]
+    out = np.zeros((xy.shape[0], 6))
+    if which == "membrane":
+        out[:, 0] = 1e-3 * (1.0 + 2.0 * x + 0.5 * y)
+        out[:, 1] = 1e-3 * (-0.5 + 1.0 * x + 3.0 * y)
+        out[:, 5] = 0.5 * 1e-3 * (1.0 - 0.5)
+    else:
+        out[:, 2] = 1e-3 * (0.1 + x + 2 * x**2 + 1.5 * x * y + y**2)
+        out[:, 3] = 1e-3 * (1.5 * x + 2 * y)
+        out[:, 4] = -1e-3 * (1 + 4 * x + 1.5 * y)
+    return out
+
+
+@pytest.mark.parametrize("elements", [PATCH_QUADS, PATCH_TRIAS], ids=["quad4", "tria3"])
+@pytest.mark.parametrize("which", ["membrane", "bending"])
+def test_patch_test_reproduces_constant_strain_states(elements, which):
+    """Source: the patch test (Irons; MacNeal & Harder's patch). Boundary nodes get the
+    exact values of a constant-strain state; the solved inner nodes must carry the same
+    state, within the solve's rounding floor (BACKWARD eps cond(K_ii)). The bending state
+    has zero shear: MITC4's and MITC3's tied shear strains are exact for it (a quadratic's
+    secant slope is its mid-edge slope), so the stabilisation of CTRIA3 does not enter."""
+    xyz, Q = _patch(elements, 3)
+    K = _stiffness(xyz, elements, h=0.01)
+    local = _linear_state(PATCH_XY, which)
+    # to global axes: translations and rotations turn with Q (element axes = patch axes)
+    u = np.column_stack([local[:, :3] @ Q.T, local[:, 3:] @ Q.T]).ravel()
+    inner = node_dofs(INNER[:, None], 6).ravel()
+    outer = np.setdiff1d(np.arange(u.size), inner)
+    Kii = K[np.ix_(inner, inner)]
+    got = np.linalg.solve(Kii, -K[np.ix_(inner, outer)] @ u[outer])
+    err = np.linalg.norm(got - u[inner]) / np.linalg.norm(u[inner])
+    assert err <= solve_floor(Kii) * 10, err
+
+
+@pytest.mark.parametrize("triangles", [False, True], ids=["quad4", "tria3"])
+def test_navier_plate_converges_and_thin_plate_does_not_lock(triangles):
+    """Source: Navier's closed form omega_11 = 2 pi^2 / a^2 sqrt(D / (rho h)) of a simply
+    supported square plate. Meshes 8, 16, 32 per side (x 2 triangles). Bilinear/linear
+    elements' frequency errors fall as the mesh size squared: each halving divides the
+    error by 3..5, and the Richardson extrapolation (4 f_32 - f_16) / 3 is within the
+    change between successive extrapolations plus the Mindlin-Kirchhoff difference at
+    a/h = 1000 (pi^2 (h/a)^2 (1 + 2 / (kappa (1 - nu))) = 4.4e-5, taken as 5e-5).
+    Locking: a/h = 10000 and a/h = 1000 give the same error within 10 % on each mesh
+    (the Mindlin difference, 5e-5, is under 5 % of the errors; a locking element's error
+    grows with a/h: plain MITC3 is 5.7 % off at a/h = 1000, 32 x 32)."""
+    a = 1.0
+    errs = {}
+    for h in (a / 1000, a / 10000):
+        w = navier(a, h)
+        f = np.array([plate_frequency(nx, a, h, "ss", triangles) for nx in (8, 16, 32)])
+        errs[h] = f / w - 1
+    e = errs[a / 1000]
+    assert np.all(e > 0) and np.all(np.diff(e) < 0)
+    assert np.all((e[:-1] / e[1:] > 3) & (e[:-1] / e[1:] < 5)), e
+    r1, r2 = (4 * e[1] - e[0]) / 3, (4 * e[2] - e[1]) / 3
+    assert abs(r2) <= abs(r2 - r1) + 5e-5, (r1, r2)
+    for k in (1, 2):
+        assert abs(errs[a / 10000][k] / errs[a / 1000][k] - 1) < 0.1, errs
+
+
+@pytest.mark.parametrize("triangles", [False, True], ids=["quad4", "tria3"])
+def test_clamped_plate_converges_to_leissa(triangles):
+    """Source: Leissa, Vibration of Plates (NASA SP-160, 1969), clamped square plate,
+    lambda = omega a^2 sqrt(rho h / D) = 35.99 (+-0.005, its last digit). a/h = 1000;
+    meshes 8, 16, 32; the Richardson extrapolation of 16 and 32 is within the change
+    between successive extrapolations plus Leissa's rounding."""
+    a, h = 1.0, 1e-3
+    D = E * h**3 / (12 * (1 - NU**2))
+    lam = np.array([plate_frequency(nx, a, h, "clamped", triangles) for nx in (8, 16, 32)])
+    lam *= a**2 * np.sqrt(RHO * h / D)
+    assert np.all(np.diff(lam) < 0) and lam[-1] > 35.99 - 0.005
+    r1, r2 = (4 * lam[1] - lam[0]) / 3, (4 * lam[2] - lam[1]) / 3
+    assert abs(r2 - 35.99) <= abs(r2 - r1) + 0.005, (r1, r2)
+
+
+@pytest.mark.parametrize("k", [3, 4])
+@pytest.mark.parametrize("lumped", [False, True])
+def test_thickness_derivatives_match_finite_differences(k, lumped):
+    """Source: central finite differences of pshell_matrices' K(T), M(T). Truncation
+    error is estimated from steps h and 2h (|D_h - D_2h| is 3/4 of D_2h's error, four
+    times D_h's), rounding by 4 eps ||K|| / h; the exact derivative must be within."""
+    xyz = np.column_stack([PATCH_XY, np.zeros(8)])[PATCH_QUADS[:, :k] if k == 4
+                                                    else PATCH_TRIAS]
+    xyz = xyz @ _rotation(7).T
+    moduli = shells.pshell_moduli(E, NU, shear_ratio=0.8)
+    T = np.linspace(0.002, 0.02, xyz.shape[0])
+
+    def mats(t):
+        return shells.pshell_matrices(xyz, t, *moduli, rho=RHO, nsm=1.5, lumped=lumped)
+
+    exact = mats(T)
+    for name in ("K", "M"):
+        def central(step, name=name):
+            return (mats(T + step)[name] - mats(T - step)[name]) / (2 * step)
+        step = 1e-4 * T.min()
+        d1, d2 = central(step), central(2 * step)
+        scale = np.abs(exact[name]).max()
+        bound = np.abs(d1 - d2) + 4 * EPS * scale / step
+        assert np.all(np.abs(d1 - exact["d" + name]) <= bound + 1e-300)
+
+
+def test_bad_shell_geometry_is_named():
+    """Source: NASTRAN refuses such elements; here the message names the element."""
+    sq = np.array([[0.0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]])
+    moduli = shells.pshell_moduli(E, NU)
+    cases = {
+        "zero area": np.array([[0.0, 0, 0], [1, 0, 0], [2, 0, 0]]),
+        "not convex": np.array([[0.0, 0, 0], [1, 0, 0], [0.3, 0.3, 0], [0, 1, 0]]),
+        "warped": sq + np.array([[0, 0, 0], [0, 0, 0.2], [0, 0, 0], [0, 0, 0.2]]),
+    }
+    for what, xyz in cases.items():
+        with pytest.raises(InputError, match=f"CQUAD4 7: {what}|CTRIA3 7: {what}"):
+            label = "CQUAD4 7" if len(xyz) == 4 else "CTRIA3 7"
+            shells.shell_stiffness_parts(xyz[None], *moduli, labels=[label])
+
+
+@pytest.mark.parametrize("k6rot", [0.0, shells.K6ROT])
+def test_quad4_membrane_bends_in_plane_without_parasitic_shear(k6rot):
+    """Source: Euler-Bernoulli pure bending, tip deflection M L^2 / (2 E I), I = T h^3 / 12,
+    which is a linear-strain plane-stress field: CQUAD4's incompatible membrane modes
+    represent it exactly on rectangles (the bilinear membrane alone gives 9 % of the
+    deflection here: one element across, aspect 5). A couple F h at the tip, root free
+    to contract (u fixed, v at one node); within the solve's rounding floor, plus the
+    drilling penalty's energy (1e-6 K6ROT G T against E T, rz free: a relative 1e-3
+    bound)."""
+    L, h, T, nel = 5.0, 0.2, 0.05, 5
+    x = np.linspace(0, L, nel + 1)
+    xyz = np.array([[xi, yi, 0.0] for xi in x for yi in (0.0, h)])
+    el = np.array([[2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1] for i in range(nel)])
+    moduli = shells.pshell_moduli(E, NU)
+    K = scatter(node_dofs(el, 6), shells.shell_stiffness_parts(xyz[el], *moduli, k6rot=k6rot)
+                ["membrane"] * T + T * shells.shell_stiffness_parts(
+                    xyz[el], *moduli, k6rot=k6rot)["drilling"], 6 * len(xyz)).toarray()
+    fixed = [0, 1, 6]  # u, v of the bottom root node, u of the top one
+    fixed += [6 * i + c for i in range(len(xyz)) for c in (2, 3, 4)]
+    if k6rot == 0.0:
+        fixed += [6 * i + 5 for i in range(len(xyz))]
+    free = np.setdiff1d(np.arange(K.shape[0]), fixed)
+    F = 1e3
+    f = np.zeros(K.shape[0])
+    f[6 * (2 * nel)] = F  # bottom tip node, +x
+    f[6 * (2 * nel + 1)] = -F  # top tip node, -x: moment -F h about z
+    u = np.zeros_like(f)
+    Kff = K[np.ix_(free, free)]
+    u[free] = np.linalg.solve(Kff, f[free])
+    exact = F * h * L**2 / (2 * E * T * h**3 / 12)
+    tip = 0.5 * (u[6 * (2 * nel) + 1] + u[6 * (2 * nel + 1) + 1])
+    bound = 10 * solve_floor(Kff) + (1e-3 if k6rot else 0.0)
+    assert abs(tip / exact - 1) <= bound, tip / exact

@@ -198,7 +198,8 @@ def cmd_design(args) -> int:
         val = None
         if args.validate:
             val = validate_design(study.model, study.design, res, study.method, args.validate,
-                                  study.max_iterations, study.tolerance, args.seed, ex)
+                                  study.max_iterations, study.tolerance, args.seed, ex,
+                                  optimizer=study.optimizer)
     finally:
         if ex is not None:
             ex.close()

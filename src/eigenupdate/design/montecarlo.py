@@ -40,6 +40,7 @@ class TrialSetup:
     max_iterations: int
     tolerance: float
     truth: np.ndarray | None = None  # all parameter values; None: draw from the prior
+    optimizer: str = "trust-region"  # as the study's [updating] optimizer
 
 
 def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
@@ -60,7 +61,8 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
                 meas[(c.name, k)] = Measurement(
                     c.name, k, float(sol.frequencies_hz[k - 1] + rng.normal(0.0, std)), std)
         res = update(model, setup.configurations, setup.modes, meas, method=setup.method,
-                     max_iterations=setup.max_iterations, xtol=setup.tolerance)
+                     optimizer=setup.optimizer, max_iterations=setup.max_iterations,
+                     xtol=setup.tolerance)
     except (InputError, NumericalError) as exc:  # a truth or its data the update refuses
         out.update(refused=True, message=str(exc))
         return out
@@ -261,4 +263,4 @@ def study_setup(study, truth: str | None = None) -> TrialSetup:
                              field="model")
         values = np.array([given[n] for n in study.model.names])
     return TrialSetup(study.model, tuple(study.configurations), modes, std, study.method,
-                      study.max_iterations, study.tolerance, values)
+                      study.max_iterations, study.tolerance, values, study.optimizer)

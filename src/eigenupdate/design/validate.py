@@ -41,13 +41,16 @@ class Validation:
 
 def validate_design(model: ParametricModel, spec: DesignSpec, result: DesignResult,
                     method: str, trials: int, max_iterations: int, tolerance: float,
-                    seed: int | None = 0, executor=None, progress=None) -> Validation:
+                    seed: int | None = 0, executor=None, progress=None,
+                    optimizer: str = "trust-region") -> Validation:
     """Run ``trials`` virtual tests of the designed plan (truth drawn from the prior, noise
-    as the [design] table states) and set their spread beside the design's prediction."""
+    as the [design] table states, updated as the study updates) and set their spread
+    beside the design's prediction."""
     configs = (Configuration(BASE), *result.configurations)
     modes = tuple(result.modes)
     std = noise_std(model, configs, modes, None, spec, "design")
-    setup = TrialSetup(model, configs, modes, std, method, max_iterations, tolerance)
+    setup = TrialSetup(model, configs, modes, std, method, max_iterations, tolerance,
+                       optimizer=optimizer)
     mc = montecarlo(setup, trials, seed=seed, executor=executor, progress=progress)
     plan = result.plans[0]
     names = result.names

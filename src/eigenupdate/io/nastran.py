@@ -14,6 +14,8 @@ from __future__ import annotations
 import copy
 import io
 import math
+import re
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,20 +24,13 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.atomic import write_text
-from eigenupdate.model import frame3d, sections
+from eigenupdate.io.nastran_deck import Deck, load_deck
+from eigenupdate.model import frame3d, reduction, sections
 from eigenupdate.model.coordinates import Coordinate, CoordinateTable
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
-
-SUPPORTED = {
-    "GRID", "CORD1R", "CORD2R", "CORD1C", "CORD2C", "CORD1S", "CORD2S",
-    "CBAR", "PBAR", "PBARL", "CBEAM", "PBEAM", "CROD", "PROD", "CONROD",
-    "CELAS1", "CELAS2", "PELAS",
-    "CONM2", "CMASS1", "CMASS2", "PMASS", "MAT1", "SPC", "SPC1", "SPCADD",
-    "PARAM", "EIGRL", "EIGR", "ENDDATA",
-}
 
 # card -> field -> (pyNastran attribute, what it scales); the rest are refused with a reason
 FIELDS = {
@@ -87,6 +82,7 @@ class NastranModel:
     spc_set: int | None
     restrained: frozenset  # coordinates held by the SPC set or GRID PS
     bdf: Any  # pyNastran BDF, kept to write the file back
+    skipped: str = ""  # cards skipped because they change neither K nor M
 
     def grid_dof(self, grid: int, component: int) -> int:
         """Coordinate of (grid, component); InputError if unknown or restrained."""
@@ -100,36 +96,6 @@ class NastranModel:
                    else "it carries neither stiffness nor mass")
             raise InputError(f"GRID {grid} component {component} is restrained ({why})")
         return c
-
-
-def _pynastran():
-    try:
-        from pyNastran.bdf.bdf import BDF
-    except ImportError:
-        raise InputError("NASTRAN models need pyNastran: pip install 'eigenupdate[nastran]' "
-                         "(see the README)") from None
-    return BDF
-
-
-def _read(path: Path):
-    BDF = _pynastran()
-    from cpylog import SimpleLogger  # pyNastran's logger; errors are ours to report
-
-    text = path.read_text(errors="replace")
-    bdf = BDF(log=SimpleLogger(level="critical"))
-    upper = text.upper()
-    source: Any = str(path)
-    if "CEND" not in upper and "BEGIN BULK" in upper:  # bulk data only, after BEGIN BULK
-        lines = text.splitlines(keepends=True)
-        first = next(i for i, x in enumerate(lines) if x.upper().startswith("BEGIN BULK"))
-        source = io.StringIO("".join(lines[first + 1:]))
-    try:
-        bdf.read_bdf(source, xref=False, punch="CEND" not in upper, validate=True)
-    except Exception as exc:  # pyNastran raises many kinds on malformed cards
-        msg = str(exc).strip().splitlines()
-        raise InputError(f"pyNastran cannot read the file: {type(exc).__name__}: "
-                         f"{msg[0] if msg else ''}", source=str(path)) from None
-    return bdf
 
 
 def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardField]] = ()
@@ -148,27 +114,45 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
     """
     path = Path(path)
     src = str(path)
+    deck = None
     try:
-        bdf = _read(path)
-        return _assemble(path, bdf, parameters)
+        deck = load_deck(path)
+        nm = _assemble(path, deck.bdf, parameters)
     except InputError as exc:
         if exc.source:
             raise
-        raise InputError(str(exc), source=src, field=exc.field) from None
+        raise InputError(_located(str(exc), deck), source=src, field=exc.field) from None
+    except OverflowError:
+        raise InputError("a number in the deck overflows K or M (a value near 1e300?)",
+                         source=src) from None
+    if deck.skipped:
+        warnings.warn(f"{path.name}: skipped (they change neither K nor M): {deck.skipped}",
+                      EigenupdateWarning, stacklevel=2)
+    nm.skipped = deck.skipped
+    return nm
 
 
-def _unsupported(bdf) -> None:
-    bad = {k: v for k, v in bdf.card_count.items() if k not in SUPPORTED}
-    bad.update({k: v for k, v in getattr(bdf, "reject_count", {}).items()})
-    if bad:
-        listing = ", ".join(f"{k} x{v}" for k, v in sorted(bad.items()))
-        raise InputError(f"unsupported cards: {listing} (supported: bars, rods, springs, "
-                         f"masses, MAT1, SPC; shells, solids, RBEs and MPCs are not)")
+_LABEL = re.compile(r"^([A-Z][A-Z0-9]*) (\d+)(:| field)")
 
 
-def _param(bdf, name: str, default: float) -> float:
+def _located(message: str, deck: Deck | None) -> str:
+    """Prefix ``file:line:`` of the card a message starts with (``CBAR 1043: ...``)."""
+    m = _LABEL.match(message)
+    if deck is None or m is None:
+        return message
+    hit = deck.lines.get((m.group(1), int(m.group(2))))
+    if not hit:
+        return message
+    name, line = hit.rsplit(":", 1)
+    return f"{'line ' + line if name == deck.path.name else hit}: {message}"
+
+
+def _param(bdf, name: str, default):
     p = bdf.params.get(name)
-    return default if p is None else float(p.values[0])
+    if p is None:
+        return default
+    v = p.values[0]
+    return v if isinstance(default, str) else float(v)
 
 
 class _Triplets:
@@ -193,7 +177,6 @@ class _Triplets:
 
 
 def _assemble(path: Path, bdf, specs) -> NastranModel:
-    _unsupported(bdf)
     consistent = _param(bdf, "COUPMASS", -1.0) > 0
     wtmass = _param(bdf, "WTMASS", 1.0)
     if not wtmass > 0:
@@ -233,21 +216,35 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     mt = [t.matrix(ndof) for t in mj]
     for s, a, b in zip(values, kt, mt, strict=True):
         K, M = K + s * a, M + s * b
-    # AUTOSPC: coordinates with neither stiffness nor mass (rod rotations) carry nothing
-    touched = np.zeros(ndof, bool)
-    for mat in (K, M):
-        touched[mat.tocoo().row[mat.tocoo().data != 0]] = True
-    free = touched.copy()
+    # coordinates with neither stiffness nor mass (rod rotations) carry nothing; with
+    # PARAM AUTOSPC YES (MSC's and NX's default in normal modes) NASTRAN also constrains
+    # those with mass and no stiffness (unconnected grids, rotations of rod-only grids)
+    stiff, heavy = np.zeros(ndof, bool), np.zeros(ndof, bool)
+    for mat, hit in [(K, stiff), (M, heavy)] + [(t, stiff) for t in kt] + [(t, heavy)
+                                                                           for t in mt]:
+        coo = mat.tocoo()
+        hit[coo.row[coo.data != 0]] = True
+    autospc = str(_param(bdf, "AUTOSPC", "YES")).upper() not in ("NO", "N")
+    free = stiff if autospc else stiff | heavy
     free[restrained] = False
     keep = np.flatnonzero(free)
     if keep.size == 0:
         raise InputError("every coordinate is restrained or carries neither stiffness nor mass")
+    k0m, m0m = k0.matrix(ndof, keep), m0.matrix(ndof, keep)
+    analysis = _analysis_set(bdf, where, ndof)
+    if analysis is not None:
+        if specs:
+            raise InputError("ASET/OMIT (Guyan reduction): K and M of the reduced model are "
+                             "not linear in the parameters; remove the ASET/OMIT cards to "
+                             "update the full model")
+        k0m, m0m = reduction.guyan(k0m, m0m, np.flatnonzero(analysis[keep]))
+        keep = keep[analysis[keep]]
     coords = (10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))[keep]
     params = []
     for (p, _), v in zip(specs, values, strict=True):
         params.append(Parameter(p.name, v, p.std, p.update))
     pm = ParametricModel(
-        k0.matrix(ndof, keep), m0.matrix(ndof, keep), tuple(params),
+        k0m, m0m, tuple(params),
         tuple(None if t.nnz == 0 else sp.csr_array(t[keep][:, keep]) for t in kt),
         tuple(None if t.nnz == 0 else sp.csr_array(t[keep][:, keep]) for t in mt),
         coordinates=coords,
@@ -262,6 +259,38 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     return NastranModel(path, pm, tuple(fields), consistent, spc_set, held, bdf)
 
 
+def _set_rows(cards, where, label: str) -> list[int]:
+    """Rows of ASET/ASET1/OMIT/OMIT1/SUPORT cards (GRID id, components)."""
+    rows = []
+    for card in cards:
+        ids = getattr(card, "ids", None) or getattr(card, "nodes", [])
+        comps = getattr(card, "components", None) or getattr(card, "Cs", None)
+        comps = [comps] * len(ids) if isinstance(comps, str) else comps
+        for n, c in zip(ids, comps, strict=True):
+            if n not in where:
+                raise InputError(f"{label}: GRID {n} is referenced but not defined")
+            rows += [6 * where[n] + int(x) - 1 for x in str(c) if x != "0"]
+    return rows
+
+
+def _analysis_set(bdf, where, ndof: int) -> np.ndarray | None:
+    """Mask of NASTRAN's a-set when ASET or OMIT cards ask for a Guyan reduction: the
+    ASET coordinates (with the SUPORT ones), or all but the OMIT ones."""
+    asets, omits = list(bdf.asets), list(bdf.omits)
+    if not asets and not omits:
+        return None
+    if asets and omits:
+        raise InputError("both ASET and OMIT cards: give one of them")
+    if asets:
+        mask = np.zeros(ndof, bool)
+        mask[_set_rows(asets, where, "ASET")] = True
+        mask[_set_rows(bdf.suport, where, "SUPORT")] = True
+    else:
+        mask = np.ones(ndof, bool)
+        mask[_set_rows(omits, where, "OMIT")] = False
+    return mask
+
+
 def _positions(bdf, nids: np.ndarray) -> np.ndarray:
     out = np.empty((nids.size, 3))
     for i, n in enumerate(nids):
@@ -272,6 +301,9 @@ def _positions(bdf, nids: np.ndarray) -> np.ndarray:
             if g.cp not in bdf.coords:
                 raise InputError(f"GRID {n}: coordinate system CP {g.cp} is not defined")
             out[i] = bdf.coords[g.cp].transform_node_to_global(np.asarray(g.xyz, float))
+        if not np.all(np.isfinite(out[i])) or np.abs(out[i]).max() > 1e100:
+            raise InputError(f"GRID {n}: coordinates {list(map(float, g.xyz))} are not finite "
+                             f"numbers (of magnitude below 1e100)")
     return out
 
 
@@ -378,14 +410,17 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
 
     def section(key, make, where_):
         if key not in sections:
-            A, i1, i2, j, nsm, mid, pkey = make()
+            A, i1, i2, j, nsm, mid, pkey, *shear = make()
             for name, x in (("A", A), ("I1", i1), ("I2", i2), ("J", j), ("NSM", nsm)):
                 if x is None or not math.isfinite(x) or x < 0:
                     raise InputError(f"{pkey[0] + ' ' + str(pkey[1]) if pkey else where_}: "
                                      f"{name} = {x} must be >= 0")
             mat, rho, g, tied = _material(bdf, mid, where_)
+            k1, k2 = shear or (0.0, 0.0)
+            if (k1 or k2) and not g > 0:
+                raise InputError(f"{where_}: shear factors K1, K2 need MAT1 {mid} G > 0")
             sections[key] = (mat.e, g, tied, rho, float(A), float(i1), float(i2),
-                             float(j or 0.0), float(nsm or 0.0), mid, pkey)
+                             float(j or 0.0), float(nsm or 0.0), mid, pkey, k1, k2)
         return sections[key]
 
     label, rod, ga, gb, g0, xv, wa, wb, sec = [], [], [], [], [], [], [], [], []
@@ -396,7 +431,7 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
             ptype = "PBAR" if e.type == "CBAR" else "PBEAM"
             prop = bdf.properties.get(e.pid)
             if prop is None or prop.type not in {"PBAR": ("PBAR", "PBARL"),
-                                                 "PBEAM": ("PBEAM",)}[ptype]:
+                                                 "PBEAM": ("PBEAM", "PBEAML")}[ptype]:
                 raise InputError(f"{lab}: property {ptype} {e.pid} is not defined")
             if e.offt != "GGG":
                 raise InputError(f"{lab}: OFFT {e.offt} is not supported (only GGG)")
@@ -414,17 +449,18 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
             wa.append(e.wa)
             wb.append(e.wb)
             sec.append(section((prop.type, e.pid), lambda p=prop: (
-                _pbarl_section(p) if p.type == "PBARL" else _bar_section(p)), lab))
+                _pbarl_section(p) if p.type in ("PBARL", "PBEAML") else _bar_section(p)),
+                lab))
         elif e.type in ("CROD", "CONROD"):
             if e.type == "CROD":
                 prop = bdf.properties.get(e.pid)
                 if prop is None or prop.type != "PROD":
                     raise InputError(f"{lab}: property PROD {e.pid} is not defined")
                 sec.append(section(("PROD", e.pid), lambda p=prop: (
-                    p.A, 0.0, 0.0, p.j, p.nsm, p.mid, ("PROD", p.pid)), lab))
+                    p.A, 0.0, 0.0, p.j, p.nsm, p.mid, ("PROD", p.pid), 0.0, 0.0), lab))
             else:
                 sec.append(section(("CONROD", eid), lambda e=e: (
-                    e.A, 0.0, 0.0, e.j, e.nsm, e.mid, None), lab))
+                    e.A, 0.0, 0.0, e.j, e.nsm, e.mid, None, 0.0, 0.0), lab))
             a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
             g0.append(-1)
             xv.append(zero)
@@ -448,23 +484,39 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
     by_g0 = g0 >= 0
     v[by_g0] = xyz[g0[by_g0]] - xyz[ga[by_g0]]
     v[rod] = frame3d.any_normal((xb - xa)[rod])
-    rows = sec  # per element: E, G, tied, rho, A, I1, I2, J, nsm, mid, pkey
+    rows = sec  # per element: E, G, tied, rho, A, I1, I2, J, nsm, mid, pkey, K1, K2
     L, R = frame3d.local_axes(xa, xb, v, label)
     T = frame3d.element_transform(R, wa, wb, frames[ga], frames[gb])
     E, G, rho = (np.array([r[k] for r in rows], float) for k in (0, 1, 3))
     tied = np.array([r[2] for r in rows])
     A, I1, I2, J, nsm = (np.array([r[k] for r in rows], float) for k in range(4, 9))
-    kp = frame3d.stiffness_parts(L)
+    K1, K2 = (np.array([r[k] for r in rows], float) for k in (11, 12))
+    beam = np.array([lab.startswith("CBEAM") for lab in label])
+    # Timoshenko shear parameters; K = 0 (or PBAR's blank) is a shear-rigid section
+    with np.errstate(divide="ignore", invalid="ignore"):
+        phi1 = np.where(K1 > 0, 12 * E * I1 / (K1 * A * G * L**2), 0.0)
+        phi2 = np.where(K2 > 0, 12 * E * I2 / (K2 * A * G * L**2), 0.0)
+    bad = np.flatnonzero(~(np.isfinite(phi1) & np.isfinite(phi2)))
+    if bad.size:
+        raise InputError(f"{label[bad[0]]}: shear factors K1/K2 need A > 0 and G > 0")
+    with np.errstate(over="ignore", invalid="ignore"):
+        big = ~np.isfinite(E * np.maximum(A, np.maximum(I1, I2)) / L**3 * 12)
+    if big.any():
+        e = int(np.flatnonzero(big)[0])
+        raise InputError(f"{label[e]}: stiffness overflows (MAT1 {rows[e][9]} E = "
+                         f"{E[e]:g} on a {L[e]:g} long element)")
+    kp = frame3d.stiffness_parts(L, phi1, phi2)
     mp = frame3d.mass_parts(L, consistent)
     mp["translation"][rod] = frame3d.rod_mass_part(L[rod], consistent)
-    mp["torsion"][rod] = 0.0
+    mp["torsion"][~beam] = 0.0  # NASTRAN's CBAR and CROD carry no torsional inertia
     parts = {**{f"k_{k}": x for k, x in kp.items()}, **{f"m_{k}": x for k, x in mp.items()}}
     dofs = (6 * np.stack([ga, gb], 1)[:, :, None] + np.arange(6)[None, None, :]).reshape(-1, 12)
     r_idx = np.repeat(dofs, 12, axis=1)
     c_idx = np.tile(dofs, (1, 12))
     # section quantities and the parameters that scale each (one at most per element)
     total = {"k_axial": E * A, "k_torsion": G * J, "k_bend1": E * I1, "k_bend2": E * I2,
-             "m_translation": wtmass * (rho * A + nsm), "m_torsion": wtmass * rho * J}
+             "m_translation": wtmass * (rho * A + nsm),
+             "m_torsion": np.where(beam, wtmass * rho * (I1 + I2), 0.0)}
     n = len(rows)
     deriv: list[dict[str, np.ndarray]] = [{} for _ in kj]
 
@@ -474,10 +526,20 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
 
     mids = np.array([r[9] for r in rows])
     pkeys = [r[10] for r in rows]
+    shear = (phi1 != 0) | (phi2 != 0)
+
+    def linear_only(mask, fld, card, cid, planes):
+        hit = np.flatnonzero(mask & planes)
+        if hit.size:
+            raise InputError(f"{card} {cid} field {fld}: not a parameter of the shear-flexible "
+                             f"{label[hit[0]]} (K1/K2 make K not linear in it; E with G "
+                             f"blank and RHO are)")
+
     for (card, cid), slots in pindex.items():
         if card == "MAT1":
             mask = mids == cid
             if "E" in slots:
+                linear_only(mask, "E", card, cid, shear & ~tied)
                 j = slots["E"]
                 for part, c in (("k_axial", A), ("k_bend1", I1), ("k_bend2", I2)):
                     d(j, part, c, mask)
@@ -485,13 +547,17 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
             if "RHO" in slots:
                 j = slots["RHO"]
                 d(j, "m_translation", wtmass * A, mask)
-                d(j, "m_torsion", wtmass * J, mask)
+                d(j, "m_torsion", np.where(beam, wtmass * (I1 + I2), 0.0), mask)
         elif card in ("PBAR", "PBEAM", "PROD"):
             mask = np.array([k == (card, cid) for k in pkeys])
+            tors = np.where(beam, wtmass * rho, 0.0)
             for fld, parts_ in (("A", (("k_axial", E), ("m_translation", wtmass * rho))),
-                                ("I1", (("k_bend1", E),)), ("I2", (("k_bend2", E),)),
-                                ("J", (("k_torsion", G), ("m_torsion", wtmass * rho)))):
+                                ("I1", (("k_bend1", E), ("m_torsion", tors))),
+                                ("I2", (("k_bend2", E), ("m_torsion", tors))),
+                                ("J", (("k_torsion", G),))):
                 if fld in slots:
+                    planes = {"A": shear, "I1": phi1 != 0, "I2": phi2 != 0, "J": np.zeros(n, bool)}
+                    linear_only(mask, fld, card, cid, planes[fld])
                     for part, c in parts_:
                         d(slots[fld], part, c, mask)
     _one_parameter_per_quantity(deriv, label, kj)
@@ -513,17 +579,21 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
 
 
 def _bar_section(prop) -> tuple:
-    """(A, I1, I2, J, NSM, MID, (card, id)) of a PBAR or a constant-section PBEAM."""
+    """(A, I1, I2, J, NSM, MID, (card, id), K1, K2) of a PBAR or a constant-section
+    PBEAM; K = 0 means no shear flexibility (PBAR's blank, PBEAM's 0.0)."""
     where = f"{prop.type} {prop.pid}"
+    k1, k2 = prop.k1 or 0.0, prop.k2 or 0.0
+    if prop.type == "PBAR" and k1 >= 1e8:  # pyNastran's stand-in for a blank K1
+        k1 = 0.0
+    if prop.type == "PBAR" and k2 >= 1e8:
+        k2 = 0.0
+    if k1 < 0 or k2 < 0:
+        raise InputError(f"{where}: shear factors K1 = {k1:g}, K2 = {k2:g} must be >= 0")
     if prop.type == "PBEAM":
         for name in ("A", "i1", "i2", "i12", "j", "nsm"):
             if np.ptp(np.asarray(getattr(prop, name), float)) != 0:
                 raise InputError(f"{where}: {name.upper()} varies along the beam; only a "
                                  f"constant section is supported")
-        if prop.k1 or prop.k2:
-            raise InputError(f"{where}: shear factors K1 = {prop.k1:g}, K2 = {prop.k2:g} make "
-                             f"NASTRAN's beam shear-flexible (blank means 1.0); this is an "
-                             f"Euler-Bernoulli model: set K1 = K2 = 0.0 to use it")
         extra = [n for n in ("s1", "s2", "nsia", "nsib", "cwa", "cwb", "m1a", "m2a", "m1b",
                              "m2b", "n1a", "n2a", "n1b", "n2b") if getattr(prop, n)]
         if extra:
@@ -533,13 +603,20 @@ def _bar_section(prop) -> tuple:
     A, i1, i2, i12, j, nsm = first
     if i12:
         raise InputError(f"{where}: I12 = {i12:g} is not supported")
-    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid)
+    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2
+
+
+# shear factors NASTRAN gives the PBARL/PBEAML sections: circle 0.9 (NASTRAN's
+# documentation; Simcenter's frequencies of the shared pyn_beam_modes deck agree to 1e-7,
+# NASTRAN_CoFE's 0.85716 would be 0.96 % off), solid rectangle 5/6 (NASTRAN_CoFE's PBEAML)
+SHEAR_FACTORS = {"BAR": (5.0 / 6.0, 5.0 / 6.0), "ROD": (0.9, 0.9)}
 
 
 def _pbarl_section(prop) -> tuple:
-    """(A, I1, I2, J, NSM, MID, (card, id)) of a standard PBARL section: the equivalent
-    PBAR's values (NASTRAN's CBAR takes the shear centre at the centroid)."""
-    where = f"PBARL {prop.pid}"
+    """(A, I1, I2, J, NSM, MID, (card, id), K1, K2) of a standard PBARL or a constant
+    PBEAML section: the equivalent PBAR's (PBEAM's) values (the shear centre is taken
+    at the centroid)."""
+    where = f"{prop.type} {prop.pid}"
     shape = prop.Type
     if prop.group.strip() != "MSCBML0":
         raise InputError(f"{where}: GROUP {prop.group} (a user section library) is not "
@@ -548,17 +625,27 @@ def _pbarl_section(prop) -> tuple:
         why = " (unsymmetric: I12 != 0, as PBAR I12)" if shape == "L" else ""
         raise InputError(f"{where}: section type {shape}{why} is not supported (supported: "
                          f"{', '.join(PBARL_SHAPES)})")
+    dim, nsm = prop.dim, prop.nsm
+    if prop.type == "PBEAML":  # one row of dimensions per station: constant sections only
+        rows = np.atleast_2d(np.asarray(dim, float))
+        if np.ptp(rows, axis=0).any() or np.ptp(np.ravel(nsm)) != 0:
+            raise InputError(f"{where}: the section varies along the beam; only a constant "
+                             f"section is supported")
+        dim, nsm = rows[0], float(np.ravel(nsm)[0])
     try:
-        sections.check_dimensions(shape, prop.dim)  # before pyNastran asserts on them
         if shape in sections.THIN_WALLED:
-            A, i1, i2, _ = sections.thin_walled_section(shape, prop.dim)
+            A, i1, i2, _ = sections.thin_walled_section(shape, dim)
         else:
-            A, i1, i2 = prop.Area(), prop.I11(), prop.I22()
-        # pyNastran's J() is the polar moment I1 + I2: the torsion constant of a circle only
-        j = prop.J() if shape in ("ROD", "TUBE") else sections.torsion_constant(shape, prop.dim)
+            A, i1, i2 = sections.solid_section(shape, dim)
+        j = sections.torsion_constant(shape, dim)
     except InputError as exc:
         raise InputError(f"{where}: {exc}") from None
-    return A, i1, i2, j, prop.nsm, prop.mid, ("PBARL", prop.pid)
+    if shape not in SHEAR_FACTORS:
+        warnings.warn(f"{where}: NASTRAN gives section {shape} shear flexibility with factors "
+                      f"not modelled here (Euler-Bernoulli); stubby members will differ",
+                      EigenupdateWarning, stacklevel=2)
+    k1, k2 = SHEAR_FACTORS.get(shape, (0.0, 0.0))
+    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2
 
 
 def _one_parameter_per_quantity(deriv, label, kj) -> None:
@@ -671,8 +758,13 @@ def _spc(bdf, where) -> tuple[np.ndarray, int | None]:
     """Restrained rows: GRID PS fields and the SPC set chosen by case control (or the
     only set in the file)."""
     rows = []
+    gs = bdf.grdset
+    if gs is not None and (gs.cp or gs.cd):
+        raise InputError(f"GRDSET: CP {gs.cp} / CD {gs.cd} defaults are not supported "
+                         f"(give them on the GRID cards)")
+    default_ps = str(gs.ps or "") if gs is not None else ""
     for n, g in bdf.nodes.items():
-        for c in str(g.ps or ""):
+        for c in str(g.ps or default_ps):
             if c != "0":
                 rows.append(6 * where[n] + int(c) - 1)
     ids = set(bdf.spcs) | set(bdf.spcadds)

@@ -144,7 +144,7 @@ def test_parameter_matrices_finite_differences(tmp_path, field, coupmass):
 
 def test_round_trip_same_matrices(tmp_path):
     """read -> write (pyNastran's writer) -> read gives the same K and M."""
-    from eigenupdate.io.nastran import write_updated_bdf
+    from eigenupdate.io.nastran_write import write_updated_bdf
 
     nm = read_nastran(FRAME / "frame.bdf")
     out = tmp_path / "again.bdf"

@@ -16,7 +16,7 @@ import math
 import re
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -25,7 +25,7 @@ import scipy.sparse as sp
 
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_deck import Deck, load_deck
-from eigenupdate.model import frame3d, reduction, sections
+from eigenupdate.model import constraints, frame3d, reduction, sections
 from eigenupdate.model.coordinates import Coordinate, CoordinateTable
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
@@ -81,6 +81,7 @@ class NastranModel:
     restrained: frozenset  # coordinates held by the SPC set or GRID PS
     bdf: Any  # pyNastran BDF, kept to write the file back
     skipped: str = ""  # cards skipped because they change neither K nor M
+    dependent: dict = field(default_factory=dict)  # coordinate -> rigid element / MPC
 
     def grid_dof(self, grid: int, component: int) -> int:
         """Coordinate of (grid, component); InputError if unknown or restrained."""
@@ -89,6 +90,10 @@ class NastranModel:
         if grid not in self.bdf.nodes:
             raise InputError(f"GRID {grid} is not defined in {self.path}")
         c = dof_number(grid, component)
+        if c in self.dependent:
+            raise InputError(f"GRID {grid} component {component} is dependent on "
+                             f"{self.dependent[c]} (a rigid element or MPC eliminates it): "
+                             f"put the perturbation on an independent grid")
         if c not in self.model.coordinates:
             why = (f"SPC set {self.spc_set} or GRID PS" if c in self.restrained
                    else "it carries neither stiffness nor mass")
@@ -209,15 +214,38 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     _conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
 
     restrained, spc_set = _spc(bdf, where)
-    K, M = k0.matrix(ndof), m0.matrix(ndof)
+    K0, M0 = k0.matrix(ndof), m0.matrix(ndof)
     kt = [t.matrix(ndof) for t in kj]
     mt = [t.matrix(ndof) for t in mj]
+    # rigid elements and MPCs: u = T u_i, every matrix reduced to the independent rows
+    eqs = _constraint_equations(bdf, grid, xyz, frames)
+    labels = np.array(["" for _ in range(ndof)], dtype=object)
+    rows_ind = np.arange(ndof)
+    if eqs:
+        dep = np.array([e[0] for e in eqs])
+        er = np.concatenate([np.full(len(e[1]), k) for k, e in enumerate(eqs)])
+        ec = np.concatenate([[t[0] for t in e[1]] for e in eqs]).astype(int)
+        ev = np.concatenate([[t[1] for t in e[1]] for e in eqs]).astype(float)
+        T, rows_ind = constraints.constraint_transform(ndof, dep, er, ec, ev,
+                                                       [e[2] for e in eqs])
+        labels[dep] = [e[2] for e in eqs]
+        held_dep = np.intersect1d(dep, restrained)
+        if held_dep.size:
+            r = int(held_dep[0])
+            raise InputError(f"{labels[r]}: GRID {nids[r // 6]} component {r % 6 + 1} is "
+                             f"dependent and also restrained by SPC or PS")
+        K0, M0 = T.T @ K0 @ T, T.T @ M0 @ T
+        kt = [sp.csr_array(T.T @ a @ T) for a in kt]
+        mt = [sp.csr_array(T.T @ a @ T) for a in mt]
+        restrained = np.flatnonzero(np.isin(rows_ind, restrained))
+    nfree = rows_ind.size
+    K, M = sp.csr_array(K0), sp.csr_array(M0)
     for s, a, b in zip(values, kt, mt, strict=True):
         K, M = K + s * a, M + s * b
     # coordinates with neither stiffness nor mass (rod rotations) carry nothing; with
     # PARAM AUTOSPC YES (MSC's and NX's default in normal modes) NASTRAN also constrains
     # those with mass and no stiffness (unconnected grids, rotations of rod-only grids)
-    stiff, heavy = np.zeros(ndof, bool), np.zeros(ndof, bool)
+    stiff, heavy = np.zeros(nfree, bool), np.zeros(nfree, bool)
     for mat, hit in [(K, stiff), (M, heavy)] + [(t, stiff) for t in kt] + [(t, heavy)
                                                                            for t in mt]:
         coo = mat.tocoo()
@@ -228,16 +256,17 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     keep = np.flatnonzero(free)
     if keep.size == 0:
         raise InputError("every coordinate is restrained or carries neither stiffness nor mass")
-    k0m, m0m = k0.matrix(ndof, keep), m0.matrix(ndof, keep)
+    k0m, m0m = (sp.csr_array(sp.csr_array(a)[keep][:, keep]) for a in (K0, M0))
     analysis = _analysis_set(bdf, where, ndof)
     if analysis is not None:
+        analysis = analysis[rows_ind]
         if specs:
             raise InputError("ASET/OMIT (Guyan reduction): K and M of the reduced model are "
                              "not linear in the parameters; remove the ASET/OMIT cards to "
                              "update the full model")
         k0m, m0m = reduction.guyan(k0m, m0m, np.flatnonzero(analysis[keep]))
         keep = keep[analysis[keep]]
-    coords = (10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))[keep]
+    coords = (10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))[rows_ind[keep]]
     params = []
     for (p, _), v in zip(specs, values, strict=True):
         params.append(Parameter(p.name, v, p.std, p.update))
@@ -253,8 +282,138 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
         if a is None and b is None:
             raise InputError(f"{f.card} {f.id} field {f.field} (parameter {p.name!r}) acts on "
                              f"no free coordinate")
-    held = frozenset((10 * nids[restrained // 6] + restrained % 6 + 1).tolist())
-    return NastranModel(path, pm, tuple(fields), consistent, spc_set, held, bdf)
+    held_rows = rows_ind[restrained]
+    held = frozenset((10 * nids[held_rows // 6] + held_rows % 6 + 1).tolist())
+    dependent = {int(10 * nids[r // 6] + r % 6 + 1): str(labels[r])
+                 for r in np.flatnonzero(labels != "")}
+    return NastranModel(path, pm, tuple(fields), consistent, spc_set, held, bdf,
+                        dependent=dependent)
+
+
+def _fields(lines: list[str]) -> list[str]:
+    """The fields 2.. of a fixed-format card and its continuations (8-character fields;
+    free-field commas too), as NASTRAN-95's cards pyNastran does not read arrive."""
+    out = []
+    for line in lines:
+        if "," in line:
+            out += [x.strip() for x in line.split(",")[1:]]
+            continue
+        body = line[8:72].ljust(64)
+        out += [body[i:i + 8].strip() for i in range(0, 64, 8)]
+    return out
+
+
+def _ints(fields: list[str], label: str) -> list[int]:
+    try:
+        return [int(x) for x in fields]
+    except ValueError:
+        raise InputError(f"{label}: only integer grid ids and components are read "
+                         f"(no THRU), got {' '.join(fields)}") from None
+
+
+def _constraint_equations(bdf, grid, xyz, frames) -> list:
+    """(dependent row, [(row, coefficient)], card label) of every rigid element and the
+    MPC set case control selects."""
+    eqs = []
+
+    def rigid(label, indep, dep):
+        gi = [(grid(n, label), int(c)) for n, c in indep]
+        gd = [(grid(n, label), int(c)) for n, c in dep]
+        for (g, c), terms in constraints.rigid_equations(xyz, frames, gi, gd, label):
+            eqs.append((6 * g + c - 1, [(6 * a + b - 1, v) for (a, b), v in terms], label))
+
+    def comps(text):
+        return [int(x) for x in str(text or "") if x != "0"]
+
+    for eid, e in sorted(bdf.rigid_elements.items()):
+        label = f"{e.type} {eid}"
+        if e.type == "RBE2":
+            indep = [(e.gn, c) for c in range(1, 7)]
+            rigid(label, indep, [(m, c) for m in e.Gmi for c in comps(e.cm)])
+        elif e.type == "RBAR":
+            indep = [(e.ga, c) for c in comps(e.cna)] + [(e.gb, c) for c in comps(e.cnb)]
+            dep = [(e.ga, c) for c in comps(e.cma)] + [(e.gb, c) for c in comps(e.cmb)]
+            if not dep:  # blank CMA, CMB: the components not independent
+                dep = [(g, c) for g in (e.ga, e.gb) for c in range(1, 7)
+                       if (g, c) not in indep]
+            rigid(label, indep, dep)
+        else:
+            raise InputError(f"{label}: rigid element {e.type} is not supported")
+    for card in getattr(bdf, "reject_lines", []):
+        lines = [x for x in card if x.strip()]
+        name = lines[0][:8].split(",")[0].strip().upper()
+        f = _fields(lines)
+        label = f"{name} {f[0]}"
+        if name in ("CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR"):
+            f = [x for x in f[1:] if x]
+        if name == "CRIGD1":  # GI, then dependent grids: all six components
+            ids = _ints(f, label)
+            rigid(label, [(ids[0], c) for c in range(1, 7)],
+                  [(g, c) for g in ids[1:] for c in range(1, 7)])
+        elif name == "CRIGD2":  # GI, then pairs (GD, CD)
+            ids = _ints(f, label)
+            rigid(label, [(ids[0], c) for c in range(1, 7)],
+                  [(g, c) for g, cd in zip(ids[1::2], ids[2::2], strict=True)
+                   for c in comps(cd)])
+        elif name == "CRIGD3":  # pairs (GI, CI) up to MSET, then pairs (GD, CD)
+            if "MSET" not in [x.upper() for x in f]:
+                raise InputError(f"{label}: no MSET field")
+            k = [x.upper() for x in f].index("MSET")
+            ind, dep = _ints(f[:k], label), _ints(f[k + 1:], label)
+            rigid(label, [(g, c) for g, ci in zip(ind[::2], ind[1::2], strict=True)
+                          for c in comps(ci)],
+                  [(g, c) for g, cd in zip(dep[::2], dep[1::2], strict=True)
+                   for c in comps(cd)])
+        elif name == "CRIGDR":  # rigid rod: GD's translation CD keeps the length
+            gi, gd, cd = _ints(f[:3], label)
+            a, b = grid(gi, label), grid(gd, label)
+            axis = xyz[b] - xyz[a]
+            axis = axis / np.linalg.norm(axis)
+            ea, eb = frames[a] @ axis, frames[b] @ axis  # axis in each grid's CD
+            if abs(eb[cd - 1]) < 1e-8:
+                raise InputError(f"{label}: component {cd} of GRID {gd} is normal to the rod")
+            terms = [(6 * a + k, float(ea[k] / eb[cd - 1])) for k in range(3)]
+            terms += [(6 * b + k, float(-eb[k] / eb[cd - 1])) for k in range(3) if k != cd - 1]
+            eqs.append((6 * b + cd - 1, terms, label))
+    for card in _mpc_cards(bdf):
+        label = f"MPC {card.conid}"
+        (n0, *nodes), (c0, *cs), (a0, *coefs) = card.nodes, card.components, card.coefficients
+        if not a0:
+            raise InputError(f"{label}: the dependent term's coefficient is zero")
+        dep = 6 * grid(n0, label) + int(c0) - 1
+        eqs.append((dep, [(6 * grid(n, label) + int(c) - 1, -float(a) / a0)
+                          for n, c, a in zip(nodes, cs, coefs, strict=True)], label))
+    return eqs
+
+
+def _mpc_cards(bdf) -> list:
+    """MPC cards of the set case control selects (or the only set)."""
+    ids = set(bdf.mpcs) | set(bdf.mpcadds)
+    if not ids:
+        return []
+    wanted = set()
+    cc = bdf.case_control_deck
+    if cc is not None:
+        for sub in cc.subcases.values():
+            try:
+                wanted.add(int(sub.get_parameter("MPC")[0]))
+            except KeyError:
+                pass
+    if len(wanted) > 1:
+        raise InputError(f"case control selects several MPC sets {sorted(wanted)}")
+    if not wanted:
+        inner = {int(s) for add in bdf.mpcadds.values() for a in add for s in a.sets}
+        top = sorted(ids - inner)
+        if len(top) > 1:
+            raise InputError(f"several MPC sets {top} and no case control MPC = to choose one")
+        wanted = set(top)
+    out, todo = [], list(wanted)
+    while todo:
+        sid = todo.pop()
+        for add in bdf.mpcadds.get(sid, []):
+            todo += [int(s) for s in add.sets]
+        out += bdf.mpcs.get(sid, [])
+    return out
 
 
 def _set_rows(cards, where, label: str) -> list[int]:
@@ -422,6 +581,7 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
         return sections[key]
 
     label, rod, ga, gb, g0, xv, wa, wb, sec = [], [], [], [], [], [], [], [], []
+    pins = []
     zero = np.zeros(3)
     for eid, e in sorted(bdf.elements.items()):
         lab = f"{e.type} {eid}"
@@ -431,10 +591,13 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
             if prop is None or prop.type not in {"PBAR": ("PBAR", "PBARL"),
                                                  "PBEAM": ("PBEAM", "PBEAML")}[ptype]:
                 raise InputError(f"{lab}: property {ptype} {e.pid} is not defined")
-            if e.offt != "GGG":
+            if str(e.offt) not in ("GGG", "1"):  # NASTRAN-95's F = 1: X is a vector, as GGG
                 raise InputError(f"{lab}: OFFT {e.offt} is not supported (only GGG)")
-            if (e.pa or 0) or (e.pb or 0):
-                raise InputError(f"{lab}: pin flags PA/PB are not supported")
+            pin = np.zeros(12, bool)
+            for end, flags in ((0, e.pa), (6, e.pb)):
+                pin[[end + int(c) - 1 for c in str(flags or "") if c != "0"]] = True
+            if pin.any() and consistent:
+                raise InputError(f"{lab}: pin flags PA/PB with coupled mass are not supported")
             if getattr(e, "sa", 0) or getattr(e, "sb", 0):
                 raise InputError(f"{lab}: scalar points SA/SB (warping) are not supported")
             a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
@@ -466,6 +629,7 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
             wb.append(zero)
         else:
             continue
+        pins.append(pin if e.type in ("CBAR", "CBEAM") else np.zeros(12, bool))
         label.append(lab)
         rod.append(e.type in ("CROD", "CONROD"))
         ga.append(a)
@@ -504,6 +668,7 @@ def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
         raise InputError(f"{label[e]}: stiffness overflows (MAT1 {rows[e][9]} E = "
                          f"{E[e]:g} on a {L[e]:g} long element)")
     kp = frame3d.stiffness_parts(L, phi1, phi2)
+    frame3d.release(kp, np.array(pins))
     mp = frame3d.mass_parts(L, consistent)
     mp["translation"][rod] = frame3d.rod_mass_part(L[rod], consistent)
     mp["torsion"][~beam] = 0.0  # NASTRAN's CBAR and CROD carry no torsional inertia

@@ -38,6 +38,11 @@ FIELDS = {
     "PROD": {"A": "A", "J": "j"},
     "PELAS": {"K": "k"},
     "CELAS2": {"K": "k"},
+    "CELAS4": {"K": "k"},
+    "CMASS4": {"M": "mass"},
+    "PBUSH": {f"K{i + 1}": ("_k", i) for i in range(6)},
+    "CONM1": {f"M{i + 1}{j + 1}": ("mass_matrix", (i, j)) for i in range(6)
+              for j in range(i + 1)},
     "CONM2": {"M": "mass"},
     "CMASS2": {"M": "mass"},
     "PMASS": {"M": "mass"},
@@ -85,9 +90,13 @@ class NastranModel:
 
     def grid_dof(self, grid: int, component: int) -> int:
         """Coordinate of (grid, component); InputError if unknown or restrained."""
-        if component not in range(1, 7):
+        if grid in self.bdf.spoints and grid not in self.bdf.nodes:
+            if component not in (0, 1):
+                raise InputError(f"scalar point {grid} has component 0 (or 1) only")
+            component = 1  # a scalar point's one coordinate is 10 * id + 1
+        elif component not in range(1, 7):
             raise InputError(f"component {component} must be 1-6")
-        if grid not in self.bdf.nodes:
+        elif grid not in self.bdf.nodes:
             raise InputError(f"GRID {grid} is not defined in {self.path}")
         c = dof_number(grid, component)
         if c in self.dependent:
@@ -184,16 +193,23 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     wtmass = _param(bdf, "WTMASS", 1.0)
     if not wtmass > 0:
         raise InputError(f"PARAM WTMASS {wtmass} must be > 0")
-    if not bdf.nodes:
-        raise InputError("no GRID cards")
+    if not bdf.nodes and not bdf.spoints:
+        raise InputError("no GRID or SPOINT cards")
     try:
         bdf._cross_reference_coordinates()
     except Exception as exc:
         raise InputError(f"coordinate systems: {exc}") from None
-    nids = np.array(sorted(bdf.nodes), dtype=int)
+    # scalar points take six rows like a grid, of which only the first is used
+    grids = np.array(sorted(bdf.nodes), dtype=int)
+    spoints = np.array(sorted(set(bdf.spoints) - set(bdf.nodes)), dtype=int)
+    clash = sorted(set(bdf.spoints) & set(bdf.nodes))
+    if clash:
+        raise InputError(f"SPOINT {clash[0]}: is also a GRID")
+    nids = np.concatenate([grids, spoints])
     where = {int(n): i for i, n in enumerate(nids)}
-    xyz = _positions(bdf, nids)
-    frames = _frames(bdf, nids, xyz)
+    xyz = np.concatenate([_positions(bdf, grids), np.zeros((spoints.size, 3))])
+    frames = np.concatenate([_frames(bdf, grids, xyz[:grids.size]),
+                             np.tile(np.eye(3), (spoints.size, 1, 1))])
     ndof = 6 * nids.size
 
     specs = list(specs)
@@ -205,13 +221,27 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     values = [_field_value(bdf, f) for f in fields]
 
     def grid(n, card):
-        if n not in where:
-            raise InputError(f"{card}: GRID {n} is referenced but not defined")
+        if n not in where or where[n] >= grids.size:
+            what = "a scalar point, not a GRID" if n in where else "referenced but not defined"
+            raise InputError(f"{card}: GRID {n} is {what}")
         return where[n]
 
+    def point(n, card, c):
+        """Row of a GRID's component c (1-6) or of a scalar point (c 0 or blank)."""
+        if n in where and where[n] >= grids.size:
+            if c not in (None, 0, 1):
+                raise InputError(f"{card}: component {c} of scalar point {n} must be 0 or "
+                                 f"blank")
+            return 6 * where[n]
+        if c not in range(1, 7):
+            raise InputError(f"{card}: component {c} must be 1-6 on a GRID")
+        return 6 * grid(n, card) + int(c) - 1
+
     _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values, k0, m0, kj, mj)
-    _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj)
+    _scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj)
     _conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
+    _conm1(bdf, grid, frames, wtmass, pindex, m0, mj)
+    _cbush(bdf, grid, xyz, frames, pindex, k0, kj)
 
     restrained, spc_set = _spc(bdf, where)
     K0, M0 = k0.matrix(ndof), m0.matrix(ndof)
@@ -526,17 +556,50 @@ def _check_fields(bdf, fields: list[CardField]) -> dict:
 def _stores(bdf) -> dict:
     return {"MAT1": bdf.materials, "PBAR": bdf.properties, "PBEAM": bdf.properties,
             "PROD": bdf.properties,
-            "PELAS": bdf.properties, "CELAS2": bdf.elements, "CONM2": bdf.masses,
+            "PELAS": bdf.properties, "CELAS2": bdf.elements, "CELAS4": bdf.elements,
+            "CMASS4": bdf.masses, "CONM2": bdf.masses, "CONM1": bdf.masses,
+            "PBUSH": bdf.properties,
             "CMASS2": bdf.masses, "PMASS": bdf.properties_mass}
 
 
 def _field_value(bdf, f: CardField) -> float:
     card = _stores(bdf)[f.card][f.id]
-    v = float(np.ravel(getattr(card, FIELDS[f.card][f.field]))[0])
+    v = get_field(card, FIELDS[f.card][f.field])
     if not v >= 0:
         raise InputError(f"{f.card} {f.id} field {f.field} = {v:g} is negative (a parameter "
                          f"must be >= 0)")
     return v
+
+
+def get_field(card, spec) -> float:
+    """A card's field value: ``spec`` is pyNastran's attribute, or (attribute, index)."""
+    if isinstance(spec, str):
+        return float(np.ravel(getattr(card, spec))[0])
+    attr, index = spec
+    if attr == "_k":
+        return float(_pbush_k(card)[index])
+    return float(np.asarray(getattr(card, attr))[index])
+
+
+def set_field(card, spec, value: float) -> None:
+    """Put ``value`` in a card's field (:func:`get_field`'s ``spec``)."""
+    if isinstance(spec, str):
+        old = getattr(card, spec)
+        setattr(card, spec, np.full_like(old, value) if isinstance(old, np.ndarray) else value)
+    elif spec[0] == "_k":
+        ki = list(card.Ki) + [None] * (6 - len(card.Ki))
+        ki[spec[1]] = value
+        card.Ki = ki
+    else:
+        getattr(card, spec[0])[spec[1]] = value
+
+
+def _pbush_k(card) -> np.ndarray:
+    """PBUSH K1-K6 (blank = 0)."""
+    k = np.zeros(6)
+    for i, v in enumerate(getattr(card, "Ki", None) or []):
+        k[i] = v or 0.0
+    return k
 
 
 def _material(bdf, mid: int, where: str):
@@ -828,8 +891,9 @@ def _one_parameter_per_quantity(deriv, label, kj) -> None:
             owner[hit] = j
 
 
-def _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj) -> None:
-    """CELAS1/2 and CMASS1/2: a scalar between two components (or to ground)."""
+def _scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj) -> None:
+    """CELAS1-4 and CMASS1-4: a scalar between two components or scalar points (or to
+    ground)."""
     def put(trip, dofs, value):
         if len(dofs) == 1:
             trip.add(dofs, dofs, [value])
@@ -839,31 +903,32 @@ def _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj) -> None:
 
     def dofs_of(e, label):
         out = []
-        for n, c in zip(e.nodes, (e.c1, e.c2), strict=True):
+        for n, c in zip(e.nodes, (getattr(e, "c1", None), getattr(e, "c2", None)),
+                        strict=True):
             if n in (None, 0):
                 continue
-            if c not in range(1, 7):
-                raise InputError(f"{label}: component {c} must be 1-6 on a GRID")
-            out.append(6 * grid(n, label) + int(c) - 1)
+            out.append(point(n, label, c))
         if not out or (len(out) == 2 and out[0] == out[1]):
             raise InputError(f"{label}: needs one or two different grid components")
         return out
 
     # (cards, with a property, property card, direct card, field, K or M, unit scale)
-    kinds = ((bdf.elements, "CELAS1", bdf.properties, "PELAS", "CELAS2", "K", k0, kj, 1.0),
-             (bdf.masses, "CMASS1", bdf.properties_mass, "PMASS", "CMASS2", "M", m0, mj,
-              wtmass))
+    kinds = ((bdf.elements, ("CELAS1", "CELAS3"), bdf.properties, "PELAS", ("CELAS2", "CELAS4"),
+              "K", k0, kj, 1.0),
+             (bdf.masses, ("CMASS1", "CMASS3"), bdf.properties_mass, "PMASS",
+              ("CMASS2", "CMASS4"), "M", m0, mj, wtmass))
     for cards, with_prop, props, prop_card, direct, fld, dest0, dests, scale in kinds:
-        attr = FIELDS[direct][fld]
         for eid, e in sorted(cards.items()):
             label = f"{e.type} {eid}"
-            if e.type == with_prop:
+            if e.type in with_prop:
                 p = props.get(e.pid)
                 if p is None or p.type != prop_card:
                     raise InputError(f"{label}: property {prop_card} {e.pid} is not defined")
-                value, j = getattr(p, attr), pindex.get((prop_card, p.pid), {}).get(fld)
-            elif e.type == direct:
-                value, j = getattr(e, attr), pindex.get((direct, eid), {}).get(fld)
+                value = getattr(p, FIELDS[prop_card][fld])
+                j = pindex.get((prop_card, p.pid), {}).get(fld)
+            elif e.type in direct:
+                value = getattr(e, FIELDS[e.type][fld])
+                j = pindex.get((e.type, eid), {}).get(fld)
             else:
                 continue
             if fld == "M" and value < 0:
@@ -873,6 +938,97 @@ def _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj) -> None:
                 put(dest0, dofs, scale * value)
             else:
                 put(dests[j], dofs, scale)
+
+
+def _rect_axes(bdf, cid, label: str) -> np.ndarray:
+    """Rows: the axes of rectangular system ``cid`` in basic (0: basic)."""
+    if not cid:
+        return np.eye(3)
+    if cid not in bdf.coords:
+        raise InputError(f"{label}: coordinate system {cid} is not defined")
+    if bdf.coords[cid].Type != "R":
+        raise InputError(f"{label}: CID {cid} must be rectangular")
+    return bdf.coords[cid].beta()
+
+
+def _blocks(a: np.ndarray) -> np.ndarray:
+    out = np.zeros((6, 6))
+    out[:3, :3] = out[3:, 3:] = a
+    return out
+
+
+def _conm1(bdf, grid, frames, wtmass, pindex, m0, mj) -> None:
+    """CONM1: a 6 x 6 mass matrix (lower triangle given) at a grid, in system CID."""
+    for eid, e in sorted(bdf.masses.items()):
+        if e.type != "CONM1":
+            continue
+        label = f"CONM1 {eid}"
+        g = grid(e.nid, label)
+        low = np.tril(np.asarray(e.mass_matrix, float))
+        full = low + np.tril(low, -1).T
+        if np.any(np.linalg.eigvalsh(full) < -1e-12 * max(np.abs(full).max(), 1e-300)):
+            raise InputError(f"{label}: mass matrix is not positive semi-definite")
+        # u_cid = B F^T u_cd: B the CID axes, F the grid's displacement axes (rows)
+        t = _blocks(_rect_axes(bdf, e.cid, label)) @ _blocks(frames[g]).T
+        dofs = 6 * g + np.arange(6)
+        r, c = np.repeat(dofs, 6), np.tile(dofs, 6)
+        slots = pindex.get(("CONM1", eid), {})
+        base = full.copy()
+        for name, j in slots.items():
+            i1, i2 = int(name[1]) - 1, int(name[2]) - 1
+            unit = np.zeros((6, 6))
+            unit[i1, i2] = unit[i2, i1] = 1.0
+            base -= full[i1, i2] * unit
+            mj[j].add(r, c, wtmass * (t.T @ unit @ t))
+        m0.add(r, c, wtmass * (t.T @ base @ t))
+
+
+def _cbush(bdf, grid, xyz, frames, pindex, k0, kj) -> None:
+    """CBUSH + PBUSH: six springs K1-K6 in the element axes at the point a fraction S
+    from GA to GB, rigidly linked to both grids (grounded when GB is blank). Axes: the
+    CID system, else x from GA to GB and the orientation vector (X or G0) as CBAR."""
+    for eid, e in sorted(bdf.elements.items()):
+        if e.type != "CBUSH":
+            continue
+        label = f"CBUSH {eid}"
+        p = bdf.properties.get(e.pid)
+        if p is None or p.type != "PBUSH":
+            raise InputError(f"{label}: property PBUSH {e.pid} is not defined")
+        if e.ocid not in (None, -1):
+            raise InputError(f"{label}: OCID {e.ocid} (spring offsets) is not supported")
+        if getattr(p, "mass", None):
+            raise InputError(f"PBUSH {p.pid}: mass M is not supported")
+        a = grid(e.nodes[0], label)
+        b = None if e.nodes[1] in (None, 0) else grid(e.nodes[1], label)
+        xa = xyz[a]
+        xb = xa if b is None else xyz[b]
+        if e.cid is not None and e.cid >= 0:
+            axes = _rect_axes(bdf, e.cid, label)
+        else:
+            if b is None or np.linalg.norm(xb - xa) <= 1e-12 * max(np.abs(xa).max(), 1.0):
+                raise InputError(f"{label}: coincident or grounded grids need a CID")
+            v = (xyz[grid(e.g0, label)] - xa if e.g0 is not None
+                 else frames[a].T @ np.asarray(e.x, float))
+            _, rot = frame3d.local_axes(xa[None], xb[None], v[None], [label])
+            axes = rot[0]
+        s = 0.5 if e.s is None else float(e.s)
+        point = xa + s * (xb - xa)
+        # element deformations d = E [-R_A F_A^T, R_B F_B^T] u: R the rigid map to the point
+        cols = [(a, -1.0)] + ([] if b is None else [(b, 1.0)])
+        d = np.hstack([sign * _blocks(axes) @ constraints.rigid_map(point - xyz[g])
+                       @ _blocks(frames[g]).T for g, sign in cols])
+        dofs = np.concatenate([6 * g + np.arange(6) for g, _ in cols])
+        r, c = np.repeat(dofs, dofs.size), np.tile(dofs, dofs.size)
+        k = _pbush_k(p)
+        if np.any(k < 0):
+            raise InputError(f"PBUSH {p.pid}: stiffness K1-K6 must be >= 0")
+        slots = pindex.get(("PBUSH", p.pid), {})
+        param = {int(name[1]) - 1: j for name, j in slots.items()}
+        base = sum(k[i] * np.outer(d[i], d[i]) for i in range(6) if i not in param)
+        if np.ndim(base):
+            k0.add(r, c, base)
+        for i, j in param.items():
+            kj[j].add(r, c, np.outer(d[i], d[i]))
 
 
 def _conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj) -> None:

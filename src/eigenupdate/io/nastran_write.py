@@ -12,10 +12,8 @@ import io
 from collections.abc import Sequence
 from pathlib import Path
 
-import numpy as np
-
 from eigenupdate.io.atomic import write_text
-from eigenupdate.io.nastran import FIELDS, NastranModel, _stores, _tied
+from eigenupdate.io.nastran import FIELDS, NastranModel, _stores, _tied, set_field
 
 
 def write_updated_bdf(nm: NastranModel, out: str | Path, values: dict[str, float],
@@ -29,9 +27,7 @@ def write_updated_bdf(nm: NastranModel, out: str | Path, values: dict[str, float
     for p, f in zip(nm.model.parameters, nm.fields, strict=True):
         v = float(values[p.name])
         card = _stores(bdf)[f.card][f.id]
-        attr = FIELDS[f.card][f.field]
-        old = getattr(card, attr)
-        setattr(card, attr, np.full_like(old, v) if isinstance(old, np.ndarray) else v)
+        set_field(card, FIELDS[f.card][f.field], v)
         # some cards (CELAS2) always print 8-character fields: force 16 for updated ones
         card.write_card = _large_field_writer(card)
     buf = io.StringIO()

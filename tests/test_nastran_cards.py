@@ -132,3 +132,39 @@ def test_new_parameters_finite_differences(tmp_path, field):
         dj = np.zeros_like(fd) if term is None else term.toarray()
         # the difference of two assemblies of values ~|total| loses ~eps |total| / h
         assert np.max(np.abs(fd - dj)) <= 1e-9 * max(abs(total).max(), 1e-300) / s
+
+
+WRITTEN = NEW + [("PELAS", 12, "K"), ("PMASS", 14, "M"), ("MAT1", 1, "E"), ("PBAR", 1, "I2"),
+                 ("CONM2", 8, "M")]
+# small-field and free-field cards; PELAS and PMASS with their id in a later pair
+MORE = ("PELAS,11,1.e3,,,12,2.5e3\nCELAS1,21,12,9\nPMASS   13      1.5     14      2500.\n"
+        "CMASS1,22,14,9\nMAT1           1  2.1+11              .3   7850.\n"
+        "PBAR           1       1    .001   2.e-7   8.e-7   5.e-7\n"
+        "GRID,3,,2.,0.,0.\nCBAR,31,1,2,3,0.,1.,0.\nCONM2          8       3            150.\n")
+
+
+@pytest.mark.parametrize("field", WRITTEN, ids=["-".join(map(str, f)) for f in WRITTEN])
+def test_write_back_changes_exactly_the_updated_field(tmp_path, field):
+    """The deck written back differs from the read one only in the updated card, whose
+    field reads back as the new value (12 digits); unchanged parameters are not touched
+    (their text, e.g. 2500., stays as it was given)."""
+    from eigenupdate.io.nastran_write import write_updated_bdf
+
+    path = _deck(tmp_path, BODY + MORE)
+    card, cid, name = field
+    specs = [(Parameter("p", 0.0), CardField(card, cid, name)),
+             (Parameter("fixed", 0.0, update=False), CardField("PMASS", 14, "M"))]
+    if (card, cid, name) == ("PMASS", 14, "M"):
+        specs = specs[:1]
+    nm = read_nastran(path, specs)
+    new = nm.model.values[0] * 1.2345678901234
+    out = tmp_path / "out.bdf"
+    write_updated_bdf(nm, out, {"p": new, "fixed": nm.model.values[-1]})
+    again = read_nastran(out, specs[:1])
+    assert again.model.values[0] == pytest.approx(new, rel=1e-11)
+    before = path.read_text().splitlines()
+    after = out.read_text().splitlines()
+    gone = [x for x in before if x not in after]
+    assert gone and all(x.startswith(",") or x.split(",")[0].split()[0].startswith(card)
+                        for x in gone)
+    assert "PMASS   13      1.5     14      2500." in after or card == "PMASS"

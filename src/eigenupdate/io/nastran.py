@@ -87,6 +87,7 @@ class NastranModel:
     bdf: Any  # pyNastran BDF, kept to write the file back
     skipped: str = ""  # cards skipped because they change neither K nor M
     dependent: dict = field(default_factory=dict)  # coordinate -> rigid element / MPC
+    text: list = field(default_factory=list)  # the deck's lines, INCLUDEs expanded
 
     def grid_dof(self, grid: int, component: int) -> int:
         """Coordinate of (grid, component); InputError if unknown or restrained."""
@@ -141,6 +142,7 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
         warnings.warn(f"{path.name}: skipped (they change neither K nor M): {deck.skipped}",
                       EigenupdateWarning, stacklevel=2)
     nm.skipped = deck.skipped
+    nm.text = deck.text
     return nm
 
 

@@ -74,6 +74,8 @@ class Deck:
     bdf: Any
     lines: dict = field(default_factory=dict)  # (card, id) -> "file:line"
     skipped: str = ""  # the note: "FORCE x2, MDLPRM x1, PARAM POST"
+    text: list = field(default_factory=list)  # every line, INCLUDEs expanded
+    bulk: int = 0  # index in ``text`` of the first line given to pyNastran
 
     def where(self, card: str, cid: int | None = None) -> str:
         """``file:line`` of a card, or the deck's name when it is not known."""
@@ -168,12 +170,15 @@ def load_deck(path: str | Path) -> Deck:
     lines: list[str] = []
     origin: list[tuple[str, int]] = []
     _expand(path.resolve(), lines, origin, (path.resolve(),))
+    text = list(lines)
     upper = [x.upper() for x in lines]
     has_cend = any(x.strip().startswith("CEND") for x in upper)
     begin = next((i for i, x in enumerate(upper) if x.startswith("BEGIN BULK")
                   or x.startswith("BEGIN,BULK")), None)
+    first = 0
     if not has_cend and begin is not None:  # bulk data only, after BEGIN BULK
-        lines, origin = lines[begin + 1:], origin[begin + 1:]
+        first = begin + 1
+        lines, origin = lines[first:], origin[first:]
     bdf = _quiet_bdf()
     sink = io.StringIO()
     try:
@@ -185,7 +190,7 @@ def load_deck(path: str | Path) -> Deck:
         card = _blamed_card(msg, lines, origin)
         raise InputError(f"{card}pyNastran cannot read the deck: {type(exc).__name__}: "
                          f"{msg[0] if msg else ''}", source=str(path)) from None
-    deck = Deck(path, bdf, _card_starts(lines, origin))
+    deck = Deck(path, bdf, _card_starts(lines, origin), text=text, bulk=first)
     _sort_cards(deck)
     return deck
 

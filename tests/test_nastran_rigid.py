@@ -113,3 +113,20 @@ def test_pin_flag_closed_form(tmp_path):
     force[model.index(22)] = 1.0
     u = np.linalg.solve(K, force)[model.index(22)]
     assert u == pytest.approx(8.0 / (3 * 2.0e11 * 2.0e-7), rel=1e-11)
+
+
+def test_rbe3_is_the_weighted_average(tmp_path):
+    """Source: an RBE3 reference grid at the weighted centroid of three grids (weights
+    1, 2, 3, translations 123) moves with their weighted mean translation: a unit mass
+    there adds m w_i w_j / W^2 to M between the grids' same translations (x here)."""
+    w = np.array([1.0, 2.0, 3.0])
+    pts = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    c = w @ pts / w.sum()
+    body = "".join(f"GRID,{i + 1},,{p[0]},{p[1]},{p[2]}\n" for i, p in enumerate(pts))
+    body += f"GRID,4,,{c[0]!r},{c[1]!r},0.\nCONM2,7,4,,5.\n"
+    body += "RBE3,9,,4,123,1.,123,1,2.\n,123,2,3.,123,3\n"
+    body += "".join(f"CELAS1,{10 + i},5,{i},1\n" for i in (1, 2, 3)) + "PELAS,5,1.e3\n"
+    model = read_nastran(_deck(tmp_path, body)).model
+    rows = [model.index(10 * i + 1) for i in (1, 2, 3)]
+    got = model.mass().toarray()[np.ix_(rows, rows)]
+    assert np.allclose(got, 5.0 * np.outer(w, w) / w.sum() ** 2, rtol=1e-13, atol=1e-15)

@@ -369,6 +369,16 @@ def _constraint_equations(bdf, grid, xyz, frames) -> list:
                 dep = [(g, c) for g in (e.ga, e.gb) for c in range(1, 7)
                        if (g, c) not in indep]
             rigid(label, indep, dep)
+        elif e.type == "RBE3":
+            if e.Gmi:
+                raise InputError(f"{label}: UM (other dependent components) is not supported")
+            indep = [(grid(g, label), c, float(w)) for w, cs, gs in
+                     zip(e.weights, e.comps, e.Gijs, strict=True) for g in gs
+                     for c in comps(cs)]
+            for (g, c), terms in constraints.interpolation_equations(
+                    xyz, frames, grid(e.refgrid, label), comps(e.refc), indep, label):
+                eqs.append((6 * g + c - 1, [(6 * a + b - 1, v) for (a, b), v in terms],
+                            label))
         else:
             raise InputError(f"{label}: rigid element {e.type} is not supported")
     for card in getattr(bdf, "reject_lines", []):

@@ -30,7 +30,7 @@ SUPPORTED = frozenset({
     "CBAR", "PBAR", "PBARL", "CBEAM", "PBEAM", "PBEAML", "CROD", "PROD", "CONROD",
     "CELAS1", "CELAS2", "PELAS", "CONM2", "CMASS1", "CMASS2", "PMASS", "MAT1",
     "SPC", "SPC1", "SPCADD", "ASET", "ASET1", "OMIT", "OMIT1", "SUPORT", "PARAM", "ENDDATA",
-    "RBE2", "RBAR", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR",
+    "RBE2", "RBAR", "RBE3", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR",
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
 })
 # cards that change neither K nor M of a normal-modes analysis

@@ -70,6 +70,44 @@ def rigid_equations(xyz: np.ndarray, frames: np.ndarray,
     return out
 
 
+def interpolation_equations(xyz: np.ndarray, frames: np.ndarray, ref: int, ref_comps: list[int],
+                            independent: list[tuple[int, int, float]], label: str) -> list:
+    """Equations of NASTRAN's RBE3: the reference grid's components ``ref_comps`` follow
+    the weighted least-squares rigid motion q of the independent (grid, translational
+    component, weight) triples: q = (sum w s s^T)^-1 sum w s u, s the row that maps q to a
+    component (MSC's RBE3 with translational independent components, where its weights
+    need no characteristic length)."""
+    rows, weights, keys = [], [], []
+    for g, c, w in independent:
+        if c not in (1, 2, 3):
+            raise InputError(f"{label}: rotational independent components are not supported "
+                             f"(only 1, 2, 3)")
+        if not w > 0:
+            raise InputError(f"{label}: weight {w:g} must be > 0")
+        f = np.zeros((6, 6))
+        f[:3, :3] = f[3:, 3:] = frames[g]
+        rows.append((f @ rigid_map(xyz[g] - xyz[ref]))[c - 1])
+        weights.append(w)
+        keys.append((g, c))
+    s = np.array(rows)
+    w = np.array(weights)
+    normal = s.T @ (w[:, None] * s)
+    lam, vec = np.linalg.eigh(normal)
+    null = vec[:, lam <= 1e-10 * lam.max()]
+    fr = np.zeros((6, 6))
+    fr[:3, :3] = fr[3:, 3:] = frames[ref]
+    out = []
+    for c in ref_comps:
+        e = fr[c - 1]
+        if null.size and np.abs(e @ null).max() > 1e-8:
+            raise InputError(f"{label}: the independent grids do not determine component {c} "
+                             f"of the reference grid (collinear grids?)")
+        coef = e @ np.linalg.pinv(normal) @ (s.T * w)
+        out.append(((ref, c), [(k, float(v)) for k, v in zip(keys, coef, strict=True)
+                               if v != 0.0]))
+    return out
+
+
 def constraint_transform(n: int, dependent: np.ndarray, rows: np.ndarray,
                          cols: np.ndarray, coefs: np.ndarray, labels: list[str]
                          ) -> tuple[sp.csr_array, np.ndarray]:

@@ -17,10 +17,10 @@ need("pyNastran")
 from eigenupdate.io.nastran import (  # noqa: E402
     FIELDS,
     CardField,
-    _stores,
     get_field,
     read_nastran,
     set_field,
+    stores,
 )
 
 
@@ -121,7 +121,7 @@ def test_new_parameters_finite_differences(tmp_path, field):
     base = read_nastran(path).model
     s = nm.model.values[0]
     h = 0.25 * s
-    obj = _stores(nm.bdf)[card][cid]
+    obj = stores(nm.bdf)[card][cid]
     set_field(obj, FIELDS[card][name], get_field(obj, FIELDS[card][name]) + h)
     out = tmp_path / "bumped.bdf"
     nm.bdf.write_bdf(str(out), size=16)

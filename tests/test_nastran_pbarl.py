@@ -20,8 +20,9 @@ from eigenupdate.solve.eigen import solve_elastic
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
-from eigenupdate.io.nastran import CardField, _pbarl_section, read_nastran  # noqa: E402
+from eigenupdate.io.nastran import CardField, read_nastran  # noqa: E402
 from eigenupdate.io.nastran_deck import load_deck  # noqa: E402
+from eigenupdate.io.nastran_lines import pbarl_section  # noqa: E402
 
 
 def closed_form(shape: str, d: list[float]) -> tuple[float, float, float, float]:
@@ -96,7 +97,7 @@ def test_section_properties_closed_forms(tmp_path, pid):
     path.write_text(_bulk(_pbarl(1, shape, dims)))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", EigenupdateWarning)  # shear factors not modelled
-        A, i1, i2, j, nsm, mid, key, *_ = _pbarl_section(load_deck(path).bdf.properties[1])
+        A, i1, i2, j, nsm, mid, key, *_ = pbarl_section(load_deck(path).bdf.properties[1])
     assert (A, i1, i2, j) == pytest.approx(closed_form(shape, dims), rel=1e-13)
     assert (nsm, mid, key) == (0.0, 1, ("PBARL", 1))
 

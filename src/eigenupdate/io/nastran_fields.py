@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+
+from eigenupdate.errors import InputError
 
 # card -> field -> (pyNastran attribute, what it scales); the rest are refused with a reason
 FIELDS = {
@@ -66,3 +70,12 @@ def pbush_k(card) -> np.ndarray:
     for i, v in enumerate(getattr(card, "Ki", None) or []):
         k[i] = v or 0.0
     return k
+
+
+def in_range(value, what: str) -> float:
+    """``value`` as a float; InputError unless it is finite and 0 or of magnitude 1e-100
+    to 1e100 (as numbers in a study: beyond, K and M overflow or lose all precision)."""
+    v = float("nan") if value is None else float(value)
+    if not math.isfinite(v) or (v != 0 and not 1e-100 <= abs(v) <= 1e100):
+        raise InputError(f"{what} = {v:g} is out of range (0 or magnitude 1e-100 to 1e100)")
+    return v

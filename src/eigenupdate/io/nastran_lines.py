@@ -10,6 +10,7 @@ import warnings
 import numpy as np
 
 from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.io.nastran_fields import in_range
 from eigenupdate.model import frame3d, sections
 
 # PBARL shapes read: pyNastran's A, I1, I2, J as they are (ROD, TUBE), or with NASTRAN's
@@ -31,9 +32,9 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
         if key not in sections:
             A, i1, i2, j, nsm, mid, pkey, *shear = make()
             for name, x in (("A", A), ("I1", i1), ("I2", i2), ("J", j), ("NSM", nsm)):
-                if x is None or not math.isfinite(x) or x < 0:
-                    raise InputError(f"{pkey[0] + ' ' + str(pkey[1]) if pkey else where_}: "
-                                     f"{name} = {x} must be >= 0")
+                owner = pkey[0] + " " + str(pkey[1]) if pkey else where_
+                if x is None or in_range(x, f"{owner}: {name}") < 0:
+                    raise InputError(f"{owner}: {name} = {x} must be >= 0")
             mat, rho, g, tied = _material(bdf, mid, where_)
             k1, k2 = shear or (0.0, 0.0)
             if (k1 or k2) and not g > 0:
@@ -288,6 +289,9 @@ def _material(bdf, mid: int, where: str):
     mat = bdf.materials.get(mid)
     if mat is None or mat.type != "MAT1":
         raise InputError(f"{where}: material MAT1 {mid} is not defined")
+    for name in ("e", "g", "rho"):
+        if getattr(mat, name) is not None:
+            in_range(getattr(mat, name), f"MAT1 {mid}: {name.upper()}")
     rho = mat.rho or 0.0
     if rho < 0:
         raise InputError(f"MAT1 {mid}: negative density RHO = {rho:g}")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.nastran_fields import FIELDS, pbush_k
+from eigenupdate.io.nastran_fields import FIELDS, in_range, pbush_k
 from eigenupdate.model import constraints, frame3d
 
 
@@ -49,6 +49,7 @@ def assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj) -> None
                 j = pindex.get((e.type, eid), {}).get(fld)
             else:
                 continue
+            value = in_range(value, f"{label}: {fld}")
             if fld == "M" and value < 0:
                 raise InputError(f"{label}: negative mass {value:g}")
             dofs = dofs_of(e, label)
@@ -84,6 +85,8 @@ def assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj) -> None:
         g = grid(e.nid, label)
         low = np.tril(np.asarray(e.mass_matrix, float))
         full = low + np.tril(low, -1).T
+        for x in low.ravel():
+            in_range(x, f"{label}: mass matrix entry")
         if np.any(np.linalg.eigvalsh(full) < -1e-12 * max(np.abs(full).max(), 1e-300)):
             raise InputError(f"{label}: mass matrix is not positive semi-definite")
         # u_cid = B F^T u_cd: B the CID axes, F the grid's displacement axes (rows)
@@ -137,7 +140,7 @@ def assemble_cbush(bdf, grid, xyz, frames, pindex, k0, kj) -> None:
                        @ _blocks(frames[g]).T for g, sign in cols])
         dofs = np.concatenate([6 * g + np.arange(6) for g, _ in cols])
         r, c = np.repeat(dofs, dofs.size), np.tile(dofs, dofs.size)
-        k = pbush_k(p)
+        k = np.array([in_range(x, f"PBUSH {p.pid}: K{i + 1}") for i, x in enumerate(pbush_k(p))])
         if np.any(k < 0):
             raise InputError(f"PBUSH {p.pid}: stiffness K1-K6 must be >= 0")
         slots = pindex.get(("PBUSH", p.pid), {})
@@ -155,6 +158,8 @@ def assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj) -> No
             continue
         label = f"CONM2 {eid}"
         g = grid(e.nid, label)
+        for x in (e.mass, *e.I):
+            in_range(x, f"{label}: mass or inertia")
         if e.mass < 0:
             raise InputError(f"{label}: negative mass {e.mass:g}")
         if e.cid == -1:

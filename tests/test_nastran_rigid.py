@@ -130,3 +130,27 @@ def test_rbe3_is_the_weighted_average(tmp_path):
     rows = [model.index(10 * i + 1) for i in (1, 2, 3)]
     got = model.mass().toarray()[np.ix_(rows, rows)]
     assert np.allclose(got, 5.0 * np.outer(w, w) / w.sum() ** 2, rtol=1e-13, atol=1e-15)
+
+
+CHAIN = ("GRID,1,,0.,0.,0.,,23456\nGRID,2,,1.,0.,0.,,23456\nGRID,3,,2.,0.,0.,,23456\n"
+         "CELAS1,1,5,1,1\nCELAS1,2,5,1,1,2,1\nCELAS1,3,5,2,1,3,1\nPELAS,5,1.e4\n"
+         "CMASS2,4,2.,1,1\nCMASS2,5,3.,3,1\n")
+
+
+@pytest.mark.parametrize("card", ["OMIT1,1,2", "ASET1,1,1,3", "OMIT,2,1", "ASET,1,1,3,1"])
+def test_guyan_reduction_of_a_massless_coordinate_is_exact(tmp_path, card):
+    """Source: static condensation of a coordinate without mass changes no frequency
+    (Guyan 1965): the chain reduced by OMIT/OMIT1/ASET/ASET1 has the full chain's
+    frequencies, on the kept coordinates only."""
+    full = read_nastran(_deck(tmp_path, CHAIN, "full.bdf")).model
+    reduced = read_nastran(_deck(tmp_path, CHAIN + card + "\n", "reduced.bdf")).model
+    assert sorted(reduced.coordinates.tolist()) == [11, 31]
+    f = solve_elastic(full.stiffness(), full.mass(), 2).frequencies_hz
+    g = solve_elastic(reduced.stiffness(), reduced.mass(), 2).frequencies_hz
+    assert g == pytest.approx(f, rel=1e-12)
+
+
+def test_parameters_of_a_reduced_deck_refused(tmp_path):
+    path = _deck(tmp_path, CHAIN + "OMIT1,1,2\n")
+    with pytest.raises(InputError, match="ASET/OMIT .Guyan reduction.: K and M of the reduced"):
+        read_nastran(path, [(Parameter("k", 0.0), CardField("PELAS", 5, "K"))])

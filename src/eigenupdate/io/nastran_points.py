@@ -6,7 +6,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import FIELDS, in_range, pbush_k
-from eigenupdate.model import constraints, frame3d
+from eigenupdate.model import frame3d, point_elements
 
 
 def assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj) -> None:
@@ -70,12 +70,6 @@ def _rect_axes(bdf, cid, label: str) -> np.ndarray:
     return bdf.coords[cid].beta()
 
 
-def _blocks(a: np.ndarray) -> np.ndarray:
-    out = np.zeros((6, 6))
-    out[:3, :3] = out[3:, 3:] = a
-    return out
-
-
 def assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj) -> None:
     """CONM1: a 6 x 6 mass matrix (lower triangle given) at a grid, in system CID."""
     for eid, e in sorted(bdf.masses.items()):
@@ -89,8 +83,7 @@ def assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj) -> None:
             in_range(x, f"{label}: mass matrix entry")
         if np.any(np.linalg.eigvalsh(full) < -1e-12 * max(np.abs(full).max(), 1e-300)):
             raise InputError(f"{label}: mass matrix is not positive semi-definite")
-        # u_cid = B F^T u_cd: B the CID axes, F the grid's displacement axes (rows)
-        t = _blocks(_rect_axes(bdf, e.cid, label)) @ _blocks(frames[g]).T
+        axes = _rect_axes(bdf, e.cid, label)
         dofs = 6 * g + np.arange(6)
         r, c = np.repeat(dofs, 6), np.tile(dofs, 6)
         slots = pindex.get(("CONM1", eid), {})
@@ -100,8 +93,8 @@ def assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj) -> None:
             unit = np.zeros((6, 6))
             unit[i1, i2] = unit[i2, i1] = 1.0
             base -= full[i1, i2] * unit
-            mj[j].add(r, c, wtmass * (t.T @ unit @ t))
-        m0.add(r, c, wtmass * (t.T @ base @ t))
+            mj[j].add(r, c, wtmass * point_elements.mass_in_system(unit, axes, frames[g]))
+        m0.add(r, c, wtmass * point_elements.mass_in_system(base, axes, frames[g]))
 
 
 def assemble_cbush(bdf, grid, xyz, frames, pindex, k0, kj) -> None:
@@ -134,10 +127,9 @@ def assemble_cbush(bdf, grid, xyz, frames, pindex, k0, kj) -> None:
             axes = rot[0]
         s = 0.5 if e.s is None else float(e.s)
         point = xa + s * (xb - xa)
-        # element deformations d = E [-R_A F_A^T, R_B F_B^T] u: R the rigid map to the point
         cols = [(a, -1.0)] + ([] if b is None else [(b, 1.0)])
-        d = np.hstack([sign * _blocks(axes) @ constraints.rigid_map(point - xyz[g])
-                       @ _blocks(frames[g]).T for g, sign in cols])
+        d = point_elements.bush_deformation(axes, point,
+                                            [(xyz[g], frames[g], sign) for g, sign in cols])
         dofs = np.concatenate([6 * g + np.arange(6) for g, _ in cols])
         r, c = np.repeat(dofs, dofs.size), np.tile(dofs, dofs.size)
         k = np.array([in_range(x, f"PBUSH {p.pid}: K{i + 1}") for i, x in enumerate(pbush_k(p))])
@@ -175,22 +167,11 @@ def assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj) -> No
         inertia = np.array([[i[0], -i[1], -i[3]], [-i[1], i[2], -i[4]], [-i[3], -i[4], i[5]]])
         if np.any(np.linalg.eigvalsh(inertia) < -1e-12 * max(abs(inertia).max(), 1e-300)):
             raise InputError(f"{label}: inertia matrix is not positive semi-definite")
-        # rigid offset: u_cg = u_grid + theta x offset, all in basic, then to the grid's CD
-        a = np.zeros((6, 6))
-        a[:3, :3] = np.eye(3)
-        a[:3, 3:] = -frame3d.skew(offset[None])[0]
-        a[3:, 3:] = np.eye(3)
-        cd = np.zeros((6, 6))
-        cd[:3, :3] = cd[3:, 3:] = frames[g].T
-        a = a @ cd
-        unit = np.zeros((6, 6))
-        unit[:3, :3] = np.eye(3)
-        rot_in = np.zeros((6, 6))
-        rot_in[3:, 3:] = rot.T @ inertia @ rot
+        unit, rotary = point_elements.point_mass(offset, rot.T @ inertia @ rot, frames[g])
         dofs = 6 * g + np.arange(6)
         r, c = np.repeat(dofs, 6), np.tile(dofs, 6)
         j = pindex.get(("CONM2", eid), {}).get("M")
-        trans = wtmass * (a.T @ unit @ a)
-        m0.add(r, c, wtmass * (a.T @ rot_in @ a) + (0.0 if j is not None else e.mass * trans))
+        trans = wtmass * unit
+        m0.add(r, c, wtmass * rotary + (0.0 if j is not None else e.mass * trans))
         if j is not None:
             mj[j].add(r, c, trans)

@@ -27,7 +27,7 @@ def rigid_map(offset: np.ndarray) -> np.ndarray:
     """6 x 6 map from a point's displacements (u, theta; basic) to those of a point
     rigidly attached at ``offset`` from it: u' = u + theta x offset, theta' = theta.
 
-    >>> rigid_map(np.array([1.0, 0.0, 0.0]))[1].tolist()  # v' = v + rz * 1
+    >>> (rigid_map(np.array([1.0, 0.0, 0.0]))[1] + 0.0).tolist()  # v' = v + rz * 1
     [0.0, 1.0, 0.0, 0.0, 0.0, 1.0]
     """
     t = np.eye(6)

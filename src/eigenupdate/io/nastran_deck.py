@@ -45,7 +45,11 @@ SKIPPED = frozenset({
     "TABDMP1", "TABRND1", "TABLES1", "TABLEST", "TABLEH1", "TABLEHT", "FREQ", "FREQ1",
     "FREQ2", "FREQ3", "FREQ4", "FREQ5", "TSTEP", "TSTEPNL", "EIGRL", "EIGR", "EIGC", "EIGB",
     "EIGP", "NLPARM", "NLPCI", "RANDPS", "RANDT1",
-    # sets, output, bookkeeping
+    # damping (real modes ignore it) and extra points of dynamic response
+    "CDAMP1", "CDAMP2", "CDAMP3", "CDAMP4", "CDAMP5", "PDAMP", "PDAMP5", "PDAMPT", "CVISC",
+    "PVISC", "PBUSHT", "PELAST", "EPOINT", "TF",
+    # sets, output, bookkeeping (SUPORT1 is chosen by case control for rigid-body modes)
+    "SUPORT1", "CBARAO",
     "USET", "USET1", "DTI", "MDLPRM", "SET1", "SET2", "SET3", "PLOTEL", "ECHOON", "ECHOOFF",
     "MONPNT1", "MONPNT2", "MONPNT3", "BCTSET", "BCTPARA", "BSURF", "BSURFS",
     # aeroelasticity

@@ -145,3 +145,15 @@ def test_nan_coordinate_blamed_on_the_grid(tmp_path):
     path.write_text("BEGIN BULK\n" + BAR.replace("GRID,2,,1.,", "GRID,2,,nan,") + "ENDDATA\n")
     with pytest.raises(InputError, match=r"GRID 2"):
         read_nastran(path)
+
+
+def test_malformed_card_names_line_card_and_id(tmp_path, run_cli):
+    """pyNastran's refusal of a field is reported at the card's line, one line, exit 2."""
+    bad = BAR.replace("CBAR,1,1,1,2,0.,1.,0.", "CBAR,1,1,1,2,abc,1.,0.")
+    (tmp_path / "part.bdf").write_text(bad)
+    (tmp_path / "main.bdf").write_text("BEGIN BULK\nINCLUDE 'part.bdf'\nENDDATA\n")
+    study = tmp_path / "study.toml"
+    study.write_text('[model]\ntype = "nastran"\nbdf = "main.bdf"\n')
+    code, out, err = run_cli("frequencies", study, "--modes", "1")
+    assert code == 2 and out == "" and err.count("\n") == 1 and "Traceback" not in err
+    assert "part.bdf:3: CBAR 1: g0_x1 = 'abc' (field #5)" in err

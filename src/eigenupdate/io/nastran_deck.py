@@ -191,24 +191,29 @@ def load_deck(path: str | Path) -> Deck:
                          punch=not has_cend, validate=True)
     except Exception as exc:  # pyNastran raises many kinds on malformed cards
         msg = [x for x in str(exc).strip().splitlines() if x.strip()]
-        card = _blamed_card(msg, lines, origin)
-        raise InputError(f"{card}pyNastran cannot read the deck: {type(exc).__name__}: "
-                         f"{msg[0] if msg else ''}", source=str(path)) from None
+        blamed = _blamed_card(str(exc), lines, origin, path.name)
+        first = msg[0] if msg else type(exc).__name__
+        if blamed:
+            raise InputError(f"{blamed}: {first}", source=str(path)) from None
+        raise InputError(f"pyNastran cannot read the deck: {type(exc).__name__}: {first}",
+                         source=str(path)) from None
     deck = Deck(path, bdf, _card_starts(lines, origin), text=text, bulk=first)
     _sort_cards(deck)
     return deck
 
 
-def _blamed_card(msg: list[str], lines: list[str], origin) -> str:
-    """``file:line: `` of the card pyNastran names in its message, if it names one."""
-    for text in msg:
-        m = re.search(r"\b([A-Z][A-Z0-9]+)\s*(?:eid|nid|pid|mid|id)?\s*=?\s*(\d+)", text)
-        if m:
-            starts = _card_starts(lines, origin)
-            hit = starts.get((m.group(1), int(m.group(2))))
-            if hit:
-                return f"{hit}: "
-    return ""
+def _blamed_card(text: str, lines: list[str], origin, main: str) -> str:
+    """``line N: CARD id`` (``file:N`` in an included file) of the card pyNastran's message
+    quotes (``card=['GRID', '2', ...]``), or "" when it quotes none."""
+    m = re.search(r"card=\[\s*'([A-Za-z0-9]+)\*?'\s*,\s*'\s*(\d+)\s*'", text)
+    if m is None:
+        return ""
+    card, cid = m.group(1).upper(), int(m.group(2))
+    hit = _card_starts(lines, origin).get((card, cid))
+    if hit is None:
+        return f"{card} {cid}"
+    name, line = hit.rsplit(":", 1)
+    return f"{'line ' + line if name == main else hit}: {card} {cid}"
 
 
 def _sort_cards(deck: Deck) -> None:

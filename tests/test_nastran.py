@@ -296,6 +296,18 @@ def test_cbeam_constant_section_is_the_cbar(tmp_path, coupmass):
     assert diff.sum() == pytest.approx(want, rel=1e-13)
 
 
+def test_cbeam_nonstructural_inertia(tmp_path):
+    """PBEAM NSI adds to the CBEAM's torsional mass inertia per length (MSC): the axial
+    rotations' mass grows by NSI times the free length's share (lumped: L - L_e / 2)."""
+    n, length = 4, 2.0
+    plain = _line_bdf(tmp_path, n, length, fixed="123456", coupmass=False, card="CBEAM")
+    text = plain.read_text()
+    base = read_nastran(plain).model.mass()
+    plain.write_text(text.replace("\n,,,,,,,,\n,0.,0.", "\n,,,,,,,,\n,0.,0.,,,0.25,0.25"))
+    diff = read_nastran(plain).model.mass() - base
+    assert diff.sum() == pytest.approx(0.25 * (length - length / n / 2), rel=1e-13)
+
+
 def test_timoshenko_cantilever_closed_form(tmp_path):
     """Source: Timoshenko's cantilever under a tip load P, deflection
     P L^3 / (3 E I) + P L / (K A G) in each plane (the two-node element with

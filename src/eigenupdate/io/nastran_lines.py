@@ -36,11 +36,12 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
                 if x is None or in_range(x, f"{owner}: {name}") < 0:
                     raise InputError(f"{owner}: {name} = {x} must be >= 0")
             mat, rho, g, tied = _material(bdf, mid, where_)
-            k1, k2 = shear or (0.0, 0.0)
+            k1, k2, nsi = shear
             if (k1 or k2) and not g > 0:
                 raise InputError(f"{where_}: shear factors K1, K2 need MAT1 {mid} G > 0")
             sections[key] = (mat.e, g, tied, rho, float(A), float(i1), float(i2),
-                             float(j or 0.0), float(nsm or 0.0), mid, pkey, k1, k2)
+                             float(j or 0.0), float(nsm or 0.0), mid, pkey, k1, k2,
+                             in_range(nsi, f"{where_}: NSI"))
         return sections[key]
 
     label, rod, ga, gb, g0, xv, wa, wb, sec = [], [], [], [], [], [], [], [], []
@@ -81,10 +82,10 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
                 if prop is None or prop.type != "PROD":
                     raise InputError(f"{lab}: property PROD {e.pid} is not defined")
                 sec.append(section(("PROD", e.pid), lambda p=prop: (
-                    p.A, 0.0, 0.0, p.j, p.nsm, p.mid, ("PROD", p.pid), 0.0, 0.0), lab))
+                    p.A, 0.0, 0.0, p.j, p.nsm, p.mid, ("PROD", p.pid), 0.0, 0.0, 0.0), lab))
             else:
                 sec.append(section(("CONROD", eid), lambda e=e: (
-                    e.A, 0.0, 0.0, e.j, e.nsm, e.mid, None, 0.0, 0.0), lab))
+                    e.A, 0.0, 0.0, e.j, e.nsm, e.mid, None, 0.0, 0.0, 0.0), lab))
             a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
             g0.append(-1)
             xv.append(zero)
@@ -115,7 +116,7 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     E, G, rho = (np.array([r[k] for r in rows], float) for k in (0, 1, 3))
     tied = np.array([r[2] for r in rows])
     A, I1, I2, J, nsm = (np.array([r[k] for r in rows], float) for k in range(4, 9))
-    K1, K2 = (np.array([r[k] for r in rows], float) for k in (11, 12))
+    K1, K2, nsi = (np.array([r[k] for r in rows], float) for k in (11, 12, 13))
     beam = np.array([lab.startswith("CBEAM") for lab in label])
     # Timoshenko shear parameters; K = 0 (or PBAR's blank) is a shear-rigid section
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -142,7 +143,7 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     # section quantities and the parameters that scale each (one at most per element)
     total = {"k_axial": E * A, "k_torsion": G * J, "k_bend1": E * I1, "k_bend2": E * I2,
              "m_translation": wtmass * (rho * A + nsm),
-             "m_torsion": np.where(beam, wtmass * rho * (I1 + I2), 0.0)}
+             "m_torsion": np.where(beam, wtmass * (rho * (I1 + I2) + nsi), 0.0)}
     n = len(rows)
     deriv: list[dict[str, np.ndarray]] = [{} for _ in kj]
 
@@ -220,16 +221,22 @@ def bar_section(prop) -> tuple:
             if np.ptp(np.asarray(getattr(prop, name), float)) != 0:
                 raise InputError(f"{where}: {name.upper()} varies along the beam; only a "
                                  f"constant section is supported")
-        extra = [n for n in ("s1", "s2", "nsia", "nsib", "cwa", "cwb", "m1a", "m2a", "m1b",
-                             "m2b", "n1a", "n2a", "n1b", "n2b") if getattr(prop, n)]
+        # S1, S2 (shear relief of a taper) do nothing on a constant section
+        extra = [n for n in ("cwa", "cwb", "m1a", "m2a", "m1b", "m2b", "n1a", "n2a", "n1b",
+                             "n2b") if getattr(prop, n)]
         if extra:
             raise InputError(f"{where}: {', '.join(x.upper() for x in extra)} (warping, "
                              f"offsets of the mass or neutral axis) are not supported")
+        nsia = prop.nsia or 0.0
+        nsib = nsia if prop.nsib is None else prop.nsib
+        if nsia != nsib:
+            raise InputError(f"{where}: NSI varies along the beam ({nsia:g}, {nsib:g})")
     first = [float(np.ravel(getattr(prop, n))[0]) for n in ("A", "i1", "i2", "i12", "j", "nsm")]
     A, i1, i2, i12, j, nsm = first
     if i12:
         raise InputError(f"{where}: I12 = {i12:g} is not supported")
-    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2
+    nsi = nsia if prop.type == "PBEAM" else 0.0
+    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, nsi
 
 
 def pbarl_section(prop) -> tuple:
@@ -265,7 +272,7 @@ def pbarl_section(prop) -> tuple:
                       f"not modelled here (Euler-Bernoulli); stubby members will differ",
                       EigenupdateWarning, stacklevel=2)
     k1, k2 = SHEAR_FACTORS.get(shape, (0.0, 0.0))
-    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2
+    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, 0.0
 
 
 def _one_parameter_per_quantity(deriv, label, kj) -> None:

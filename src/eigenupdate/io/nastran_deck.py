@@ -48,6 +48,8 @@ SKIPPED = frozenset({
     # damping (real modes ignore it) and extra points of dynamic response
     "CDAMP1", "CDAMP2", "CDAMP3", "CDAMP4", "CDAMP5", "PDAMP", "PDAMP5", "PDAMPT", "CVISC",
     "PVISC", "PBUSHT", "PELAST", "EPOINT", "TF",
+    # heat transfer: thermal materials and boundary cards
+    "MAT4", "MAT5", "CHBDYE", "CHBDYG", "CHBDYP", "PHBDY", "CONV", "PCONV", "RADBC",
     # sets, output, bookkeeping (SUPORT1 is chosen by case control for rigid-body modes)
     "SUPORT1", "CBARAO",
     "USET", "USET1", "DTI", "MDLPRM", "SET1", "SET2", "SET3", "PLOTEL", "ECHOON", "ECHOOFF",

@@ -53,7 +53,7 @@ SKIPPED = frozenset({
     # sets, output, bookkeeping (SUPORT1 is chosen by case control for rigid-body modes)
     "SUPORT1", "CBARAO",
     "USET", "USET1", "DTI", "MDLPRM", "SET1", "SET2", "SET3", "PLOTEL", "ECHOON", "ECHOOFF",
-    "MONPNT1", "MONPNT2", "MONPNT3", "BCTSET", "BCTPARA", "BSURF", "BSURFS",
+    "MONPNT1", "MONPNT2", "MONPNT3", "MONDSP1", "MONSUM", "MONSUM1", "BCTSET", "BCTPARA", "BSURF", "BSURFS",
     # aeroelasticity
     "AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAERO5", "PAERO1", "PAERO2",
     "PAERO3", "PAERO4", "PAERO5", "SPLINE1", "SPLINE2", "SPLINE3", "SPLINE4", "SPLINE5",
@@ -231,7 +231,11 @@ def _sort_cards(deck: Deck) -> None:
             params.append(f"PARAM {name}")
     if refused:
         listing = ", ".join(f"{k} x{v}" for k, v in sorted(refused.items()))
-        raise InputError(f"cards that would change K or M and are not supported: {listing} "
-                         f"(shells and solids are not supported yet)", source=str(deck.path))
+        shells = any(k.startswith(("CQUAD", "CTRIA", "CHEXA", "CPENTA", "CTETRA", "CPYRAM",
+                                   "CSHEAR", "PSHELL", "PSOLID", "PCOMP"))
+                     for k in refused)
+        why = " (shells and solids are not supported yet)" if shells else ""
+        raise InputError(f"cards that would change K or M and are not supported: {listing}"
+                         f"{why}", source=str(deck.path))
     parts = [f"{k} x{v}" for k, v in sorted(skipped.items())] + params
     deck.skipped = ", ".join(parts)

@@ -53,7 +53,7 @@ SKIPPED = frozenset({
     # sets, output, bookkeeping (SUPORT1 is chosen by case control for rigid-body modes)
     "SUPORT1", "CBARAO",
     "USET", "USET1", "DTI", "MDLPRM", "SET1", "SET2", "SET3", "PLOTEL", "ECHOON", "ECHOOFF",
-    "MONPNT1", "MONPNT2", "MONPNT3", "MONDSP1", "MONSUM", "MONSUM1", "BCTSET", "BCTPARA", "BSURF", "BSURFS",
+    "MONPNT1", "MONPNT2", "MONPNT3", "MONDSP1", "MONSUM", "MONSUM1",
     # aeroelasticity
     "AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAERO5", "PAERO1", "PAERO2",
     "PAERO3", "PAERO4", "PAERO5", "SPLINE1", "SPLINE2", "SPLINE3", "SPLINE4", "SPLINE5",

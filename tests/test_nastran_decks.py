@@ -157,3 +157,16 @@ def test_malformed_card_names_line_card_and_id(tmp_path, run_cli):
     code, out, err = run_cli("frequencies", study, "--modes", "1")
     assert code == 2 and out == "" and err.count("\n") == 1 and "Traceback" not in err
     assert "part.bdf:3: CBAR 1: g0_x1 = 'abc' (field #5)" in err
+
+
+def test_baror_defaults_are_the_cbar_fields(tmp_path):
+    """BAROR gives blank CBAR fields (property, orientation): the same K and M as the
+    CBAR written out in full (NASTRAN-95's t03131a uses it)."""
+    full = tmp_path / "full.bdf"
+    full.write_text("BEGIN BULK\n" + BAR + "ENDDATA\n")
+    short = tmp_path / "short.bdf"
+    short.write_text("BEGIN BULK\nBAROR,,1,,,0.,1.,0.\n"
+                     + BAR.replace("CBAR,1,1,1,2,0.,1.,0.", "CBAR,1,,1,2") + "ENDDATA\n")
+    a, b = read_nastran(full).model, read_nastran(short).model
+    for x, y in ((a.stiffness(), b.stiffness()), (a.mass(), b.mass())):
+        assert abs(x - y).max() <= 1e-15 * abs(x).max()

@@ -154,3 +154,10 @@ def test_parameters_of_a_reduced_deck_refused(tmp_path):
     path = _deck(tmp_path, CHAIN + "OMIT1,1,2\n")
     with pytest.raises(InputError, match="ASET/OMIT .Guyan reduction.: K and M of the reduced"):
         read_nastran(path, [(Parameter("k", 0.0), CardField("PELAS", 5, "K"))])
+
+
+def test_perturbation_on_an_omitted_coordinate_refused(tmp_path):
+    nm = read_nastran(_deck(tmp_path, CHAIN + "OMIT1,1,2\n"))
+    with pytest.raises(InputError, match="GRID 2 component 1 is omitted by ASET/OMIT"):
+        nm.grid_dof(2, 1)
+    assert nm.grid_dof(3, 1) == 31

@@ -77,6 +77,7 @@ class NastranModel:
     skipped: str = ""  # cards skipped because they change neither K nor M
     dependent: dict = field(default_factory=dict)  # coordinate -> rigid element / MPC
     text: list = field(default_factory=list)  # the deck's lines, INCLUDEs expanded
+    omitted: frozenset = frozenset()  # coordinates reduced out by ASET/OMIT
 
     def grid_dof(self, grid: int, component: int) -> int:
         """Coordinate of (grid, component); InputError if unknown or restrained."""
@@ -93,6 +94,9 @@ class NastranModel:
             raise InputError(f"GRID {grid} component {component} is dependent on "
                              f"{self.dependent[c]} (a rigid element or MPC eliminates it): "
                              f"put the perturbation on an independent grid")
+        if c in self.omitted:
+            raise InputError(f"GRID {grid} component {component} is omitted by ASET/OMIT "
+                             f"(Guyan reduction): put the perturbation on a kept coordinate")
         if c not in self.model.coordinates:
             why = (f"SPC set {self.spc_set} or GRID PS" if c in self.restrained
                    else "it carries neither stiffness nor mass")
@@ -287,7 +291,10 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
                              "not linear in the parameters; remove the ASET/OMIT cards to "
                              "update the full model")
         k0m, m0m = reduction.guyan(k0m, m0m, np.flatnonzero(analysis[keep]))
+        gone = rows_ind[keep[~analysis[keep]]]
         keep = keep[analysis[keep]]
+    else:
+        gone = np.zeros(0, int)
     coords = (10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))[rows_ind[keep]]
     params = []
     for (p, _), v in zip(specs, values, strict=True):
@@ -308,8 +315,9 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     held = frozenset((10 * nids[held_rows // 6] + held_rows % 6 + 1).tolist())
     dependent = {int(10 * nids[r // 6] + r % 6 + 1): str(labels[r])
                  for r in np.flatnonzero(labels != "")}
+    omitted = frozenset((10 * nids[gone // 6] + gone % 6 + 1).tolist())
     return NastranModel(path, pm, tuple(fields), consistent, spc_set, held, bdf,
-                        dependent=dependent)
+                        dependent=dependent, omitted=omitted)
 
 
 def _set_rows(cards, where, label: str) -> list[int]:

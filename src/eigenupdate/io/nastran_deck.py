@@ -51,7 +51,7 @@ SKIPPED = frozenset({
     # heat transfer: thermal materials and boundary cards
     "MAT4", "MAT5", "CHBDYE", "CHBDYG", "CHBDYP", "PHBDY", "CONV", "PCONV", "RADBC",
     # sets, output, bookkeeping (SUPORT1 is chosen by case control for rigid-body modes)
-    "SUPORT1", "CBARAO",
+    "SUPORT1", "CBARAO", "SEQGP", "SEQSEP",
     "USET", "USET1", "DTI", "MDLPRM", "SET1", "SET2", "SET3", "PLOTEL", "ECHOON", "ECHOOFF",
     "MONPNT1", "MONPNT2", "MONPNT3", "MONDSP1", "MONSUM", "MONSUM1",
     # aeroelasticity
@@ -65,11 +65,10 @@ SKIPPED = frozenset({
     "DRESP2", "DRESP3", "DCONSTR", "DCONADD", "DOPTPRM", "DTABLE", "DEQATN", "DLINK",
     "DVGRID", "DSCREEN", "DVPSURF",
 })
-# PARAMs that change K, M or the coordinates, and are interpreted; the others are skipped
+# PARAMs that change K, M or the coordinates of line, spring, mass and rigid elements in
+# normal modes, and are interpreted; the others (shell-only SNORM, nonlinear LGDISP, output
+# and damping PARAMs) are skipped and listed
 PARAMS_READ = frozenset({"WTMASS", "COUPMASS", "AUTOSPC", "K6ROT"})
-# PARAMs that would change K or M in a way not modelled here: refused
-PARAMS_REFUSED = {"LGDISP": "geometric nonlinearity", "SNORM": "shell normals",
-                  "CWDIAGP": "warping"}
 
 
 @dataclass
@@ -225,9 +224,7 @@ def _sort_cards(deck: Deck) -> None:
     refused = {k: v for k, v in counts.items() if k not in SKIPPED and k not in SUPPORTED}
     params = []
     for name in sorted(bdf.params):
-        if name in PARAMS_REFUSED:
-            refused[f"PARAM {name} ({PARAMS_REFUSED[name]})"] = 1
-        elif name not in PARAMS_READ:
+        if name not in PARAMS_READ:
             params.append(f"PARAM {name}")
     if refused:
         listing = ", ".join(f"{k} x{v}" for k, v in sorted(refused.items()))

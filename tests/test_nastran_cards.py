@@ -168,3 +168,20 @@ def test_write_back_changes_exactly_the_updated_field(tmp_path, field):
     assert gone and all(x.startswith(",") or x.split(",")[0].split()[0].startswith(card)
                         for x in gone)
     assert "PMASS   13      1.5     14      2500." in after or card == "PMASS"
+
+
+def test_ctube_is_the_crod_of_its_annulus(tmp_path):
+    """Source: PTUBE OD, T make A = pi (OD^2 - ID^2) / 4 and J = pi (OD^4 - ID^4) / 32,
+    the PROD of the same values (NASTRAN's CTUBE is a CROD of that section)."""
+    od, t = 0.05, 0.004
+    inner = od - 2 * t
+    a = np.pi * (od**2 - inner**2) / 4
+    j = np.pi * (od**4 - inner**4) / 32
+    common = ("GRID,1,,0.,0.,0.\nGRID,2,,1.,0.3,0.\nMAT1,1,2.e11,,0.3,7800.\nSPC1,1,123,1\n"
+              "PARAM,COUPMASS,1\n")
+    tube = read_nastran(_deck(tmp_path, common + f"CTUBE,1,1,1,2\nPTUBE,1,1,{od},{t}\n",
+                              "tube.bdf")).model
+    rod = read_nastran(_deck(tmp_path, common + f"CROD,1,1,1,2\nPROD,1,1,{a!r},{j!r}\n",
+                             "rod.bdf")).model
+    for x, y in ((tube.stiffness(), rod.stiffness()), (tube.mass(), rod.mass())):
+        assert abs(x - y).max() <= 1e-13 * abs(x).max()

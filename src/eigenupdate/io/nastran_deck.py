@@ -28,6 +28,7 @@ from eigenupdate.errors import InputError
 SUPPORTED = frozenset({
     "GRID", "GRDSET", "CORD1R", "CORD2R", "CORD1C", "CORD2C", "CORD1S", "CORD2S",
     "CBAR", "BAROR", "PBAR", "PBARL", "CBEAM", "PBEAM", "PBEAML", "CROD", "PROD", "CONROD",
+    "CTUBE", "PTUBE",
     "CELAS1", "CELAS2", "PELAS", "CONM2", "CMASS1", "CMASS2", "PMASS", "MAT1",
     "SPC", "SPC1", "SPCADD", "ASET", "ASET1", "OMIT", "OMIT1", "SUPORT", "PARAM", "ENDDATA",
     "RBE2", "RBAR", "RBE3", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR",

@@ -76,8 +76,13 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             sec.append(section((prop.type, e.pid), lambda p=prop: (
                 pbarl_section(p) if p.type in ("PBARL", "PBEAML") else bar_section(p)),
                 lab))
-        elif e.type in ("CROD", "CONROD"):
-            if e.type == "CROD":
+        elif e.type in ("CROD", "CONROD", "CTUBE"):
+            if e.type == "CTUBE":
+                prop = bdf.properties.get(e.pid)
+                if prop is None or prop.type != "PTUBE":
+                    raise InputError(f"{lab}: property PTUBE {e.pid} is not defined")
+                sec.append(section(("PTUBE", e.pid), lambda p=prop: _tube(p), lab))
+            elif e.type == "CROD":
                 prop = bdf.properties.get(e.pid)
                 if prop is None or prop.type != "PROD":
                     raise InputError(f"{lab}: property PROD {e.pid} is not defined")
@@ -95,7 +100,7 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             continue
         pins.append(pin if e.type in ("CBAR", "CBEAM") else np.zeros(12, bool))
         label.append(lab)
-        rod.append(e.type in ("CROD", "CONROD"))
+        rod.append(e.type in ("CROD", "CONROD", "CTUBE"))
         ga.append(a)
         gb.append(b)
     if not label:
@@ -237,6 +242,22 @@ def bar_section(prop) -> tuple:
         raise InputError(f"{where}: I12 = {i12:g} is not supported")
     nsi = nsia if prop.type == "PBEAM" else 0.0
     return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, nsi
+
+
+def _tube(prop) -> tuple:
+    """The section of a constant PTUBE: outer diameter OD, wall T (blank: a solid rod);
+    A = pi (OD^2 - ID^2) / 4, J = pi (OD^4 - ID^4) / 32 (NASTRAN's PTUBE)."""
+    where = f"PTUBE {prop.pid}"
+    od = in_range(prop.OD1, f"{where}: OD")
+    if prop.OD2 is not None and prop.OD2 != prop.OD1:
+        raise InputError(f"{where}: a tapered tube (OD2 = {prop.OD2:g}) is not supported")
+    t = od / 2 if prop.t is None else in_range(prop.t, f"{where}: T")
+    if not 0 < t <= od / 2:
+        raise InputError(f"{where}: wall T = {t:g} must be > 0 and at most OD / 2 = {od / 2:g}")
+    inner = od - 2 * t
+    area = math.pi * (od**2 - inner**2) / 4
+    j = math.pi * (od**4 - inner**4) / 32
+    return area, 0.0, 0.0, j, prop.nsm or 0.0, prop.mid, ("PTUBE", prop.pid), 0.0, 0.0, 0.0
 
 
 def pbarl_section(prop) -> tuple:

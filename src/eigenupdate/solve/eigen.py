@@ -280,10 +280,18 @@ def all_modes(K, M) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     massless = ~np.any(Md != 0, axis=1)
     if massless.any() and not massless.all():
         return _condensed(Kd, Md, massless)
+    if np.count_nonzero(Md - np.diag(np.diag(Md))):
+        # a singular M need not fail Cholesky (round-off leaves pivots of 1e-16): look
+        # at its spectrum, else eigh returns eigenvalues of 1e40 for massless directions
+        w = scipy.linalg.eigvalsh(Md)
+        if w.min() <= 1e-12 * w.max():
+            return _massless_directions(Kd, Md)
     try:
         lam, phi = scipy.linalg.eigh(Kd, Md)
     except np.linalg.LinAlgError:
-        return _massless_directions(Kd, Md)
+        raise InputError(
+            "mass matrix is not positive definite (a coordinate without mass?)"
+        ) from None
     return lam, phi, rigid_mask(Kd, Md, lam)
 
 

@@ -102,8 +102,10 @@ def opensees_frequencies(path: Path | str, n_modes: int) -> np.ndarray:
             ops.geomTransf("Linear", eid, *map(float, vecxz))
             extra = ["-cMass"] if consistent else []
             # OpenSees: Iy bends in the local x-z plane (NASTRAN I2), Iz in x-y (I1)
-            ops.element("elasticBeamColumn", eid, e.ga, e.gb, p.A, m.e, m.g, p.j, p.i2, p.i1,
-                        eid, "-mass", m.rho * p.A, *extra)
+            # OpenSees gives a bar the torsional inertia (mass per length) J / A, NASTRAN's
+            # CBAR none: J 1e-12 times smaller and G 1e12 times larger keep GJ and drop it
+            ops.element("elasticBeamColumn", eid, e.ga, e.gb, p.A, m.e, m.g * 1e12,
+                        p.j * 1e-12, p.i2, p.i1, eid, "-mass", m.rho * p.A, *extra)
         elif e.type == "CELAS2":
             k += 1
             n = e.nodes[0]

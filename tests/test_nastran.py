@@ -144,7 +144,7 @@ def test_parameter_matrices_finite_differences(tmp_path, field, coupmass):
 
 def test_round_trip_same_matrices(tmp_path):
     """read -> write (pyNastran's writer) -> read gives the same K and M."""
-    from eigenupdate.io.nastran import write_updated_bdf
+    from eigenupdate.io.nastran_write import write_updated_bdf
 
     nm = read_nastran(FRAME / "frame.bdf")
     out = tmp_path / "again.bdf"
@@ -186,8 +186,8 @@ BAD = [
     ("CBAR,1,1,1,2,0.,1.,0.\nMAT1,2,2.e11,,0.3,-7800.\nPBAR,2,2,1.e-3,1.e-7,1.e-7,1.e-7\n"
      "CBAR,2,2,2,3,0.,1.,0.", "MAT1 2: negative density"),
     ("CBAR,1,1,1,2,0.,1.,0.\nGRID,4,,0.,1.,0.\nCQUAD4,5,1,1,2,3,4\nCQUAD4,6,1,1,2,3,4\n"
-     "RBE2,7,1,123,2",
-     "unsupported cards: CQUAD4 x2, RBE2 x1"),
+     "RSPLINE,7,,1,2\nCTRIA3,8,1,1,2,3",
+     "not supported: CQUAD4 x2, CTRIA3 x1, RSPLINE x1"),
 ]
 
 
@@ -274,19 +274,57 @@ def test_coordinate_systems_leave_frequencies_unchanged(tmp_path):
 
 @pytest.mark.parametrize("coupmass", [True, False], ids=["consistent", "lumped"])
 def test_cbeam_constant_section_is_the_cbar(tmp_path, coupmass):
-    """A CBEAM with a constant PBEAM and K1 = K2 = 0 (no shear flexibility) is the same
-    Euler-Bernoulli element as the CBAR, checked against OpenSees above."""
-    bar = read_nastran(_line_bdf(tmp_path, 6, 2.0, fixed="123456", coupmass=coupmass)).model
-    beam = read_nastran(_line_bdf(tmp_path, 6, 2.0, fixed="123456", coupmass=coupmass,
+    """A CBEAM with a constant PBEAM and K1 = K2 = 0 (no shear flexibility) has the CBAR's
+    K (checked against OpenSees above); its M adds MSC's torsional inertia rho (I1 + I2)
+    per length on the axial rotations alone (NASTRAN_CoFE's CBEAM): lumped, half of each
+    element's at each end; coupled, linear shape functions. Summed over the free
+    coordinates (the root's share is restrained) that is rho (I1 + I2) (L - L_e / 2)
+    lumped and rho (I1 + I2) (L - 2 L_e / 3) coupled."""
+    n, length = 6, 2.0
+    bar = read_nastran(_line_bdf(tmp_path, n, length, fixed="123456",
+                                 coupmass=coupmass)).model
+    beam = read_nastran(_line_bdf(tmp_path, n, length, fixed="123456", coupmass=coupmass,
                                   card="CBEAM")).model
-    for a, b in ((bar.stiffness(), beam.stiffness()), (bar.mass(), beam.mass())):
-        assert abs(a - b).max() <= 1e-15 * abs(a).max()
+    a, b = bar.stiffness(), beam.stiffness()
+    assert abs(a - b).max() <= 1e-15 * abs(a).max()
+    diff = (beam.mass() - bar.mass()).tocoo()
+    axial_rotation = bar.coordinates % 10 == 4
+    hit = diff.data != 0
+    assert axial_rotation[diff.row[hit]].all() and axial_rotation[diff.col[hit]].all()
+    le, inertia = length / n, 7800.0 * (2.0e-7 + 8.0e-7)
+    want = inertia * (length - (2 * le / 3 if coupmass else le / 2))
+    assert diff.sum() == pytest.approx(want, rel=1e-13)
 
 
-def test_shear_flexible_pbeam_refused(tmp_path):
-    path = _line_bdf(tmp_path, 2, 2.0, card="CBEAM", beam_k="")
-    with pytest.raises(InputError, match="PBEAM 1: shear factors K1 = 1, K2 = 1"):
-        read_nastran(path)
+def test_cbeam_nonstructural_inertia(tmp_path):
+    """PBEAM NSI adds to the CBEAM's torsional mass inertia per length (MSC): the axial
+    rotations' mass grows by NSI times the free length's share (lumped: L - L_e / 2)."""
+    n, length = 4, 2.0
+    plain = _line_bdf(tmp_path, n, length, fixed="123456", coupmass=False, card="CBEAM")
+    text = plain.read_text()
+    base = read_nastran(plain).model.mass()
+    plain.write_text(text.replace("\n,,,,,,,,\n,0.,0.", "\n,,,,,,,,\n,0.,0.,,,0.25,0.25"))
+    diff = read_nastran(plain).model.mass() - base
+    assert diff.sum() == pytest.approx(0.25 * (length - length / n / 2), rel=1e-13)
+
+
+def test_timoshenko_cantilever_closed_form(tmp_path):
+    """Source: Timoshenko's cantilever under a tip load P, deflection
+    P L^3 / (3 E I) + P L / (K A G) in each plane (the two-node element with
+    phi = 12 E I / (K A G L^2) is exact for end loads, whatever the mesh); PBEAM
+    K1 = 0.85, K2 = 0.6."""
+    n, length = 4, 2.0
+    model = read_nastran(_line_bdf(tmp_path, n, length, fixed="123456", card="CBEAM",
+                                   beam_k="0.85,0.6")).model
+    e, g, area = 2.0e11, 2.0e11 / 2.6, 1.0e-3
+    K = model.stiffness().toarray()
+    for comp, inertia, k in ((2, 2.0e-7, 0.85), (3, 8.0e-7, 0.6)):
+        force = np.zeros(model.n)
+        force[model.index(10 * (n + 1) + comp)] = 1000.0
+        u = np.linalg.solve(K, force)[model.index(10 * (n + 1) + comp)]
+        want = 1000.0 * (length**3 / (3 * e * inertia) + length / (k * area * g))
+        # K's condition number is 2.8e5: solve() errs by at most about cond eps = 6e-11
+        assert u == pytest.approx(want, rel=1e-9)
 
 
 def test_pbeam_area_parameter_finite_difference(tmp_path):
@@ -308,7 +346,8 @@ def test_conm2_offset_and_inertia_closed_form(tmp_path):
     PARAM WTMASS scales all of it."""
     r = np.array([0.3, -0.2, 0.5])
     path = tmp_path / "conm2.bdf"
-    path.write_text("BEGIN BULK\nPARAM,WTMASS,0.5\nGRID,1,,1.,2.,3.\nGRID,2,,2.,2.,3.\n"
+    path.write_text("BEGIN BULK\nPARAM,WTMASS,0.5\nPARAM,AUTOSPC,NO\nGRID,1,,1.,2.,3.\n"
+                    "GRID,2,,2.,2.,3.\n"
                     "CELAS2,1,1.,1,1,2,1\n"
                     f"CONM2,7,1,,12.,{r[0]},{r[1]},{r[2]}\n,2.,0.1,3.,0.2,0.3,4.\nENDDATA\n")
     m = read_nastran(path).model

@@ -8,17 +8,21 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 
 import numpy as np
 import pytest
 from nastran_frames import need, random_frame
 
+from eigenupdate.errors import EigenupdateWarning
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.solve.eigen import solve_elastic
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
-from eigenupdate.io.nastran import CardField, _pbarl_section, _read, read_nastran  # noqa: E402
+from eigenupdate.io.nastran import CardField, read_nastran  # noqa: E402
+from eigenupdate.io.nastran_deck import load_deck  # noqa: E402
+from eigenupdate.io.nastran_lines import pbarl_section  # noqa: E402
 
 
 def closed_form(shape: str, d: list[float]) -> tuple[float, float, float, float]:
@@ -87,21 +91,24 @@ def _bulk(cards: str) -> str:
 
 @pytest.mark.parametrize("pid", sorted(SECTIONS), ids=[s for s, _ in SECTIONS.values()])
 def test_section_properties_closed_forms(tmp_path, pid):
-    """A, I1, I2, J the reader takes from a PBARL card (pyNastran's Area/I11/I22/J for
-    ROD, TUBE, BAR, BOX) against the closed forms above."""
+    """A, I1, I2, J the reader takes from a PBARL card against the closed forms above."""
     shape, dims = SECTIONS[pid]
     path = tmp_path / "one.bdf"
     path.write_text(_bulk(_pbarl(1, shape, dims)))
-    A, i1, i2, j, nsm, mid, key = _pbarl_section(_read(path).properties[1])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EigenupdateWarning)  # shear factors not modelled
+        A, i1, i2, j, nsm, mid, key, *_ = pbarl_section(load_deck(path).bdf.properties[1])
     assert (A, i1, i2, j) == pytest.approx(closed_form(shape, dims), rel=1e-13)
     assert (nsm, mid, key) == (0.0, 1, ("PBARL", 1))
 
 
 def _frame_pair(tmp_path, consistent: bool):
-    """The same random frame twice: members on the seven PBARL sections, and on PBAR
+    """The same random frame twice: members on the PBARL sections that NASTRAN gives no
+    shear factors here (ROD and BAR have theirs: test_pbarl_shear_factors), and on PBAR
     cards holding the closed-form A, I1, I2, J of those sections."""
     frame = random_frame(np.random.default_rng(5 + consistent), consistent)
-    frame.bars = [(eid, a, b, v, 1 + eid % len(SECTIONS)) for eid, a, b, v, _ in frame.bars]
+    used = [p for p in sorted(SECTIONS) if SECTIONS[p][0] not in ("ROD", "BAR")]
+    frame.bars = [(eid, a, b, v, used[eid % len(used)]) for eid, a, b, v, _ in frame.bars]
     frame.sections = {pid: closed_form(*SECTIONS[pid]) for pid in SECTIONS}
     pbar = frame.bdf()
     lines = pbar.splitlines()
@@ -132,6 +139,25 @@ def test_pbarl_frame_is_the_pbar_frame(tmp_path, consistent):
     assert np.max(np.abs(g / f - 1)) < 1e-12
 
 
+@pytest.mark.parametrize("shape,dims,factor", [("ROD", "0.03", 0.9),
+                                               ("BAR", "0.03,0.05", 5.0 / 6.0)])
+def test_pbarl_shear_factors(tmp_path, shape, dims, factor):
+    """PBARL ROD and BAR are shear-flexible as NASTRAN makes them: the PBAR with the
+    section's A, I1, I2, J and K1 = K2 = 0.9 (circle; Simcenter's frequencies of the
+    shared pyn_beam_modes deck confirm it, test_nastran_decks.py) or 5/6 (rectangle)."""
+    d = [float(x) for x in dims.split(",")]
+    a, i1, i2, j = closed_form(shape, d)
+    paths = []
+    for name, card in (("pbar", f"PBAR,1,1,{a!r},{i1!r},{i2!r},{j!r}\n,,,,,,,,\n"
+                                f",{factor!r},{factor!r}"),
+                       ("pbarl", f"PBARL,1,1,,{shape}\n,{dims}")):
+        paths.append(tmp_path / f"{name}.bdf")
+        paths[-1].write_text(_bulk(card))
+    pbar, pbarl = (read_nastran(p).model for p in paths)
+    x, y = pbar.stiffness(), pbarl.stiffness()
+    assert abs(x - y).max() <= 1e-13 * abs(x).max()
+
+
 def test_material_parameter_on_pbarl_members(tmp_path):
     """MAT1 E stays a parameter on PBARL members: the same K_j as with PBAR."""
     spec = [(Parameter("E", 0.0), CardField("MAT1", 1, "E"))]
@@ -146,8 +172,7 @@ def test_material_parameter_on_pbarl_members(tmp_path):
     ("PBARL,1,1,,L\n,.1,.15,.01,.012", "PBARL 1: section type L (unsymmetric: I12 != 0"),
     ("PBARL,1,1,MYLIB,ROD\n,.03", "PBARL 1: GROUP MYLIB (a user section library)"),
     ("PBARL,1,1,,BOX\n,.1,.2,.01,.06", "PBARL 1: section BOX needs DIM1 > 2 DIM4"),
-    ("PBEAML,1,1,,ROD\n,.03", "unsupported cards: PBEAML x1"),
-], ids=["HAT", "L", "group", "BOX-dims", "PBEAML"])
+], ids=["HAT", "L", "group", "BOX-dims"])
 def test_refused_sections_one_line(tmp_path, run_cli, card, message):
     """Exit 2, one line naming the file, the card, its id and the section type."""
     (tmp_path / "bad.bdf").write_text(_bulk(card))
@@ -168,11 +193,12 @@ def test_dimension_parameter_refused(tmp_path):
 
 
 def test_pbarl_nonstructural_mass(tmp_path):
-    """NSM after the dimensions is the PBAR's NSM: the same mass matrix."""
+    """NSM after the dimensions is the PBAR's NSM: the same mass matrix (and, with
+    NASTRAN's shear factors K1 = K2 = 0.9 of a circle, the same stiffness)."""
     r = 0.03
     a, i = math.pi * r**2, math.pi * r**4 / 4
     paths = []
-    for name, card in (("pbar", f"PBAR,1,1,{a!r},{i!r},{i!r},{2 * i!r},2.5"),
+    for name, card in (("pbar", f"PBAR,1,1,{a!r},{i!r},{i!r},{2 * i!r},2.5\n,,,,,,,,\n,0.9,0.9"),
                        ("pbarl", f"PBARL,1,1,,ROD\n,{r!r},2.5")):
         paths.append(tmp_path / f"{name}.bdf")
         paths[-1].write_text(_bulk(card))

@@ -44,7 +44,7 @@ from eigenupdate.errors import (
 from eigenupdate.identify.weights import ESTIMATORS, OPTIMIZERS
 from eigenupdate.io.atomic import make_dir, transaction, write_text
 from eigenupdate.io.measurements import write_measurements
-from eigenupdate.io.nastran import save_updated_bdf
+from eigenupdate.io.nastran_write import save_updated_bdf
 from eigenupdate.io.study import load_study
 from eigenupdate.io.uff import Mode, write_frfs, write_modes
 from eigenupdate.measure.extraction import extraction_csv

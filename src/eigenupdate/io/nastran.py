@@ -1,9 +1,13 @@
-"""NASTRAN bulk data (BDF) in and out, read and written by pyNastran.
+"""Assembling a NASTRAN deck's K and M, linear in named card fields.
 
-:func:`read_nastran` validates the file once and assembles a :class:`ParametricModel`
-whose parameters are named card fields (``MAT1 1 E``); :func:`write_updated_bdf` writes
-the file back with updated values in their cards. pyNastran is an optional extra
-(``pip install eigenupdate[nastran]``); it is imported only here.
+:func:`read_nastran` reads the deck (:mod:`eigenupdate.io.nastran_deck`) and assembles a
+:class:`ParametricModel` whose parameters are named card fields (``MAT1 1 E``, see
+:mod:`eigenupdate.io.nastran_fields`): line elements in :mod:`eigenupdate.io.nastran_lines`
+(matrices of :mod:`eigenupdate.model.frame3d`), scalar elements, CONM1/2 and CBUSH in
+:mod:`eigenupdate.io.nastran_points`, rigid elements and MPCs in
+:mod:`eigenupdate.io.nastran_constraints` (eliminated by :mod:`eigenupdate.model.constraints`),
+ASET/OMIT by :mod:`eigenupdate.model.reduction`. :mod:`eigenupdate.io.nastran_write`
+writes the deck back. pyNastran is an optional extra (``pip install eigenupdate[nastran]``).
 
 Coordinates: the displacement ``component`` (1-6) of ``grid`` is coordinate
 ``10 * grid + component`` of the model, in the grid's displacement frame (CD).
@@ -11,51 +15,34 @@ Coordinates: the displacement ``component`` (1-6) of ``grid`` is coordinate
 
 from __future__ import annotations
 
-import copy
-import io
 import math
+import re
+import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
-from eigenupdate.errors import InputError
-from eigenupdate.io.atomic import write_text
-from eigenupdate.model import frame3d, sections
+from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.io.nastran_constraints import constraint_equations
+from eigenupdate.io.nastran_deck import Deck, load_deck
+from eigenupdate.io.nastran_fields import FIELDS, NOT_LINEAR, get_field, set_field, stores
+from eigenupdate.io.nastran_lines import assemble_lines
+from eigenupdate.io.nastran_points import (
+    assemble_cbush,
+    assemble_conm1,
+    assemble_conm2,
+    assemble_scalars,
+)
+from eigenupdate.model import constraints, reduction
 from eigenupdate.model.coordinates import Coordinate, CoordinateTable
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
 
-SUPPORTED = {
-    "GRID", "CORD1R", "CORD2R", "CORD1C", "CORD2C", "CORD1S", "CORD2S",
-    "CBAR", "PBAR", "PBARL", "CBEAM", "PBEAM", "CROD", "PROD", "CONROD",
-    "CELAS1", "CELAS2", "PELAS",
-    "CONM2", "CMASS1", "CMASS2", "PMASS", "MAT1", "SPC", "SPC1", "SPCADD",
-    "PARAM", "EIGRL", "EIGR", "ENDDATA",
-}
-
-# card -> field -> (pyNastran attribute, what it scales); the rest are refused with a reason
-FIELDS = {
-    "MAT1": {"E": "e", "RHO": "rho"},
-    "PBAR": {"A": "A", "I1": "i1", "I2": "i2", "J": "j"},
-    "PBEAM": {"A": "A", "I1": "i1", "I2": "i2", "J": "j"},
-    "PROD": {"A": "A", "J": "j"},
-    "PELAS": {"K": "k"},
-    "CELAS2": {"K": "k"},
-    "CONM2": {"M": "mass"},
-    "CMASS2": {"M": "mass"},
-    "PMASS": {"M": "mass"},
-}
-NOT_LINEAR = {
-    ("MAT1", "NU"): "G = E / (2 (1 + NU)) is not linear in NU",
-    ("MAT1", "G"): "give E (G follows it when the card leaves G blank)",
-}
-# PBARL shapes read: pyNastran's A, I1, I2, J as they are (ROD, TUBE), or with NASTRAN's
-# torsion constant (BAR, BOX), or all from model/sections.py (I, T, CHAN)
-PBARL_SHAPES = ("ROD", "TUBE", "BAR", "BOX", *sections.THIN_WALLED)
+__all__ = ["FIELDS", "CardField", "NastranModel", "get_field", "read_nastran", "set_field"]
 
 
 def dof_number(grid: int, component: int) -> int:
@@ -87,49 +74,34 @@ class NastranModel:
     spc_set: int | None
     restrained: frozenset  # coordinates held by the SPC set or GRID PS
     bdf: Any  # pyNastran BDF, kept to write the file back
+    skipped: str = ""  # cards skipped because they change neither K nor M
+    dependent: dict = field(default_factory=dict)  # coordinate -> rigid element / MPC
+    text: list = field(default_factory=list)  # the deck's lines, INCLUDEs expanded
+    omitted: frozenset = frozenset()  # coordinates reduced out by ASET/OMIT
 
     def grid_dof(self, grid: int, component: int) -> int:
         """Coordinate of (grid, component); InputError if unknown or restrained."""
-        if component not in range(1, 7):
+        if grid in self.bdf.spoints and grid not in self.bdf.nodes:
+            if component not in (0, 1):
+                raise InputError(f"scalar point {grid} has component 0 (or 1) only")
+            component = 1  # a scalar point's one coordinate is 10 * id + 1
+        elif component not in range(1, 7):
             raise InputError(f"component {component} must be 1-6")
-        if grid not in self.bdf.nodes:
+        elif grid not in self.bdf.nodes:
             raise InputError(f"GRID {grid} is not defined in {self.path}")
         c = dof_number(grid, component)
+        if c in self.dependent:
+            raise InputError(f"GRID {grid} component {component} is dependent on "
+                             f"{self.dependent[c]} (a rigid element or MPC eliminates it): "
+                             f"put the perturbation on an independent grid")
+        if c in self.omitted:
+            raise InputError(f"GRID {grid} component {component} is omitted by ASET/OMIT "
+                             f"(Guyan reduction): put the perturbation on a kept coordinate")
         if c not in self.model.coordinates:
             why = (f"SPC set {self.spc_set} or GRID PS" if c in self.restrained
                    else "it carries neither stiffness nor mass")
             raise InputError(f"GRID {grid} component {component} is restrained ({why})")
         return c
-
-
-def _pynastran():
-    try:
-        from pyNastran.bdf.bdf import BDF
-    except ImportError:
-        raise InputError("NASTRAN models need pyNastran: pip install 'eigenupdate[nastran]' "
-                         "(see the README)") from None
-    return BDF
-
-
-def _read(path: Path):
-    BDF = _pynastran()
-    from cpylog import SimpleLogger  # pyNastran's logger; errors are ours to report
-
-    text = path.read_text(errors="replace")
-    bdf = BDF(log=SimpleLogger(level="critical"))
-    upper = text.upper()
-    source: Any = str(path)
-    if "CEND" not in upper and "BEGIN BULK" in upper:  # bulk data only, after BEGIN BULK
-        lines = text.splitlines(keepends=True)
-        first = next(i for i, x in enumerate(lines) if x.upper().startswith("BEGIN BULK"))
-        source = io.StringIO("".join(lines[first + 1:]))
-    try:
-        bdf.read_bdf(source, xref=False, punch="CEND" not in upper, validate=True)
-    except Exception as exc:  # pyNastran raises many kinds on malformed cards
-        msg = str(exc).strip().splitlines()
-        raise InputError(f"pyNastran cannot read the file: {type(exc).__name__}: "
-                         f"{msg[0] if msg else ''}", source=str(path)) from None
-    return bdf
 
 
 def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardField]] = ()
@@ -148,27 +120,46 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
     """
     path = Path(path)
     src = str(path)
+    deck = None
     try:
-        bdf = _read(path)
-        return _assemble(path, bdf, parameters)
+        deck = load_deck(path)
+        nm = _assemble(path, deck.bdf, parameters)
     except InputError as exc:
         if exc.source:
             raise
-        raise InputError(str(exc), source=src, field=exc.field) from None
+        raise InputError(_located(str(exc), deck), source=src, field=exc.field) from None
+    except OverflowError:
+        raise InputError("a number in the deck overflows K or M (a value near 1e300?)",
+                         source=src) from None
+    if deck.skipped:
+        warnings.warn(f"{path.name}: skipped (they change neither K nor M): {deck.skipped}",
+                      EigenupdateWarning, stacklevel=2)
+    nm.skipped = deck.skipped
+    nm.text = deck.text
+    return nm
 
 
-def _unsupported(bdf) -> None:
-    bad = {k: v for k, v in bdf.card_count.items() if k not in SUPPORTED}
-    bad.update({k: v for k, v in getattr(bdf, "reject_count", {}).items()})
-    if bad:
-        listing = ", ".join(f"{k} x{v}" for k, v in sorted(bad.items()))
-        raise InputError(f"unsupported cards: {listing} (supported: bars, rods, springs, "
-                         f"masses, MAT1, SPC; shells, solids, RBEs and MPCs are not)")
+_LABEL = re.compile(r"^([A-Z][A-Z0-9]*) (\d+)(:| field)")
 
 
-def _param(bdf, name: str, default: float) -> float:
+def _located(message: str, deck: Deck | None) -> str:
+    """Prefix ``file:line:`` of the card a message starts with (``CBAR 1043: ...``)."""
+    m = _LABEL.match(message)
+    if deck is None or m is None:
+        return message
+    hit = deck.lines.get((m.group(1), int(m.group(2))))
+    if not hit:
+        return message
+    name, line = hit.rsplit(":", 1)
+    return f"{'line ' + line if name == deck.path.name else hit}: {message}"
+
+
+def _param(bdf, name: str, default):
     p = bdf.params.get(name)
-    return default if p is None else float(p.values[0])
+    if p is None:
+        return default
+    v = p.values[0]
+    return v if isinstance(default, str) else float(v)
 
 
 class _Triplets:
@@ -193,21 +184,27 @@ class _Triplets:
 
 
 def _assemble(path: Path, bdf, specs) -> NastranModel:
-    _unsupported(bdf)
     consistent = _param(bdf, "COUPMASS", -1.0) > 0
     wtmass = _param(bdf, "WTMASS", 1.0)
     if not wtmass > 0:
         raise InputError(f"PARAM WTMASS {wtmass} must be > 0")
-    if not bdf.nodes:
-        raise InputError("no GRID cards")
+    if not bdf.nodes and not bdf.spoints:
+        raise InputError("no GRID or SPOINT cards")
     try:
         bdf._cross_reference_coordinates()
     except Exception as exc:
         raise InputError(f"coordinate systems: {exc}") from None
-    nids = np.array(sorted(bdf.nodes), dtype=int)
+    # scalar points take six rows like a grid, of which only the first is used
+    grids = np.array(sorted(bdf.nodes), dtype=int)
+    spoints = np.array(sorted(set(bdf.spoints) - set(bdf.nodes)), dtype=int)
+    clash = sorted(set(bdf.spoints) & set(bdf.nodes))
+    if clash:
+        raise InputError(f"SPOINT {clash[0]}: is also a GRID")
+    nids = np.concatenate([grids, spoints])
     where = {int(n): i for i, n in enumerate(nids)}
-    xyz = _positions(bdf, nids)
-    frames = _frames(bdf, nids, xyz)
+    xyz = np.concatenate([_positions(bdf, grids), np.zeros((spoints.size, 3))])
+    frames = np.concatenate([_frames(bdf, grids, xyz[:grids.size]),
+                             np.tile(np.eye(3), (spoints.size, 1, 1))])
     ndof = 6 * nids.size
 
     specs = list(specs)
@@ -219,35 +216,91 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     values = [_field_value(bdf, f) for f in fields]
 
     def grid(n, card):
-        if n not in where:
-            raise InputError(f"{card}: GRID {n} is referenced but not defined")
+        if n not in where or where[n] >= grids.size:
+            what = "a scalar point, not a GRID" if n in where else "referenced but not defined"
+            raise InputError(f"{card}: GRID {n} is {what}")
         return where[n]
 
-    _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values, k0, m0, kj, mj)
-    _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj)
-    _conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
+    def point(n, card, c):
+        """Row of a GRID's component c (1-6) or of a scalar point (c 0 or blank)."""
+        if n in where and where[n] >= grids.size:
+            if c not in (None, 0, 1):
+                raise InputError(f"{card}: component {c} of scalar point {n} must be 0 or "
+                                 f"blank")
+            return 6 * where[n]
+        if c not in range(1, 7):
+            raise InputError(f"{card}: component {c} must be 1-6 on a GRID")
+        return 6 * grid(n, card) + int(c) - 1
+
+    assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
+                   k0, m0, kj, mj)
+    assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj)
+    assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
+    assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj)
+    assemble_cbush(bdf, grid, xyz, frames, pindex, k0, kj)
 
     restrained, spc_set = _spc(bdf, where)
-    K, M = k0.matrix(ndof), m0.matrix(ndof)
+    K0, M0 = k0.matrix(ndof), m0.matrix(ndof)
     kt = [t.matrix(ndof) for t in kj]
     mt = [t.matrix(ndof) for t in mj]
+    # rigid elements and MPCs: u = T u_i, every matrix reduced to the independent rows
+    eqs = constraint_equations(bdf, grid, xyz, frames)
+    labels = np.array(["" for _ in range(ndof)], dtype=object)
+    rows_ind = np.arange(ndof)
+    if eqs:
+        dep = np.array([e[0] for e in eqs])
+        er = np.concatenate([np.full(len(e[1]), k) for k, e in enumerate(eqs)])
+        ec = np.concatenate([[t[0] for t in e[1]] for e in eqs]).astype(int)
+        ev = np.concatenate([[t[1] for t in e[1]] for e in eqs]).astype(float)
+        T, rows_ind = constraints.constraint_transform(ndof, dep, er, ec, ev,
+                                                       [e[2] for e in eqs])
+        labels[dep] = [e[2] for e in eqs]
+        held_dep = np.intersect1d(dep, restrained)
+        if held_dep.size:
+            r = int(held_dep[0])
+            raise InputError(f"{labels[r]}: GRID {nids[r // 6]} component {r % 6 + 1} is "
+                             f"dependent and also restrained by SPC or PS")
+        K0, M0 = T.T @ K0 @ T, T.T @ M0 @ T
+        kt = [sp.csr_array(T.T @ a @ T) for a in kt]
+        mt = [sp.csr_array(T.T @ a @ T) for a in mt]
+        restrained = np.flatnonzero(np.isin(rows_ind, restrained))
+    nfree = rows_ind.size
+    K, M = sp.csr_array(K0), sp.csr_array(M0)
     for s, a, b in zip(values, kt, mt, strict=True):
         K, M = K + s * a, M + s * b
-    # AUTOSPC: coordinates with neither stiffness nor mass (rod rotations) carry nothing
-    touched = np.zeros(ndof, bool)
-    for mat in (K, M):
-        touched[mat.tocoo().row[mat.tocoo().data != 0]] = True
-    free = touched.copy()
+    # coordinates with neither stiffness nor mass (rod rotations) carry nothing; with
+    # PARAM AUTOSPC YES (MSC's and NX's default in normal modes) NASTRAN also constrains
+    # those with mass and no stiffness (unconnected grids, rotations of rod-only grids)
+    stiff, heavy = np.zeros(nfree, bool), np.zeros(nfree, bool)
+    for mat, hit in [(K, stiff), (M, heavy)] + [(t, stiff) for t in kt] + [(t, heavy)
+                                                                           for t in mt]:
+        coo = mat.tocoo()
+        hit[coo.row[coo.data != 0]] = True
+    autospc = str(_param(bdf, "AUTOSPC", "YES")).upper() not in ("NO", "N")
+    free = stiff if autospc else stiff | heavy
     free[restrained] = False
     keep = np.flatnonzero(free)
     if keep.size == 0:
         raise InputError("every coordinate is restrained or carries neither stiffness nor mass")
-    coords = (10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))[keep]
+    k0m, m0m = (sp.csr_array(sp.csr_array(a)[keep][:, keep]) for a in (K0, M0))
+    analysis = _analysis_set(bdf, where, ndof)
+    if analysis is not None:
+        analysis = analysis[rows_ind]
+        if specs:
+            raise InputError("ASET/OMIT (Guyan reduction): K and M of the reduced model are "
+                             "not linear in the parameters; remove the ASET/OMIT cards to "
+                             "update the full model")
+        k0m, m0m = reduction.guyan(k0m, m0m, np.flatnonzero(analysis[keep]))
+        gone = rows_ind[keep[~analysis[keep]]]
+        keep = keep[analysis[keep]]
+    else:
+        gone = np.zeros(0, int)
+    coords = (10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))[rows_ind[keep]]
     params = []
     for (p, _), v in zip(specs, values, strict=True):
         params.append(Parameter(p.name, v, p.std, p.update))
     pm = ParametricModel(
-        k0.matrix(ndof, keep), m0.matrix(ndof, keep), tuple(params),
+        k0m, m0m, tuple(params),
         tuple(None if t.nnz == 0 else sp.csr_array(t[keep][:, keep]) for t in kt),
         tuple(None if t.nnz == 0 else sp.csr_array(t[keep][:, keep]) for t in mt),
         coordinates=coords,
@@ -258,8 +311,45 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
         if a is None and b is None:
             raise InputError(f"{f.card} {f.id} field {f.field} (parameter {p.name!r}) acts on "
                              f"no free coordinate")
-    held = frozenset((10 * nids[restrained // 6] + restrained % 6 + 1).tolist())
-    return NastranModel(path, pm, tuple(fields), consistent, spc_set, held, bdf)
+    held_rows = rows_ind[restrained]
+    held = frozenset((10 * nids[held_rows // 6] + held_rows % 6 + 1).tolist())
+    dependent = {int(10 * nids[r // 6] + r % 6 + 1): str(labels[r])
+                 for r in np.flatnonzero(labels != "")}
+    omitted = frozenset((10 * nids[gone // 6] + gone % 6 + 1).tolist())
+    return NastranModel(path, pm, tuple(fields), consistent, spc_set, held, bdf,
+                        dependent=dependent, omitted=omitted)
+
+
+def _set_rows(cards, where, label: str) -> list[int]:
+    """Rows of ASET/ASET1/OMIT/OMIT1/SUPORT cards (GRID id, components)."""
+    rows = []
+    for card in cards:
+        ids = getattr(card, "ids", None) or getattr(card, "nodes", [])
+        comps = getattr(card, "components", None) or getattr(card, "Cs", None)
+        comps = [comps] * len(ids) if isinstance(comps, str) else comps
+        for n, c in zip(ids, comps, strict=True):
+            if n not in where:
+                raise InputError(f"{label}: GRID {n} is referenced but not defined")
+            rows += [6 * where[n] + int(x) - 1 for x in str(c) if x != "0"]
+    return rows
+
+
+def _analysis_set(bdf, where, ndof: int) -> np.ndarray | None:
+    """Mask of NASTRAN's a-set when ASET or OMIT cards ask for a Guyan reduction: the
+    ASET coordinates (with the SUPORT ones), or all but the OMIT ones."""
+    asets, omits = list(bdf.asets), list(bdf.omits)
+    if not asets and not omits:
+        return None
+    if asets and omits:
+        raise InputError("both ASET and OMIT cards: give one of them")
+    if asets:
+        mask = np.zeros(ndof, bool)
+        mask[_set_rows(asets, where, "ASET")] = True
+        mask[_set_rows(bdf.suport, where, "SUPORT")] = True
+    else:
+        mask = np.ones(ndof, bool)
+        mask[_set_rows(omits, where, "OMIT")] = False
+    return mask
 
 
 def _positions(bdf, nids: np.ndarray) -> np.ndarray:
@@ -272,6 +362,9 @@ def _positions(bdf, nids: np.ndarray) -> np.ndarray:
             if g.cp not in bdf.coords:
                 raise InputError(f"GRID {n}: coordinate system CP {g.cp} is not defined")
             out[i] = bdf.coords[g.cp].transform_node_to_global(np.asarray(g.xyz, float))
+        if not np.all(np.isfinite(out[i])) or np.abs(out[i]).max() > 1e100:
+            raise InputError(f"GRID {n}: coordinates {list(map(float, g.xyz))} are not finite "
+                             f"numbers (of magnitude below 1e100)")
     return out
 
 
@@ -310,7 +403,7 @@ def _frames(bdf, nids: np.ndarray, xyz: np.ndarray) -> np.ndarray:
 def _check_fields(bdf, fields: list[CardField]) -> dict:
     """{(card, id): {field: parameter index}} after validating every field."""
     out: dict = {}
-    stores = _stores(bdf)
+    cards = stores(bdf)
     for j, f in enumerate(fields):
         if (f.card, f.field) in NOT_LINEAR:
             raise InputError(f"{f.card} {f.id} field {f.field}: not a parameter: "
@@ -324,7 +417,7 @@ def _check_fields(bdf, fields: list[CardField]) -> dict:
         if f.field not in FIELDS[f.card]:
             raise InputError(f"{f.card} {f.id}: field {f.field!r} is not a parameter; K and M "
                              f"are linear in {sorted(FIELDS[f.card])} only")
-        card = stores[f.card].get(f.id)
+        card = cards[f.card].get(f.id)
         if card is None or card.type != f.card:
             raise InputError(f"{f.card} {f.id} is not in the file")
         slot = out.setdefault((f.card, f.id), {})
@@ -334,345 +427,26 @@ def _check_fields(bdf, fields: list[CardField]) -> dict:
     return out
 
 
-def _stores(bdf) -> dict:
-    return {"MAT1": bdf.materials, "PBAR": bdf.properties, "PBEAM": bdf.properties,
-            "PROD": bdf.properties,
-            "PELAS": bdf.properties, "CELAS2": bdf.elements, "CONM2": bdf.masses,
-            "CMASS2": bdf.masses, "PMASS": bdf.properties_mass}
-
-
 def _field_value(bdf, f: CardField) -> float:
-    card = _stores(bdf)[f.card][f.id]
-    v = float(np.ravel(getattr(card, FIELDS[f.card][f.field]))[0])
+    card = stores(bdf)[f.card][f.id]
+    v = get_field(card, FIELDS[f.card][f.field])
     if not v >= 0:
         raise InputError(f"{f.card} {f.id} field {f.field} = {v:g} is negative (a parameter "
                          f"must be >= 0)")
     return v
 
 
-def _material(bdf, mid: int, where: str):
-    mat = bdf.materials.get(mid)
-    if mat is None or mat.type != "MAT1":
-        raise InputError(f"{where}: material MAT1 {mid} is not defined")
-    rho = mat.rho or 0.0
-    if rho < 0:
-        raise InputError(f"MAT1 {mid}: negative density RHO = {rho:g}")
-    if not (mat.e and mat.e > 0):
-        raise InputError(f"MAT1 {mid}: E must be > 0 for a bar or rod, got {mat.e}")
-    g = mat.g if mat.g is not None else 0.0
-    return mat, rho, g, _tied(mat)
-
-
-def _tied(mat) -> bool:
-    """True when MAT1's G was left blank: pyNastran filled in E / (2 (1 + NU)), so G
-    follows E."""
-    g = mat.g or 0.0
-    return mat.nu is not None and g > 0 and math.isclose(g, mat.e / (2 * (1 + mat.nu)),
-                                                         rel_tol=1e-12)
-
-
-def _lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
-           k0, m0, kj, mj) -> None:
-    """CBAR, CROD and CONROD, vectorised over elements."""
-    sections: dict = {}  # validated once per property (or CONROD)
-
-    def section(key, make, where_):
-        if key not in sections:
-            A, i1, i2, j, nsm, mid, pkey = make()
-            for name, x in (("A", A), ("I1", i1), ("I2", i2), ("J", j), ("NSM", nsm)):
-                if x is None or not math.isfinite(x) or x < 0:
-                    raise InputError(f"{pkey[0] + ' ' + str(pkey[1]) if pkey else where_}: "
-                                     f"{name} = {x} must be >= 0")
-            mat, rho, g, tied = _material(bdf, mid, where_)
-            sections[key] = (mat.e, g, tied, rho, float(A), float(i1), float(i2),
-                             float(j or 0.0), float(nsm or 0.0), mid, pkey)
-        return sections[key]
-
-    label, rod, ga, gb, g0, xv, wa, wb, sec = [], [], [], [], [], [], [], [], []
-    zero = np.zeros(3)
-    for eid, e in sorted(bdf.elements.items()):
-        lab = f"{e.type} {eid}"
-        if e.type in ("CBAR", "CBEAM"):
-            ptype = "PBAR" if e.type == "CBAR" else "PBEAM"
-            prop = bdf.properties.get(e.pid)
-            if prop is None or prop.type not in {"PBAR": ("PBAR", "PBARL"),
-                                                 "PBEAM": ("PBEAM",)}[ptype]:
-                raise InputError(f"{lab}: property {ptype} {e.pid} is not defined")
-            if e.offt != "GGG":
-                raise InputError(f"{lab}: OFFT {e.offt} is not supported (only GGG)")
-            if (e.pa or 0) or (e.pb or 0):
-                raise InputError(f"{lab}: pin flags PA/PB are not supported")
-            if getattr(e, "sa", 0) or getattr(e, "sb", 0):
-                raise InputError(f"{lab}: scalar points SA/SB (warping) are not supported")
-            a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
-            g0.append(-1 if e.g0 is None else grid(e.g0, lab))
-            xv.append(zero if e.g0 is not None else e.x)
-            if not consistent and (np.any(e.wa) or np.any(e.wb)):
-                # lumped end masses on rigid offsets give a singular, non-diagonal M
-                raise InputError(f"{lab}: offsets WA/WB need consistent mass "
-                                 f"(PARAM,COUPMASS,1) here")
-            wa.append(e.wa)
-            wb.append(e.wb)
-            sec.append(section((prop.type, e.pid), lambda p=prop: (
-                _pbarl_section(p) if p.type == "PBARL" else _bar_section(p)), lab))
-        elif e.type in ("CROD", "CONROD"):
-            if e.type == "CROD":
-                prop = bdf.properties.get(e.pid)
-                if prop is None or prop.type != "PROD":
-                    raise InputError(f"{lab}: property PROD {e.pid} is not defined")
-                sec.append(section(("PROD", e.pid), lambda p=prop: (
-                    p.A, 0.0, 0.0, p.j, p.nsm, p.mid, ("PROD", p.pid)), lab))
-            else:
-                sec.append(section(("CONROD", eid), lambda e=e: (
-                    e.A, 0.0, 0.0, e.j, e.nsm, e.mid, None), lab))
-            a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
-            g0.append(-1)
-            xv.append(zero)
-            wa.append(zero)
-            wb.append(zero)
-        else:
-            continue
-        label.append(lab)
-        rod.append(e.type in ("CROD", "CONROD"))
-        ga.append(a)
-        gb.append(b)
-    if not label:
-        return
-    rod, ga, gb, g0 = np.array(rod), np.array(ga), np.array(gb), np.array(g0)
-    # orientation vector and offsets are given in GA's (GB's) displacement system
-    to_basic = np.transpose(frames, (0, 2, 1))
-    wa = np.einsum("nij,nj->ni", to_basic[ga], np.array(wa, float))
-    wb = np.einsum("nij,nj->ni", to_basic[gb], np.array(wb, float))
-    xa, xb = xyz[ga] + wa, xyz[gb] + wb
-    v = np.einsum("nij,nj->ni", to_basic[ga], np.array(xv, float))
-    by_g0 = g0 >= 0
-    v[by_g0] = xyz[g0[by_g0]] - xyz[ga[by_g0]]
-    v[rod] = frame3d.any_normal((xb - xa)[rod])
-    rows = sec  # per element: E, G, tied, rho, A, I1, I2, J, nsm, mid, pkey
-    L, R = frame3d.local_axes(xa, xb, v, label)
-    T = frame3d.element_transform(R, wa, wb, frames[ga], frames[gb])
-    E, G, rho = (np.array([r[k] for r in rows], float) for k in (0, 1, 3))
-    tied = np.array([r[2] for r in rows])
-    A, I1, I2, J, nsm = (np.array([r[k] for r in rows], float) for k in range(4, 9))
-    kp = frame3d.stiffness_parts(L)
-    mp = frame3d.mass_parts(L, consistent)
-    mp["translation"][rod] = frame3d.rod_mass_part(L[rod], consistent)
-    mp["torsion"][rod] = 0.0
-    parts = {**{f"k_{k}": x for k, x in kp.items()}, **{f"m_{k}": x for k, x in mp.items()}}
-    dofs = (6 * np.stack([ga, gb], 1)[:, :, None] + np.arange(6)[None, None, :]).reshape(-1, 12)
-    r_idx = np.repeat(dofs, 12, axis=1)
-    c_idx = np.tile(dofs, (1, 12))
-    # section quantities and the parameters that scale each (one at most per element)
-    total = {"k_axial": E * A, "k_torsion": G * J, "k_bend1": E * I1, "k_bend2": E * I2,
-             "m_translation": wtmass * (rho * A + nsm), "m_torsion": wtmass * rho * J}
-    n = len(rows)
-    deriv: list[dict[str, np.ndarray]] = [{} for _ in kj]
-
-    def d(j, part, coef, mask):
-        arr = deriv[j].setdefault(part, np.zeros(n))
-        arr[mask] += coef[mask] if np.ndim(coef) else coef
-
-    mids = np.array([r[9] for r in rows])
-    pkeys = [r[10] for r in rows]
-    for (card, cid), slots in pindex.items():
-        if card == "MAT1":
-            mask = mids == cid
-            if "E" in slots:
-                j = slots["E"]
-                for part, c in (("k_axial", A), ("k_bend1", I1), ("k_bend2", I2)):
-                    d(j, part, c, mask)
-                d(j, "k_torsion", np.where(tied, G * J / E, 0.0), mask)
-            if "RHO" in slots:
-                j = slots["RHO"]
-                d(j, "m_translation", wtmass * A, mask)
-                d(j, "m_torsion", wtmass * J, mask)
-        elif card in ("PBAR", "PBEAM", "PROD"):
-            mask = np.array([k == (card, cid) for k in pkeys])
-            for fld, parts_ in (("A", (("k_axial", E), ("m_translation", wtmass * rho))),
-                                ("I1", (("k_bend1", E),)), ("I2", (("k_bend2", E),)),
-                                ("J", (("k_torsion", G), ("m_torsion", wtmass * rho)))):
-                if fld in slots:
-                    for part, c in parts_:
-                        d(slots[fld], part, c, mask)
-    _one_parameter_per_quantity(deriv, label, kj)
-    base = {part: tot - sum((values[j] * dj[part] for j, dj in enumerate(deriv) if part in dj),
-                            np.zeros(n)) for part, tot in total.items()}
-
-    def put(dest, coefs: dict[str, np.ndarray]) -> None:
-        # sum the local parts first: one transformation and one COO block per element
-        sel = np.flatnonzero(np.any([c != 0 for c in coefs.values()], axis=0))
-        if sel.size:
-            local = sum(c[sel, None, None] * parts[p][sel] for p, c in coefs.items())
-            dest.add(r_idx[sel], c_idx[sel], frame3d.to_global(local, T[sel]))
-
-    for kind, dest0, dests in (("k", k0, kj), ("m", m0, mj)):
-        put(dest0, {p: c for p, c in base.items() if p[0] == kind})
-        for j, dj in enumerate(deriv):
-            if any(p[0] == kind for p in dj):
-                put(dests[j], {p: c for p, c in dj.items() if p[0] == kind})
-
-
-def _bar_section(prop) -> tuple:
-    """(A, I1, I2, J, NSM, MID, (card, id)) of a PBAR or a constant-section PBEAM."""
-    where = f"{prop.type} {prop.pid}"
-    if prop.type == "PBEAM":
-        for name in ("A", "i1", "i2", "i12", "j", "nsm"):
-            if np.ptp(np.asarray(getattr(prop, name), float)) != 0:
-                raise InputError(f"{where}: {name.upper()} varies along the beam; only a "
-                                 f"constant section is supported")
-        if prop.k1 or prop.k2:
-            raise InputError(f"{where}: shear factors K1 = {prop.k1:g}, K2 = {prop.k2:g} make "
-                             f"NASTRAN's beam shear-flexible (blank means 1.0); this is an "
-                             f"Euler-Bernoulli model: set K1 = K2 = 0.0 to use it")
-        extra = [n for n in ("s1", "s2", "nsia", "nsib", "cwa", "cwb", "m1a", "m2a", "m1b",
-                             "m2b", "n1a", "n2a", "n1b", "n2b") if getattr(prop, n)]
-        if extra:
-            raise InputError(f"{where}: {', '.join(x.upper() for x in extra)} (warping, "
-                             f"offsets of the mass or neutral axis) are not supported")
-    first = [float(np.ravel(getattr(prop, n))[0]) for n in ("A", "i1", "i2", "i12", "j", "nsm")]
-    A, i1, i2, i12, j, nsm = first
-    if i12:
-        raise InputError(f"{where}: I12 = {i12:g} is not supported")
-    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid)
-
-
-def _pbarl_section(prop) -> tuple:
-    """(A, I1, I2, J, NSM, MID, (card, id)) of a standard PBARL section: the equivalent
-    PBAR's values (NASTRAN's CBAR takes the shear centre at the centroid)."""
-    where = f"PBARL {prop.pid}"
-    shape = prop.Type
-    if prop.group.strip() != "MSCBML0":
-        raise InputError(f"{where}: GROUP {prop.group} (a user section library) is not "
-                         f"supported; only the standard sections of MSCBML0")
-    if shape not in PBARL_SHAPES:
-        why = " (unsymmetric: I12 != 0, as PBAR I12)" if shape == "L" else ""
-        raise InputError(f"{where}: section type {shape}{why} is not supported (supported: "
-                         f"{', '.join(PBARL_SHAPES)})")
-    try:
-        sections.check_dimensions(shape, prop.dim)  # before pyNastran asserts on them
-        if shape in sections.THIN_WALLED:
-            A, i1, i2, _ = sections.thin_walled_section(shape, prop.dim)
-        else:
-            A, i1, i2 = prop.Area(), prop.I11(), prop.I22()
-        # pyNastran's J() is the polar moment I1 + I2: the torsion constant of a circle only
-        j = prop.J() if shape in ("ROD", "TUBE") else sections.torsion_constant(shape, prop.dim)
-    except InputError as exc:
-        raise InputError(f"{where}: {exc}") from None
-    return A, i1, i2, j, prop.nsm, prop.mid, ("PBARL", prop.pid)
-
-
-def _one_parameter_per_quantity(deriv, label, kj) -> None:
-    parts = {p for dj in deriv for p in dj}
-    for part in parts:
-        owner = np.full(len(label), -1)
-        for j, dj in enumerate(deriv):
-            if part not in dj:
-                continue
-            hit = np.flatnonzero(dj[part])
-            clash = hit[owner[hit] >= 0]
-            if clash.size:
-                e = clash[0]
-                raise InputError(f"{label[e]}: parameters {owner[e] + 1} and {j + 1} both scale "
-                                 f"its {part[2:]} {'stiffness' if part[0] == 'k' else 'mass'}"
-                                 f": K or M would hold their product (not linear)")
-            owner[hit] = j
-
-
-def _scalars(bdf, grid, wtmass, pindex, values, k0, m0, kj, mj) -> None:
-    """CELAS1/2 and CMASS1/2: a scalar between two components (or to ground)."""
-    def put(trip, dofs, value):
-        if len(dofs) == 1:
-            trip.add(dofs, dofs, [value])
-        else:
-            a, b = dofs
-            trip.add([a, a, b, b], [a, b, a, b], [value, -value, -value, value])
-
-    def dofs_of(e, label):
-        out = []
-        for n, c in zip(e.nodes, (e.c1, e.c2), strict=True):
-            if n in (None, 0):
-                continue
-            if c not in range(1, 7):
-                raise InputError(f"{label}: component {c} must be 1-6 on a GRID")
-            out.append(6 * grid(n, label) + int(c) - 1)
-        if not out or (len(out) == 2 and out[0] == out[1]):
-            raise InputError(f"{label}: needs one or two different grid components")
-        return out
-
-    # (cards, with a property, property card, direct card, field, K or M, unit scale)
-    kinds = ((bdf.elements, "CELAS1", bdf.properties, "PELAS", "CELAS2", "K", k0, kj, 1.0),
-             (bdf.masses, "CMASS1", bdf.properties_mass, "PMASS", "CMASS2", "M", m0, mj,
-              wtmass))
-    for cards, with_prop, props, prop_card, direct, fld, dest0, dests, scale in kinds:
-        attr = FIELDS[direct][fld]
-        for eid, e in sorted(cards.items()):
-            label = f"{e.type} {eid}"
-            if e.type == with_prop:
-                p = props.get(e.pid)
-                if p is None or p.type != prop_card:
-                    raise InputError(f"{label}: property {prop_card} {e.pid} is not defined")
-                value, j = getattr(p, attr), pindex.get((prop_card, p.pid), {}).get(fld)
-            elif e.type == direct:
-                value, j = getattr(e, attr), pindex.get((direct, eid), {}).get(fld)
-            else:
-                continue
-            if fld == "M" and value < 0:
-                raise InputError(f"{label}: negative mass {value:g}")
-            dofs = dofs_of(e, label)
-            if j is None:
-                put(dest0, dofs, scale * value)
-            else:
-                put(dests[j], dofs, scale)
-
-
-def _conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj) -> None:
-    for eid, e in sorted(bdf.masses.items()):
-        if e.type != "CONM2":
-            continue
-        label = f"CONM2 {eid}"
-        g = grid(e.nid, label)
-        if e.mass < 0:
-            raise InputError(f"{label}: negative mass {e.mass:g}")
-        if e.cid == -1:
-            offset, rot = np.asarray(e.X, float) - xyz[g], np.eye(3)
-        else:
-            if e.cid not in bdf.coords:
-                raise InputError(f"{label}: coordinate system {e.cid} is not defined")
-            rot = bdf.coords[e.cid].beta() if e.cid else np.eye(3)
-            if e.cid and bdf.coords[e.cid].Type != "R":
-                raise InputError(f"{label}: CID {e.cid} must be rectangular")
-            offset = rot.T @ np.asarray(e.X, float)
-        i = e.I
-        inertia = np.array([[i[0], -i[1], -i[3]], [-i[1], i[2], -i[4]], [-i[3], -i[4], i[5]]])
-        if np.any(np.linalg.eigvalsh(inertia) < -1e-12 * max(abs(inertia).max(), 1e-300)):
-            raise InputError(f"{label}: inertia matrix is not positive semi-definite")
-        # rigid offset: u_cg = u_grid + theta x offset, all in basic, then to the grid's CD
-        a = np.zeros((6, 6))
-        a[:3, :3] = np.eye(3)
-        a[:3, 3:] = -frame3d.skew(offset[None])[0]
-        a[3:, 3:] = np.eye(3)
-        cd = np.zeros((6, 6))
-        cd[:3, :3] = cd[3:, 3:] = frames[g].T
-        a = a @ cd
-        unit = np.zeros((6, 6))
-        unit[:3, :3] = np.eye(3)
-        rot_in = np.zeros((6, 6))
-        rot_in[3:, 3:] = rot.T @ inertia @ rot
-        dofs = 6 * g + np.arange(6)
-        r, c = np.repeat(dofs, 6), np.tile(dofs, 6)
-        j = pindex.get(("CONM2", eid), {}).get("M")
-        trans = wtmass * (a.T @ unit @ a)
-        m0.add(r, c, wtmass * (a.T @ rot_in @ a) + (0.0 if j is not None else e.mass * trans))
-        if j is not None:
-            mj[j].add(r, c, trans)
-
-
 def _spc(bdf, where) -> tuple[np.ndarray, int | None]:
     """Restrained rows: GRID PS fields and the SPC set chosen by case control (or the
     only set in the file)."""
     rows = []
+    gs = bdf.grdset
+    if gs is not None and (gs.cp or gs.cd):
+        raise InputError(f"GRDSET: CP {gs.cp} / CD {gs.cd} defaults are not supported "
+                         f"(give them on the GRID cards)")
+    default_ps = str(gs.ps or "") if gs is not None else ""
     for n, g in bdf.nodes.items():
-        for c in str(g.ps or ""):
+        for c in str(g.ps or default_ps):
             if c != "0":
                 rows.append(6 * where[n] + int(c) - 1)
     ids = set(bdf.spcs) | set(bdf.spcadds)
@@ -718,54 +492,3 @@ def _spc_rows(bdf, where, sid: int, seen: set) -> list[int]:
                 raise InputError(f"{card.type} {sid}: GRID {n} is referenced but not defined")
             rows += [6 * where[n] + int(c) - 1 for c in str(comps) if c != "0"]
     return rows
-
-
-def write_updated_bdf(nm: NastranModel, out: str | Path, values: dict[str, float],
-                      comment: Sequence[str] = ()) -> None:
-    """Write the BDF with the parameters' values in their cards (pyNastran's writer) and
-    ``comment`` lines at the top; atomically (a failure leaves ``out`` untouched)."""
-    bdf = copy.deepcopy(nm.bdf)  # nm stays as read
-    for mat in bdf.materials.values():
-        if mat.type == "MAT1" and _tied(mat):
-            mat.g = None  # G was blank: keep it blank, it follows E
-    for p, f in zip(nm.model.parameters, nm.fields, strict=True):
-        v = float(values[p.name])
-        card = _stores(bdf)[f.card][f.id]
-        attr = FIELDS[f.card][f.field]
-        old = getattr(card, attr)
-        setattr(card, attr, np.full_like(old, v) if isinstance(old, np.ndarray) else v)
-        # some cards (CELAS2) always print 8-character fields: force 16 for updated ones
-        card.write_card = _large_field_writer(card)
-    buf = io.StringIO()
-    # 16-character fields: the updated values keep 10-12 significant digits
-    bdf.write_bdf(buf, size=16, close=False, enddata=True)
-    head = "".join(f"$ {line}\n" for line in comment)
-    write_text(out, head + buf.getvalue())
-
-
-
-def _large_field_writer(card):
-    from pyNastran.bdf.field_writer_16 import print_card_16
-
-    def write_card(size: int = 16, is_double: bool = False) -> str:
-        return card.comment + print_card_16(card.repr_fields())
-
-    return write_card
-
-
-def save_updated_bdf(study, result, out: str | Path) -> None:
-    """Write a study's NASTRAN model back with the values of an update ``result``
-    (:class:`~eigenupdate.identify.updating.UpdateResult`), a comment block saying what
-    was updated, from which test and with which posterior std."""
-    nm: NastranModel = study.nastran
-    lines = [f"eigenupdate: updated from {nm.path.name} by study {Path(study.path).name}",
-             f"measured frequencies: {study.frequencies}",
-             f"method: {result.method}, {result.message} after {result.nit} iteration(s)",
-             "parameter                  card field        initial      updated   post. std"]
-    initial = dict(zip(nm.model.names, nm.model.values, strict=True))
-    for p, f in zip(nm.model.parameters, nm.fields, strict=True):
-        std = result.std.get(p.name)
-        lines.append(f"{p.name:<26} {f.card} {f.id} {f.field:<5} {initial[p.name]:12.6g} "
-                     f"{result.parameters[p.name]:12.6g} "
-                     f"{'fixed' if std is None else format(std, '11.4g')}")
-    write_updated_bdf(nm, out, result.parameters, lines)

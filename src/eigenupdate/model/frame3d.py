@@ -1,4 +1,4 @@
-"""3-D Euler-Bernoulli frame elements (bars, beams, rods), vectorised over elements.
+"""3-D frame elements (bars, beams, rods) as NASTRAN forms them, vectorised over elements.
 
 Local element coordinates follow NASTRAN's CBAR: x runs from end A to end B, the
 orientation vector v lies in plane 1 (the local x-y plane), y is the part of v normal to
@@ -8,13 +8,22 @@ plane-2 bending (w, rotations about y) uses I2. Element degrees of freedom are
 
 Every matrix is split into unit *parts* that are scaled by one section quantity each,
 so that K = EA k_axial + GJ k_torsion + EI1 k_bend1 + EI2 k_bend2 and
-M = (rho A + nsm) m_translation + rho J m_torsion. A parameter that scales one of those
-quantities linearly (E, rho, A, I1, I2, J) then has an exact dK/ds and dM/ds.
+M = (rho A + nsm) m_translation + i_x m_torsion (i_x the torsional mass inertia per
+length). A parameter that scales one of those quantities linearly (E, rho, A, I1, I2, J)
+then has an exact dK/ds and dM/ds.
 
-Mass formulations (as OpenSees' ``elasticBeamColumn``): *consistent* uses the cubic
-Hermitian shape functions in bending, linear ones in axial and torsion (rotary inertia
-rho J about the axis only); *lumped* puts half the element's translational mass at each
-end and leaves rotations massless.
+Shear flexibility (NASTRAN's K1, K2 on PBAR, PBEAM and the PBARL/PBEAML sections) is
+Timoshenko's, as NASTRAN applies it to the two-node element: with
+phi = 12 E I / (K A G L^2) in each plane the bending stiffness is the Euler-Bernoulli one
+with 12, 6L, 4L^2, 2L^2 replaced by 12, 6L, (4 + phi) L^2, (2 - phi) L^2, all over
+(1 + phi) (Przemieniecki, Theory of Matrix Structural Analysis, 1968, Sec. 5.6).
+
+Mass formulations (MSC/NX Nastran; PARAM COUPMASS > 0 selects the coupled one):
+*coupled* uses the cubic Hermitian shape functions in bending and linear ones in axial
+and torsion; *lumped* puts half the element's translational (and torsional) mass at each
+end and leaves the bending rotations massless. A rod's coupled mass is NASTRAN's own,
+axial [5 1; 1 5] / 12 and lumped transverse. The caller chooses i_x: NASTRAN's CBAR has
+none, its CBEAM rho (I1 + I2) (+ NSI).
 """
 
 from __future__ import annotations
@@ -27,8 +36,12 @@ STIFFNESS_PARTS = ("axial", "torsion", "bend1", "bend2")
 MASS_PARTS = ("translation", "torsion")
 
 
-def stiffness_parts(length: np.ndarray) -> dict[str, np.ndarray]:
+def stiffness_parts(length: np.ndarray, phi1: np.ndarray | None = None,
+                    phi2: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """Local stiffness (n, 12, 12) per unit EA, GJ, EI1 and EI2.
+
+    ``phi1``, ``phi2``: the shear parameters 12 E I / (K A G L^2) of planes 1 and 2
+    (0 or None: Euler-Bernoulli).
 
     Examples
     --------
@@ -43,21 +56,58 @@ def stiffness_parts(length: np.ndarray) -> dict[str, np.ndarray]:
     for name, dof in (("axial", 0), ("torsion", 3)):
         idx = np.ix_([dof, dof + 6], [dof, dof + 6])
         out[name][:, idx[0], idx[1]] = bar / L[:, None, None]
-    for name, (t, r, sign) in (("bend1", (1, 5, 1.0)), ("bend2", (2, 4, -1.0))):
+    for name, (t, r, sign), phi in (("bend1", (1, 5, 1.0), phi1),
+                                    ("bend2", (2, 4, -1.0), phi2)):
         d = [t, r, t + 6, r + 6]
         s = np.array([1.0, sign, 1.0, sign])
+        f = np.zeros(n) if phi is None else np.broadcast_to(np.asarray(phi, float), (n,))
         unit = np.array([[12, 6, -12, 6], [6, 4, -6, 2], [-12, -6, 12, -6], [6, 2, -6, 4]],
-                        dtype=float)
+                        dtype=float)[None].repeat(n, 0)
+        # shear: the rotation-rotation terms 4 and 2 become 4 + phi and 2 - phi
+        unit[:, 1, 1] += f
+        unit[:, 3, 3] += f
+        unit[:, 1, 3] -= f
+        unit[:, 3, 1] -= f
         # powers of L: translation rows/cols carry none, rotation ones one each
         p = np.array([0, 1, 0, 1])
-        k = unit[None] * L[:, None, None] ** (p[:, None] + p[None, :]) / L[:, None, None] ** 3
+        k = (unit * L[:, None, None] ** (p[:, None] + p[None, :])
+             / (L[:, None, None] ** 3 * (1.0 + f)[:, None, None]))
         out[name][:, np.ix_(d, d)[0], np.ix_(d, d)[1]] = k * np.outer(s, s)
     return out
 
 
+def release(parts: dict[str, np.ndarray], released: np.ndarray) -> None:
+    """Pin flags: condense the ``released`` (n, 12) local end components out of each
+    element's stiffness parts, in place (K_rr - K_rp K_pp^+ K_pr; a part's released rows
+    and columns become zero). Each local component belongs to one part (u axial, rx
+    torsion, v and rz plane 1, w and ry plane 2), so K stays linear in EA, GJ, EI1, EI2.
+
+    Examples
+    --------
+    A unit beam released in rotation about z at end A: end B's plane-1 translation
+    against a fixed end A has stiffness 3 EI / L^3 (a propped cantilever's).
+
+    >>> k = stiffness_parts(np.array([1.0]))
+    >>> pin = np.zeros((1, 12), bool); pin[0, 5] = True
+    >>> release(k, pin)
+    >>> float(k["bend1"][0, 7, 7]), float(k["bend1"][0, 5, 5])
+    (3.0, 0.0)
+    """
+    for e in np.flatnonzero(released.any(axis=1)):
+        for k in parts.values():
+            ke = k[e]
+            p = np.flatnonzero(released[e] & (np.abs(np.diag(ke)) > 0))
+            if p.size == 0:
+                continue
+            ke = ke - ke[:, p] @ np.linalg.pinv(ke[np.ix_(p, p)]) @ ke[p, :]
+            ke[p, :] = 0.0
+            ke[:, p] = 0.0
+            k[e] = 0.5 * (ke + ke.T)
+
+
 def mass_parts(length: np.ndarray, consistent: bool) -> dict[str, np.ndarray]:
     """Local mass (n, 12, 12) per unit mass per length (translation) and per unit
-    rho J (torsional inertia per length; zero when lumped).
+    torsional mass inertia per length (torsion).
 
     Examples
     --------
@@ -76,6 +126,8 @@ def mass_parts(length: np.ndarray, consistent: bool) -> dict[str, np.ndarray]:
     if not consistent:
         for d in (0, 1, 2, 6, 7, 8):
             tr[:, d, d] = L / 2
+        for d in (3, 9):
+            tor[:, d, d] = L / 2
         return {"translation": tr, "torsion": tor}
     lin = np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0
     ax = np.ix_([0, 6], [0, 6])
@@ -95,14 +147,19 @@ def mass_parts(length: np.ndarray, consistent: bool) -> dict[str, np.ndarray]:
 
 
 def rod_mass_part(length: np.ndarray, consistent: bool) -> np.ndarray:
-    """Local translational mass (n, 12, 12) of a rod per unit mass per length: linear
-    shape functions in all three directions when consistent, halves when lumped."""
+    """Local translational mass (n, 12, 12) of a rod per unit mass per length, as
+    MSC/NX Nastran's CROD: coupled, axial [5 1; 1 5] / 12 (the mean of the lumped and
+    the linear consistent matrix) and half the mass on each end transversely; lumped,
+    halves in all three directions."""
     L = np.asarray(length, dtype=float)
     out = np.zeros((L.size, 12, 12))
-    lin = np.array([[2.0, 1.0], [1.0, 2.0]]) / 6.0 if consistent else np.eye(2) / 2.0
     for d in range(3):
+        if consistent and d == 0:
+            m = np.array([[5.0, 1.0], [1.0, 5.0]]) / 12.0
+        else:
+            m = np.eye(2) / 2.0
         i = np.ix_([d, d + 6], [d, d + 6])
-        out[:, i[0], i[1]] = lin * L[:, None, None]
+        out[:, i[0], i[1]] = m * L[:, None, None]
     return out
 
 

@@ -101,6 +101,26 @@ def thin_walled_section(shape: str, dim: Sequence[float]) -> tuple[float, float,
     return a, i1, i2, i12
 
 
+def solid_section(shape: str, dim: Sequence[float]) -> tuple[float, float, float]:
+    """A, I1, I2 of a ROD, TUBE, BAR or BOX section (closed forms; BAR and BOX: DIM1
+    width along z, DIM2 height along y; BOX DIM3 the horizontal, DIM4 the vertical walls).
+
+    >>> a, i1, i2 = solid_section("BAR", [2.0, 3.0])
+    >>> print(a, i1, i2)
+    6.0 4.5 2.0
+    """
+    d = check_dimensions(shape, dim)
+    if shape in ("ROD", "TUBE"):
+        ro, ri = d[0], (d[1] if shape == "TUBE" else 0.0)
+        a = np.pi * (ro**2 - ri**2)
+        i = np.pi / 4 * (ro**4 - ri**4)
+        return float(a), float(i), float(i)
+    b, h = d[0], d[1]
+    bi, hi = (b - 2 * d[3], h - 2 * d[2]) if shape == "BOX" else (0.0, 0.0)
+    return (float(b * h - bi * hi), float((b * h**3 - bi * hi**3) / 12),
+            float((h * b**3 - hi * bi**3) / 12))
+
+
 def torsion_constant(shape: str, dim: Sequence[float]) -> float:
     """NASTRAN's torsion constant J of a BAR, BOX, I, T or CHAN PBARL section.
 
@@ -115,6 +135,8 @@ def torsion_constant(shape: str, dim: Sequence[float]) -> float:
     2.08864e-05
     """
     d = check_dimensions(shape, dim)
+    if shape in ("ROD", "TUBE"):  # polar moment of the annulus
+        return float(np.pi / 2 * (d[0] ** 4 - (d[1] if shape == "TUBE" else 0.0) ** 4))
     if shape == "BAR":  # long side a, short side b
         a, b = max(d), min(d)
         return float(a * b**3 * (1 / 3 - 0.21 * b / a * (1 - b**4 / (12 * a**4))))

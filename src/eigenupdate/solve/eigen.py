@@ -294,6 +294,12 @@ def all_modes(K, M) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     massless = ~np.any(Md != 0, axis=1)
     if massless.any() and not massless.all():
         return _condensed(Kd, Md, massless)
+    if np.count_nonzero(Md - np.diag(np.diag(Md))):
+        # a singular M need not fail Cholesky (round-off leaves pivots of 1e-16): look
+        # at its spectrum, else eigh returns eigenvalues of 1e40 for massless directions
+        w = scipy.linalg.eigvalsh(Md)
+        if w.min() <= 1e-12 * w.max():
+            return _massless_directions(Kd, Md)
     try:
         lam, phi = scipy.linalg.eigh(Kd, Md)
     except np.linalg.LinAlgError:
@@ -301,6 +307,21 @@ def all_modes(K, M) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             "mass matrix is not positive definite (a coordinate without mass?)"
         ) from None
     return lam, phi, rigid_mask(Kd, Md, lam)
+
+
+def _massless_directions(K: np.ndarray, M: np.ndarray):
+    """Every finite eigenpair when M is singular without a zero row (a massless rotation
+    about a bar's axis seen in a skewed displacement system): in M's eigenvector basis the
+    null directions are massless coordinates, condensed out as :func:`_condensed` does."""
+    w, q = scipy.linalg.eigh(M)
+    null = w <= 1e-12 * max(w.max(initial=0.0), 0.0)
+    if w.min(initial=0.0) < -1e-9 * max(w.max(initial=0.0), 0.0) or not null.any() \
+            or null.all():
+        raise InputError("mass matrix is not positive semi-definite (a negative mass?)")
+    mq = np.diag(np.where(null, 0.0, w))
+    kq = q.T @ K @ q
+    lam, phi_q, rigid = _condensed(0.5 * (kq + kq.T), mq, null)
+    return lam, q @ phi_q, rigid
 
 
 def _condensed(K: np.ndarray, M: np.ndarray, massless: np.ndarray):

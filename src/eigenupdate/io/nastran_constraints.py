@@ -1,0 +1,145 @@
+"""Rigid elements (RBE2, RBAR, RBE3, NASTRAN-95's CRIGD1/2/3/R) and MPCs of a deck as
+constraint equations for :mod:`eigenupdate.model.constraints`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from eigenupdate.errors import InputError
+from eigenupdate.model import constraints
+
+
+def _fields(lines: list[str]) -> list[str]:
+    """The fields 2.. of a fixed-format card and its continuations (8-character fields;
+    free-field commas too), as NASTRAN-95's cards pyNastran does not read arrive."""
+    out = []
+    for line in lines:
+        if "," in line:
+            out += [x.strip() for x in line.split(",")[1:]]
+            continue
+        body = line[8:72].ljust(64)
+        out += [body[i:i + 8].strip() for i in range(0, 64, 8)]
+    return out
+
+
+def _ints(fields: list[str], label: str) -> list[int]:
+    try:
+        return [int(x) for x in fields]
+    except ValueError:
+        raise InputError(f"{label}: only integer grid ids and components are read "
+                         f"(no THRU), got {' '.join(fields)}") from None
+
+
+def constraint_equations(bdf, grid, xyz, frames) -> list:
+    """(dependent row, [(row, coefficient)], card label) of every rigid element and the
+    MPC set case control selects."""
+    eqs = []
+
+    def rigid(label, indep, dep):
+        gi = [(grid(n, label), int(c)) for n, c in indep]
+        gd = [(grid(n, label), int(c)) for n, c in dep]
+        for (g, c), terms in constraints.rigid_equations(xyz, frames, gi, gd, label):
+            eqs.append((6 * g + c - 1, [(6 * a + b - 1, v) for (a, b), v in terms], label))
+
+    def comps(text):
+        return [int(x) for x in str(text or "") if x != "0"]
+
+    for eid, e in sorted(bdf.rigid_elements.items()):
+        label = f"{e.type} {eid}"
+        if e.type == "RBE2":
+            indep = [(e.gn, c) for c in range(1, 7)]
+            rigid(label, indep, [(m, c) for m in e.Gmi for c in comps(e.cm)])
+        elif e.type == "RBAR":
+            indep = [(e.ga, c) for c in comps(e.cna)] + [(e.gb, c) for c in comps(e.cnb)]
+            dep = [(e.ga, c) for c in comps(e.cma)] + [(e.gb, c) for c in comps(e.cmb)]
+            if not dep:  # blank CMA, CMB: the components not independent
+                dep = [(g, c) for g in (e.ga, e.gb) for c in range(1, 7)
+                       if (g, c) not in indep]
+            rigid(label, indep, dep)
+        elif e.type == "RBE3":
+            if e.Gmi:
+                raise InputError(f"{label}: UM (other dependent components) is not supported")
+            indep = [(grid(g, label), c, float(w)) for w, cs, gs in
+                     zip(e.weights, e.comps, e.Gijs, strict=True) for g in gs
+                     for c in comps(cs)]
+            for (g, c), terms in constraints.interpolation_equations(
+                    xyz, frames, grid(e.refgrid, label), comps(e.refc), indep, label):
+                eqs.append((6 * g + c - 1, [(6 * a + b - 1, v) for (a, b), v in terms],
+                            label))
+        else:
+            raise InputError(f"{label}: rigid element {e.type} is not supported")
+    for card in getattr(bdf, "reject_lines", []):
+        lines = [x for x in card if x.strip()]
+        name = lines[0][:8].split(",")[0].strip().upper()
+        f = _fields(lines)
+        label = f"{name} {f[0]}"
+        if name in ("CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR"):
+            f = [x for x in f[1:] if x]
+        if name == "CRIGD1":  # GI, then dependent grids: all six components
+            ids = _ints(f, label)
+            rigid(label, [(ids[0], c) for c in range(1, 7)],
+                  [(g, c) for g in ids[1:] for c in range(1, 7)])
+        elif name == "CRIGD2":  # GI, then pairs (GD, CD)
+            ids = _ints(f, label)
+            rigid(label, [(ids[0], c) for c in range(1, 7)],
+                  [(g, c) for g, cd in zip(ids[1::2], ids[2::2], strict=True)
+                   for c in comps(cd)])
+        elif name == "CRIGD3":  # pairs (GI, CI) up to MSET, then pairs (GD, CD)
+            if "MSET" not in [x.upper() for x in f]:
+                raise InputError(f"{label}: no MSET field")
+            k = [x.upper() for x in f].index("MSET")
+            ind, dep = _ints(f[:k], label), _ints(f[k + 1:], label)
+            rigid(label, [(g, c) for g, ci in zip(ind[::2], ind[1::2], strict=True)
+                          for c in comps(ci)],
+                  [(g, c) for g, cd in zip(dep[::2], dep[1::2], strict=True)
+                   for c in comps(cd)])
+        elif name == "CRIGDR":  # rigid rod: GD's translation CD keeps the length
+            gi, gd, cd = _ints(f[:3], label)
+            a, b = grid(gi, label), grid(gd, label)
+            axis = xyz[b] - xyz[a]
+            axis = axis / np.linalg.norm(axis)
+            ea, eb = frames[a] @ axis, frames[b] @ axis  # axis in each grid's CD
+            if abs(eb[cd - 1]) < 1e-8:
+                raise InputError(f"{label}: component {cd} of GRID {gd} is normal to the rod")
+            terms = [(6 * a + k, float(ea[k] / eb[cd - 1])) for k in range(3)]
+            terms += [(6 * b + k, float(-eb[k] / eb[cd - 1])) for k in range(3) if k != cd - 1]
+            eqs.append((6 * b + cd - 1, terms, label))
+    for card in _mpc_cards(bdf):
+        label = f"MPC {card.conid}"
+        (n0, *nodes), (c0, *cs), (a0, *coefs) = card.nodes, card.components, card.coefficients
+        if not a0:
+            raise InputError(f"{label}: the dependent term's coefficient is zero")
+        dep = 6 * grid(n0, label) + int(c0) - 1
+        eqs.append((dep, [(6 * grid(n, label) + int(c) - 1, -float(a) / a0)
+                          for n, c, a in zip(nodes, cs, coefs, strict=True)], label))
+    return eqs
+
+
+def _mpc_cards(bdf) -> list:
+    """MPC cards of the set case control selects (or the only set)."""
+    ids = set(bdf.mpcs) | set(bdf.mpcadds)
+    if not ids:
+        return []
+    wanted = set()
+    cc = bdf.case_control_deck
+    if cc is not None:
+        for sub in cc.subcases.values():
+            try:
+                wanted.add(int(sub.get_parameter("MPC")[0]))
+            except KeyError:
+                pass
+    if len(wanted) > 1:
+        raise InputError(f"case control selects several MPC sets {sorted(wanted)}")
+    if not wanted:
+        inner = {int(s) for add in bdf.mpcadds.values() for a in add for s in a.sets}
+        top = sorted(ids - inner)
+        if len(top) > 1:
+            raise InputError(f"several MPC sets {top} and no case control MPC = to choose one")
+        wanted = set(top)
+    out, todo = [], list(wanted)
+    while todo:
+        sid = todo.pop()
+        for add in bdf.mpcadds.get(sid, []):
+            todo += [int(s) for s in add.sets]
+        out += bdf.mpcs.get(sid, [])
+    return out

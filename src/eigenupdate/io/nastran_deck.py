@@ -1,0 +1,239 @@
+"""Reading a NASTRAN deck as NASTRAN reads it, through pyNastran.
+
+:func:`load_deck` expands every INCLUDE itself (a path is relative to the directory of
+the file that includes it, as NASTRAN resolves it, also in bulk-data-only files), hands
+the text to pyNastran with its log silenced and stdout captured (no
+``pyNastran_crash.bdf`` can be written: pyNastran never sees an INCLUDE), remembers where
+each card starts (``file:line``) for the messages, and sorts the cards into
+
+* supported: they define K, M or the set of coordinates and are assembled;
+* skipped: they change neither K nor M (loads, tables, damping, eigenvalue methods,
+  output, optimisation, aero, USET, DTI, MDLPRM, ...): listed in one note with counts;
+* refused: everything else (a card that may change K or M): every such card with its
+  count in one error.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from eigenupdate.errors import InputError
+
+# cards that define K, M or the coordinates and are assembled (io/nastran.py)
+SUPPORTED = frozenset({
+    "GRID", "GRDSET", "CORD1R", "CORD2R", "CORD1C", "CORD2C", "CORD1S", "CORD2S",
+    "CBAR", "BAROR", "PBAR", "PBARL", "CBEAM", "PBEAM", "PBEAML", "CROD", "PROD", "CONROD",
+    "CTUBE", "PTUBE",
+    "CELAS1", "CELAS2", "PELAS", "CONM2", "CMASS1", "CMASS2", "PMASS", "MAT1",
+    "SPC", "SPC1", "SPCADD", "ASET", "ASET1", "OMIT", "OMIT1", "SUPORT", "PARAM", "ENDDATA",
+    "RBE2", "RBAR", "RBE3", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR",
+    "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
+})
+# cards that change neither K nor M of a normal-modes analysis
+SKIPPED = frozenset({
+    # loads and enforced motion
+    "FORCE", "FORCE1", "FORCE2", "MOMENT", "MOMENT1", "MOMENT2", "LOAD", "PLOAD", "PLOAD1",
+    "PLOAD2", "PLOAD4", "PLOADX1", "GRAV", "RFORCE", "ACCEL", "ACCEL1", "TEMP", "TEMPD",
+    "SPCD", "DLOAD", "RLOAD1", "RLOAD2", "TLOAD1", "TLOAD2", "LSEQ", "DAREA", "DPHASE",
+    "DELAY", "SLOAD", "QBDY1", "QBDY2", "QHBDY", "QVOL",
+    # tables, damping, frequencies, time steps, eigenvalue methods
+    "TABLED1", "TABLED2", "TABLED3", "TABLED4", "TABLEM1", "TABLEM2", "TABLEM3", "TABLEM4",
+    "TABDMP1", "TABRND1", "TABLES1", "TABLEST", "TABLEH1", "TABLEHT", "FREQ", "FREQ1",
+    "FREQ2", "FREQ3", "FREQ4", "FREQ5", "TSTEP", "TSTEPNL", "EIGRL", "EIGR", "EIGC", "EIGB",
+    "EIGP", "NLPARM", "NLPCI", "RANDPS", "RANDT1",
+    # damping (real modes ignore it) and extra points of dynamic response
+    "CDAMP1", "CDAMP2", "CDAMP3", "CDAMP4", "CDAMP5", "PDAMP", "PDAMP5", "PDAMPT", "CVISC",
+    "PVISC", "PBUSHT", "PELAST", "EPOINT", "TF",
+    # heat transfer: thermal materials and boundary cards
+    "MAT4", "MAT5", "CHBDYE", "CHBDYG", "CHBDYP", "PHBDY", "CONV", "PCONV", "RADBC",
+    # sets, output, bookkeeping (SUPORT1 is chosen by case control for rigid-body modes)
+    "SUPORT1", "CBARAO", "SEQGP", "SEQSEP",
+    "USET", "USET1", "DTI", "MDLPRM", "SET1", "SET2", "SET3", "PLOTEL", "ECHOON", "ECHOOFF",
+    "MONPNT1", "MONPNT2", "MONPNT3", "MONDSP1", "MONSUM", "MONSUM1",
+    # aeroelasticity
+    "AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAERO5", "PAERO1", "PAERO2",
+    "PAERO3", "PAERO4", "PAERO5", "SPLINE1", "SPLINE2", "SPLINE3", "SPLINE4", "SPLINE5",
+    "AESTAT", "AESURF", "AESURFS", "AELIST", "AEFACT", "AELINK", "AEPARM", "AECOMP",
+    "AECOMPL", "TRIM", "TRIM2", "FLUTTER", "FLFACT", "MKAERO1", "MKAERO2", "DIVERG", "CSSCHD",
+    "GUST",
+    # optimisation
+    "DESVAR", "DVPREL1", "DVPREL2", "DVMREL1", "DVMREL2", "DVCREL1", "DVCREL2", "DRESP1",
+    "DRESP2", "DRESP3", "DCONSTR", "DCONADD", "DOPTPRM", "DTABLE", "DEQATN", "DLINK",
+    "DVGRID", "DSCREEN", "DVPSURF",
+})
+# PARAMs that change K, M or the coordinates of line, spring, mass and rigid elements in
+# normal modes, and are interpreted; the others (shell-only SNORM, nonlinear LGDISP, output
+# and damping PARAMs) are skipped and listed
+PARAMS_READ = frozenset({"WTMASS", "COUPMASS", "AUTOSPC", "K6ROT"})
+
+
+@dataclass
+class Deck:
+    """A deck read by pyNastran, with where each card starts and what was skipped."""
+
+    path: Path
+    bdf: Any
+    lines: dict = field(default_factory=dict)  # (card, id) -> "file:line"
+    skipped: str = ""  # the note: "FORCE x2, MDLPRM x1, PARAM POST"
+    text: list = field(default_factory=list)  # every line, INCLUDEs expanded
+    bulk: int = 0  # index in ``text`` of the first line given to pyNastran
+
+    def where(self, card: str, cid: int | None = None) -> str:
+        """``file:line`` of a card, or the deck's name when it is not known."""
+        return self.lines.get((card, cid), self.path.name)
+
+
+def _quiet_bdf():
+    try:
+        from pyNastran.bdf.bdf import BDF
+    except ImportError:
+        raise InputError("NASTRAN models need pyNastran: pip install 'eigenupdate[nastran]' "
+                         "(see the README)") from None
+    from cpylog import SimpleLogger  # pyNastran's logger; errors are ours to report
+
+    return BDF(log=SimpleLogger(level="critical"))
+
+
+_INCLUDE = re.compile(r"^\s*INCLUDE\s*(.*)$", re.IGNORECASE)
+
+
+def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tuple) -> None:
+    """Append ``path``'s lines to ``out`` with every INCLUDE replaced by its file's lines
+    (relative to ``path``'s directory); ``origin[i]`` is where ``out[i]`` came from."""
+    try:
+        text = path.read_text(errors="replace")
+    except OSError as exc:
+        raise InputError(f"cannot read {path}: {exc.strerror or exc}") from None
+    lines = text.splitlines()
+    i = 0
+    while i < len(lines):
+        m = _INCLUDE.match(lines[i].split("$")[0]) if not lines[i].startswith("$") else None
+        if m is None:
+            out.append(lines[i])
+            origin.append((path.name, i + 1))
+            i += 1
+            continue
+        start, spec = i, m.group(1).strip()
+        # a quoted file name may continue on the next lines
+        while spec.startswith("'") and (spec.count("'") < 2) and i + 1 < len(lines):
+            i += 1
+            spec += lines[i].split("$")[0].strip()
+        i += 1
+        name = spec.strip().strip("'").strip()
+        if not name:
+            raise InputError(f"{path.name}:{start + 1}: INCLUDE without a file name")
+        target = (path.parent / name).resolve()
+        if target in stack:
+            raise InputError(f"{path.name}:{start + 1}: INCLUDE {name} includes itself")
+        if not target.is_file():
+            raise InputError(f"{path.name}:{start + 1}: INCLUDE file {name} not found "
+                             f"(looked in {path.parent})")
+        _expand(target, out, origin, (*stack, target))
+
+
+_FIRST = re.compile(r"^([A-Za-z][A-Za-z0-9]*)(\*?)")
+
+
+def _card_starts(lines: list[str], origin: list[tuple[str, int]]) -> dict:
+    """(card, first integer field) -> "file:line" of the card's first line."""
+    out: dict = {}
+    for text, (name, number) in zip(lines, origin, strict=True):
+        m = _FIRST.match(text)
+        if m is None:
+            continue
+        card = m.group(1).upper()
+        if "," in text[:10]:
+            fields = text.split(",")
+            second = fields[1] if len(fields) > 1 else ""
+        elif m.group(2):  # large field: 8 then 16 characters
+            second = text[8:24]
+        else:
+            second = text[8:16]
+        try:
+            cid = int(second.strip())
+        except ValueError:
+            cid = None
+        out.setdefault((card, cid), f"{name}:{number}")
+        out.setdefault((card, None), f"{name}:{number}")
+    return out
+
+
+def load_deck(path: str | Path) -> Deck:
+    """Read a deck (executive and case control optional) and sort its cards.
+
+    Raises
+    ------
+    InputError
+        The file cannot be read, pyNastran refuses a card, or the deck holds cards that
+        would change K or M and are not supported (all of them, with their counts).
+    """
+    path = Path(path)
+    lines: list[str] = []
+    origin: list[tuple[str, int]] = []
+    _expand(path.resolve(), lines, origin, (path.resolve(),))
+    text = list(lines)
+    upper = [x.upper() for x in lines]
+    has_cend = any(x.strip().startswith("CEND") for x in upper)
+    begin = next((i for i, x in enumerate(upper) if x.startswith("BEGIN BULK")
+                  or x.startswith("BEGIN,BULK")), None)
+    first = 0
+    if not has_cend and begin is not None:  # bulk data only, after BEGIN BULK
+        first = begin + 1
+        lines, origin = lines[first:], origin[first:]
+    bdf = _quiet_bdf()
+    sink = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
+            bdf.read_bdf(io.StringIO("\n".join(lines) + "\n"), xref=False,
+                         punch=not has_cend, validate=True)
+    except Exception as exc:  # pyNastran raises many kinds on malformed cards
+        msg = [x for x in str(exc).strip().splitlines() if x.strip()]
+        blamed = _blamed_card(str(exc), lines, origin, path.name)
+        first = msg[0] if msg else type(exc).__name__
+        if blamed:
+            raise InputError(f"{blamed}: {first}", source=str(path)) from None
+        raise InputError(f"pyNastran cannot read the deck: {type(exc).__name__}: {first}",
+                         source=str(path)) from None
+    deck = Deck(path, bdf, _card_starts(lines, origin), text=text, bulk=first)
+    _sort_cards(deck)
+    return deck
+
+
+def _blamed_card(text: str, lines: list[str], origin, main: str) -> str:
+    """``line N: CARD id`` (``file:N`` in an included file) of the card pyNastran's message
+    quotes (``card=['GRID', '2', ...]``), or "" when it quotes none."""
+    m = re.search(r"card=\[\s*'([A-Za-z0-9]+)\*?'\s*,\s*'\s*(\d+)\s*'", text)
+    if m is None:
+        return ""
+    card, cid = m.group(1).upper(), int(m.group(2))
+    hit = _card_starts(lines, origin).get((card, cid))
+    if hit is None:
+        return f"{card} {cid}"
+    name, line = hit.rsplit(":", 1)
+    return f"{'line ' + line if name == main else hit}: {card} {cid}"
+
+
+def _sort_cards(deck: Deck) -> None:
+    bdf = deck.bdf
+    counts = dict(bdf.card_count)  # rejected cards are counted here too
+    skipped = {k: v for k, v in counts.items() if k in SKIPPED}
+    refused = {k: v for k, v in counts.items() if k not in SKIPPED and k not in SUPPORTED}
+    params = []
+    for name in sorted(bdf.params):
+        if name not in PARAMS_READ:
+            params.append(f"PARAM {name}")
+    if refused:
+        listing = ", ".join(f"{k} x{v}" for k, v in sorted(refused.items()))
+        shells = any(k.startswith(("CQUAD", "CTRIA", "CHEXA", "CPENTA", "CTETRA", "CPYRAM",
+                                   "CSHEAR", "PSHELL", "PSOLID", "PCOMP"))
+                     for k in refused)
+        why = " (shells and solids are not supported yet)" if shells else ""
+        raise InputError(f"cards that would change K or M and are not supported: {listing}"
+                         f"{why}", source=str(deck.path))
+    parts = [f"{k} x{v}" for k, v in sorted(skipped.items())] + params
+    deck.skipped = ", ".join(parts)

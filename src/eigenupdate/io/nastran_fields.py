@@ -1,0 +1,81 @@
+"""The card fields that can be parameters: where pyNastran keeps them, read and set."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from eigenupdate.errors import InputError
+
+# card -> field -> (pyNastran attribute, what it scales); the rest are refused with a reason
+FIELDS = {
+    "MAT1": {"E": "e", "RHO": "rho"},
+    "PBAR": {"A": "A", "I1": "i1", "I2": "i2", "J": "j"},
+    "PBEAM": {"A": "A", "I1": "i1", "I2": "i2", "J": "j"},
+    "PROD": {"A": "A", "J": "j"},
+    "PELAS": {"K": "k"},
+    "CELAS2": {"K": "k"},
+    "CELAS4": {"K": "k"},
+    "CMASS4": {"M": "mass"},
+    "PBUSH": {f"K{i + 1}": ("_k", i) for i in range(6)},
+    "CONM1": {f"M{i + 1}{j + 1}": ("mass_matrix", (i, j)) for i in range(6)
+              for j in range(i + 1)},
+    "CONM2": {"M": "mass"},
+    "CMASS2": {"M": "mass"},
+    "PMASS": {"M": "mass"},
+}
+
+NOT_LINEAR = {
+    ("MAT1", "NU"): "G = E / (2 (1 + NU)) is not linear in NU",
+    ("MAT1", "G"): "give E (G follows it when the card leaves G blank)",
+}
+
+
+def stores(bdf) -> dict:
+    return {"MAT1": bdf.materials, "PBAR": bdf.properties, "PBEAM": bdf.properties,
+            "PROD": bdf.properties,
+            "PELAS": bdf.properties, "CELAS2": bdf.elements, "CELAS4": bdf.elements,
+            "CMASS4": bdf.masses, "CONM2": bdf.masses, "CONM1": bdf.masses,
+            "PBUSH": bdf.properties,
+            "CMASS2": bdf.masses, "PMASS": bdf.properties_mass}
+
+
+def get_field(card, spec) -> float:
+    """A card's field value: ``spec`` is pyNastran's attribute, or (attribute, index)."""
+    if isinstance(spec, str):
+        return float(np.ravel(getattr(card, spec))[0])
+    attr, index = spec
+    if attr == "_k":
+        return float(pbush_k(card)[index])
+    return float(np.asarray(getattr(card, attr))[index])
+
+
+def set_field(card, spec, value: float) -> None:
+    """Put ``value`` in a card's field (:func:`get_field`'s ``spec``)."""
+    if isinstance(spec, str):
+        old = getattr(card, spec)
+        setattr(card, spec, np.full_like(old, value) if isinstance(old, np.ndarray) else value)
+    elif spec[0] == "_k":
+        ki = list(card.Ki) + [None] * (6 - len(card.Ki))
+        ki[spec[1]] = value
+        card.Ki = ki
+    else:
+        getattr(card, spec[0])[spec[1]] = value
+
+
+def pbush_k(card) -> np.ndarray:
+    """PBUSH K1-K6 (blank = 0)."""
+    k = np.zeros(6)
+    for i, v in enumerate(getattr(card, "Ki", None) or []):
+        k[i] = v or 0.0
+    return k
+
+
+def in_range(value, what: str) -> float:
+    """``value`` as a float; InputError unless it is finite and 0 or of magnitude 1e-100
+    to 1e100 (as numbers in a study: beyond, K and M overflow or lose all precision)."""
+    v = float("nan") if value is None else float(value)
+    if not math.isfinite(v) or (v != 0 and not 1e-100 <= abs(v) <= 1e100):
+        raise InputError(f"{what} = {v:g} is out of range (0 or magnitude 1e-100 to 1e100)")
+    return v

@@ -1,0 +1,337 @@
+"""CBAR, CBEAM, CROD and CONROD of a deck: sections, materials, shear factors, and the
+assembly of their (parameter) stiffness and mass, vectorised over elements with
+:mod:`eigenupdate.model.frame3d`."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.io.nastran_fields import in_range
+from eigenupdate.model import frame3d, sections
+
+# PBARL shapes read: pyNastran's A, I1, I2, J as they are (ROD, TUBE), or with NASTRAN's
+# torsion constant (BAR, BOX), or all from model/sections.py (I, T, CHAN)
+PBARL_SHAPES = ("ROD", "TUBE", "BAR", "BOX", *sections.THIN_WALLED)
+
+# shear factors NASTRAN gives the PBARL/PBEAML sections: circle 0.9 (NASTRAN's
+# documentation; Simcenter's frequencies of the shared pyn_beam_modes deck agree to 1e-7,
+# NASTRAN_CoFE's 0.85716 would be 0.96 % off), solid rectangle 5/6 (NASTRAN_CoFE's PBEAML)
+SHEAR_FACTORS = {"BAR": (5.0 / 6.0, 5.0 / 6.0), "ROD": (0.9, 0.9)}
+
+
+def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
+           k0, m0, kj, mj) -> None:
+    """CBAR, CROD and CONROD, vectorised over elements."""
+    sections: dict = {}  # validated once per property (or CONROD)
+
+    def section(key, make, where_):
+        if key not in sections:
+            A, i1, i2, j, nsm, mid, pkey, *shear = make()
+            for name, x in (("A", A), ("I1", i1), ("I2", i2), ("J", j), ("NSM", nsm)):
+                owner = pkey[0] + " " + str(pkey[1]) if pkey else where_
+                if x is None or in_range(x, f"{owner}: {name}") < 0:
+                    raise InputError(f"{owner}: {name} = {x} must be >= 0")
+            mat, rho, g, tied = _material(bdf, mid, where_)
+            k1, k2, nsi = shear
+            if (k1 or k2) and not g > 0:
+                raise InputError(f"{where_}: shear factors K1, K2 need MAT1 {mid} G > 0")
+            sections[key] = (mat.e, g, tied, rho, float(A), float(i1), float(i2),
+                             float(j or 0.0), float(nsm or 0.0), mid, pkey, k1, k2,
+                             in_range(nsi, f"{where_}: NSI"))
+        return sections[key]
+
+    label, rod, ga, gb, g0, xv, wa, wb, sec = [], [], [], [], [], [], [], [], []
+    pins = []
+    zero = np.zeros(3)
+    for eid, e in sorted(bdf.elements.items()):
+        lab = f"{e.type} {eid}"
+        if e.type in ("CBAR", "CBEAM"):
+            ptype = "PBAR" if e.type == "CBAR" else "PBEAM"
+            prop = bdf.properties.get(e.pid)
+            if prop is None or prop.type not in {"PBAR": ("PBAR", "PBARL"),
+                                                 "PBEAM": ("PBEAM", "PBEAML")}[ptype]:
+                raise InputError(f"{lab}: property {ptype} {e.pid} is not defined")
+            if str(e.offt) not in ("GGG", "1"):  # NASTRAN-95's F = 1: X is a vector, as GGG
+                raise InputError(f"{lab}: OFFT {e.offt} is not supported (only GGG)")
+            pin = np.zeros(12, bool)
+            for end, flags in ((0, e.pa), (6, e.pb)):
+                pin[[end + int(c) - 1 for c in str(flags or "") if c != "0"]] = True
+            if pin.any() and consistent:
+                raise InputError(f"{lab}: pin flags PA/PB with coupled mass are not supported")
+            if getattr(e, "sa", 0) or getattr(e, "sb", 0):
+                raise InputError(f"{lab}: scalar points SA/SB (warping) are not supported")
+            a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
+            g0.append(-1 if e.g0 is None else grid(e.g0, lab))
+            xv.append(zero if e.g0 is not None else e.x)
+            if not consistent and (np.any(e.wa) or np.any(e.wb)):
+                # lumped end masses on rigid offsets give a singular, non-diagonal M
+                raise InputError(f"{lab}: offsets WA/WB need consistent mass "
+                                 f"(PARAM,COUPMASS,1) here")
+            wa.append(e.wa)
+            wb.append(e.wb)
+            sec.append(section((prop.type, e.pid), lambda p=prop: (
+                pbarl_section(p) if p.type in ("PBARL", "PBEAML") else bar_section(p)),
+                lab))
+        elif e.type in ("CROD", "CONROD", "CTUBE"):
+            if e.type == "CTUBE":
+                prop = bdf.properties.get(e.pid)
+                if prop is None or prop.type != "PTUBE":
+                    raise InputError(f"{lab}: property PTUBE {e.pid} is not defined")
+                sec.append(section(("PTUBE", e.pid), lambda p=prop: _tube(p), lab))
+            elif e.type == "CROD":
+                prop = bdf.properties.get(e.pid)
+                if prop is None or prop.type != "PROD":
+                    raise InputError(f"{lab}: property PROD {e.pid} is not defined")
+                sec.append(section(("PROD", e.pid), lambda p=prop: (
+                    p.A, 0.0, 0.0, p.j, p.nsm, p.mid, ("PROD", p.pid), 0.0, 0.0, 0.0), lab))
+            else:
+                sec.append(section(("CONROD", eid), lambda e=e: (
+                    e.A, 0.0, 0.0, e.j, e.nsm, e.mid, None, 0.0, 0.0, 0.0), lab))
+            a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
+            g0.append(-1)
+            xv.append(zero)
+            wa.append(zero)
+            wb.append(zero)
+        else:
+            continue
+        pins.append(pin if e.type in ("CBAR", "CBEAM") else np.zeros(12, bool))
+        label.append(lab)
+        rod.append(e.type in ("CROD", "CONROD", "CTUBE"))
+        ga.append(a)
+        gb.append(b)
+    if not label:
+        return
+    rod, ga, gb, g0 = np.array(rod), np.array(ga), np.array(gb), np.array(g0)
+    # orientation vector and offsets are given in GA's (GB's) displacement system
+    to_basic = np.transpose(frames, (0, 2, 1))
+    wa = np.einsum("nij,nj->ni", to_basic[ga], np.array(wa, float))
+    wb = np.einsum("nij,nj->ni", to_basic[gb], np.array(wb, float))
+    xa, xb = xyz[ga] + wa, xyz[gb] + wb
+    v = np.einsum("nij,nj->ni", to_basic[ga], np.array(xv, float))
+    by_g0 = g0 >= 0
+    v[by_g0] = xyz[g0[by_g0]] - xyz[ga[by_g0]]
+    v[rod] = frame3d.any_normal((xb - xa)[rod])
+    rows = sec  # per element: E, G, tied, rho, A, I1, I2, J, nsm, mid, pkey, K1, K2
+    L, R = frame3d.local_axes(xa, xb, v, label)
+    T = frame3d.element_transform(R, wa, wb, frames[ga], frames[gb])
+    E, G, rho = (np.array([r[k] for r in rows], float) for k in (0, 1, 3))
+    tied = np.array([r[2] for r in rows])
+    A, I1, I2, J, nsm = (np.array([r[k] for r in rows], float) for k in range(4, 9))
+    K1, K2, nsi = (np.array([r[k] for r in rows], float) for k in (11, 12, 13))
+    beam = np.array([lab.startswith("CBEAM") for lab in label])
+    # Timoshenko shear parameters; K = 0 (or PBAR's blank) is a shear-rigid section
+    with np.errstate(divide="ignore", invalid="ignore"):
+        phi1 = np.where(K1 > 0, 12 * E * I1 / (K1 * A * G * L**2), 0.0)
+        phi2 = np.where(K2 > 0, 12 * E * I2 / (K2 * A * G * L**2), 0.0)
+    bad = np.flatnonzero(~(np.isfinite(phi1) & np.isfinite(phi2)))
+    if bad.size:
+        raise InputError(f"{label[bad[0]]}: shear factors K1/K2 need A > 0 and G > 0")
+    with np.errstate(over="ignore", invalid="ignore"):
+        big = ~np.isfinite(E * np.maximum(A, np.maximum(I1, I2)) / L**3 * 12)
+    if big.any():
+        e = int(np.flatnonzero(big)[0])
+        raise InputError(f"{label[e]}: stiffness overflows (MAT1 {rows[e][9]} E = "
+                         f"{E[e]:g} on a {L[e]:g} long element)")
+    kp = frame3d.stiffness_parts(L, phi1, phi2)
+    frame3d.release(kp, np.array(pins))
+    mp = frame3d.mass_parts(L, consistent)
+    mp["translation"][rod] = frame3d.rod_mass_part(L[rod], consistent)
+    mp["torsion"][~beam] = 0.0  # NASTRAN's CBAR and CROD carry no torsional inertia
+    parts = {**{f"k_{k}": x for k, x in kp.items()}, **{f"m_{k}": x for k, x in mp.items()}}
+    dofs = (6 * np.stack([ga, gb], 1)[:, :, None] + np.arange(6)[None, None, :]).reshape(-1, 12)
+    r_idx = np.repeat(dofs, 12, axis=1)
+    c_idx = np.tile(dofs, (1, 12))
+    # section quantities and the parameters that scale each (one at most per element)
+    total = {"k_axial": E * A, "k_torsion": G * J, "k_bend1": E * I1, "k_bend2": E * I2,
+             "m_translation": wtmass * (rho * A + nsm),
+             "m_torsion": np.where(beam, wtmass * (rho * (I1 + I2) + nsi), 0.0)}
+    n = len(rows)
+    deriv: list[dict[str, np.ndarray]] = [{} for _ in kj]
+
+    def d(j, part, coef, mask):
+        arr = deriv[j].setdefault(part, np.zeros(n))
+        arr[mask] += coef[mask] if np.ndim(coef) else coef
+
+    mids = np.array([r[9] for r in rows])
+    pkeys = [r[10] for r in rows]
+    shear = (phi1 != 0) | (phi2 != 0)
+
+    def linear_only(mask, fld, card, cid, planes):
+        hit = np.flatnonzero(mask & planes)
+        if hit.size:
+            raise InputError(f"{card} {cid} field {fld}: not a parameter of the shear-flexible "
+                             f"{label[hit[0]]} (K1/K2 make K not linear in it; E with G "
+                             f"blank and RHO are)")
+
+    for (card, cid), slots in pindex.items():
+        if card == "MAT1":
+            mask = mids == cid
+            if "E" in slots:
+                linear_only(mask, "E", card, cid, shear & ~tied)
+                j = slots["E"]
+                for part, c in (("k_axial", A), ("k_bend1", I1), ("k_bend2", I2)):
+                    d(j, part, c, mask)
+                d(j, "k_torsion", np.where(tied, G * J / E, 0.0), mask)
+            if "RHO" in slots:
+                j = slots["RHO"]
+                d(j, "m_translation", wtmass * A, mask)
+                d(j, "m_torsion", np.where(beam, wtmass * (I1 + I2), 0.0), mask)
+        elif card in ("PBAR", "PBEAM", "PROD"):
+            mask = np.array([k == (card, cid) for k in pkeys])
+            tors = np.where(beam, wtmass * rho, 0.0)
+            for fld, parts_ in (("A", (("k_axial", E), ("m_translation", wtmass * rho))),
+                                ("I1", (("k_bend1", E), ("m_torsion", tors))),
+                                ("I2", (("k_bend2", E), ("m_torsion", tors))),
+                                ("J", (("k_torsion", G),))):
+                if fld in slots:
+                    planes = {"A": shear, "I1": phi1 != 0, "I2": phi2 != 0, "J": np.zeros(n, bool)}
+                    linear_only(mask, fld, card, cid, planes[fld])
+                    for part, c in parts_:
+                        d(slots[fld], part, c, mask)
+    _one_parameter_per_quantity(deriv, label, kj)
+    base = {part: tot - sum((values[j] * dj[part] for j, dj in enumerate(deriv) if part in dj),
+                            np.zeros(n)) for part, tot in total.items()}
+
+    def put(dest, coefs: dict[str, np.ndarray]) -> None:
+        # sum the local parts first: one transformation and one COO block per element
+        sel = np.flatnonzero(np.any([c != 0 for c in coefs.values()], axis=0))
+        if sel.size:
+            local = sum(c[sel, None, None] * parts[p][sel] for p, c in coefs.items())
+            dest.add(r_idx[sel], c_idx[sel], frame3d.to_global(local, T[sel]))
+
+    for kind, dest0, dests in (("k", k0, kj), ("m", m0, mj)):
+        put(dest0, {p: c for p, c in base.items() if p[0] == kind})
+        for j, dj in enumerate(deriv):
+            if any(p[0] == kind for p in dj):
+                put(dests[j], {p: c for p, c in dj.items() if p[0] == kind})
+
+
+def bar_section(prop) -> tuple:
+    """(A, I1, I2, J, NSM, MID, (card, id), K1, K2) of a PBAR or a constant-section
+    PBEAM; K = 0 means no shear flexibility (PBAR's blank, PBEAM's 0.0)."""
+    where = f"{prop.type} {prop.pid}"
+    k1, k2 = prop.k1 or 0.0, prop.k2 or 0.0
+    if prop.type == "PBAR" and k1 >= 1e8:  # pyNastran's stand-in for a blank K1
+        k1 = 0.0
+    if prop.type == "PBAR" and k2 >= 1e8:
+        k2 = 0.0
+    if k1 < 0 or k2 < 0:
+        raise InputError(f"{where}: shear factors K1 = {k1:g}, K2 = {k2:g} must be >= 0")
+    if prop.type == "PBEAM":
+        for name in ("A", "i1", "i2", "i12", "j", "nsm"):
+            if np.ptp(np.asarray(getattr(prop, name), float)) != 0:
+                raise InputError(f"{where}: {name.upper()} varies along the beam; only a "
+                                 f"constant section is supported")
+        # S1, S2 (shear relief of a taper) do nothing on a constant section
+        extra = [n for n in ("cwa", "cwb", "m1a", "m2a", "m1b", "m2b", "n1a", "n2a", "n1b",
+                             "n2b") if getattr(prop, n)]
+        if extra:
+            raise InputError(f"{where}: {', '.join(x.upper() for x in extra)} (warping, "
+                             f"offsets of the mass or neutral axis) are not supported")
+        nsia = prop.nsia or 0.0
+        nsib = nsia if prop.nsib is None else prop.nsib
+        if nsia != nsib:
+            raise InputError(f"{where}: NSI varies along the beam ({nsia:g}, {nsib:g})")
+    first = [float(np.ravel(getattr(prop, n))[0]) for n in ("A", "i1", "i2", "i12", "j", "nsm")]
+    A, i1, i2, i12, j, nsm = first
+    if i12:
+        raise InputError(f"{where}: I12 = {i12:g} is not supported")
+    nsi = nsia if prop.type == "PBEAM" else 0.0
+    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, nsi
+
+
+def _tube(prop) -> tuple:
+    """The section of a constant PTUBE: outer diameter OD, wall T (blank: a solid rod);
+    A = pi (OD^2 - ID^2) / 4, J = pi (OD^4 - ID^4) / 32 (NASTRAN's PTUBE)."""
+    where = f"PTUBE {prop.pid}"
+    od = in_range(prop.OD1, f"{where}: OD")
+    if prop.OD2 is not None and prop.OD2 != prop.OD1:
+        raise InputError(f"{where}: a tapered tube (OD2 = {prop.OD2:g}) is not supported")
+    t = od / 2 if prop.t is None else in_range(prop.t, f"{where}: T")
+    if not 0 < t <= od / 2:
+        raise InputError(f"{where}: wall T = {t:g} must be > 0 and at most OD / 2 = {od / 2:g}")
+    inner = od - 2 * t
+    area = math.pi * (od**2 - inner**2) / 4
+    j = math.pi * (od**4 - inner**4) / 32
+    return area, 0.0, 0.0, j, prop.nsm or 0.0, prop.mid, ("PTUBE", prop.pid), 0.0, 0.0, 0.0
+
+
+def pbarl_section(prop) -> tuple:
+    """(A, I1, I2, J, NSM, MID, (card, id), K1, K2) of a standard PBARL or a constant
+    PBEAML section: the equivalent PBAR's (PBEAM's) values (the shear centre is taken
+    at the centroid)."""
+    where = f"{prop.type} {prop.pid}"
+    shape = prop.Type
+    if prop.group.strip() != "MSCBML0":
+        raise InputError(f"{where}: GROUP {prop.group} (a user section library) is not "
+                         f"supported; only the standard sections of MSCBML0")
+    if shape not in PBARL_SHAPES:
+        why = " (unsymmetric: I12 != 0, as PBAR I12)" if shape == "L" else ""
+        raise InputError(f"{where}: section type {shape}{why} is not supported (supported: "
+                         f"{', '.join(PBARL_SHAPES)})")
+    dim, nsm = prop.dim, prop.nsm
+    if prop.type == "PBEAML":  # one row of dimensions per station: constant sections only
+        rows = np.atleast_2d(np.asarray(dim, float))
+        if np.ptp(rows, axis=0).any() or np.ptp(np.ravel(nsm)) != 0:
+            raise InputError(f"{where}: the section varies along the beam; only a constant "
+                             f"section is supported")
+        dim, nsm = rows[0], float(np.ravel(nsm)[0])
+    try:
+        if shape in sections.THIN_WALLED:
+            A, i1, i2, _ = sections.thin_walled_section(shape, dim)
+        else:
+            A, i1, i2 = sections.solid_section(shape, dim)
+        j = sections.torsion_constant(shape, dim)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
+    if shape not in SHEAR_FACTORS:
+        warnings.warn(f"{where}: NASTRAN gives section {shape} shear flexibility with factors "
+                      f"not modelled here (Euler-Bernoulli); stubby members will differ",
+                      EigenupdateWarning, stacklevel=2)
+    k1, k2 = SHEAR_FACTORS.get(shape, (0.0, 0.0))
+    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, 0.0
+
+
+def _one_parameter_per_quantity(deriv, label, kj) -> None:
+    parts = {p for dj in deriv for p in dj}
+    for part in parts:
+        owner = np.full(len(label), -1)
+        for j, dj in enumerate(deriv):
+            if part not in dj:
+                continue
+            hit = np.flatnonzero(dj[part])
+            clash = hit[owner[hit] >= 0]
+            if clash.size:
+                e = clash[0]
+                raise InputError(f"{label[e]}: parameters {owner[e] + 1} and {j + 1} both scale "
+                                 f"its {part[2:]} {'stiffness' if part[0] == 'k' else 'mass'}"
+                                 f": K or M would hold their product (not linear)")
+            owner[hit] = j
+
+
+def _material(bdf, mid: int, where: str):
+    mat = bdf.materials.get(mid)
+    if mat is None or mat.type != "MAT1":
+        raise InputError(f"{where}: material MAT1 {mid} is not defined")
+    for name in ("e", "g", "rho"):
+        if getattr(mat, name) is not None:
+            in_range(getattr(mat, name), f"MAT1 {mid}: {name.upper()}")
+    rho = mat.rho or 0.0
+    if rho < 0:
+        raise InputError(f"MAT1 {mid}: negative density RHO = {rho:g}")
+    if not (mat.e and mat.e > 0):
+        raise InputError(f"MAT1 {mid}: E must be > 0 for a bar or rod, got {mat.e}")
+    g = mat.g if mat.g is not None else 0.0
+    return mat, rho, g, _tied(mat)
+
+
+def _tied(mat) -> bool:
+    """True when MAT1's G was left blank: pyNastran filled in E / (2 (1 + NU)), so G
+    follows E."""
+    g = mat.g or 0.0
+    return mat.nu is not None and g > 0 and math.isclose(g, mat.e / (2 * (1 + mat.nu)),
+                                                         rel_tol=1e-12)

@@ -407,6 +407,9 @@ def update(
         status, message, point, success = trust_region(point, evaluate, stop_test, pairing,
                                                         history, iterate, lower,
                                                         max_iterations, say, t0)
+        point, status, message, success = _finish_by_gauss_newton(
+            point, status, message, success, stop_test, evaluate, attempt, pairing, history,
+            iterate, lower, max_iterations, say, t0)
     if success and pairing.clustered:
         released = _resolved_clusters(pairing, rows, lam_meas, std_rel, w, point, len(history))
         if released:
@@ -425,6 +428,9 @@ def update(
                 status, message, point, success = trust_region(
                     point, evaluate, stop_test, pairing, history, iterate, lower,
                     max_iterations, say, t0)
+                point, status, message, success = _finish_by_gauss_newton(
+                    point, status, message, success, stop_test, evaluate, attempt, pairing,
+                    history, iterate, lower, max_iterations, say, t0)
     nit = len(history) - 1
     z, lin = point.z, point.lin
 
@@ -460,6 +466,31 @@ def update(
         optimizer=optimizer,
         pairing=pairing.to_dict(),
     )
+
+
+def _finish_by_gauss_newton(point, status, message, success, stop_test, evaluate, attempt,
+                            pairing, history, iterate, lower, max_iterations, say, t0):
+    """SciPy's own tests (ftol, xtol) can stop the trust region where the fit is not done:
+    a region shrunk on turned-down trial points (on the paper's beam with 10 % priors, 4 of
+    200 draws stopped after one iteration up to 11 posterior std from the truth, "both ftol
+    and xtol satisfied"). Success needs our convergence test at the final point; where
+    SciPy claims it and the test does not, Gauss-Newton with its line search continues."""
+    if not success or stop_test(point) is not None:
+        return point, status, message, success
+    left = max_iterations - (len(history) - 1)
+    if left < 1:
+        return point, status, message, False
+    say(f"[{len(history) - 1}/{max_iterations}] the trust region stopped short of the fit "
+        f"({message}): continuing by Gauss-Newton")
+    done = len(history) - 1
+
+    def shifted(i, z, obj, step, kind):  # Gauss-Newton counts its own iterations
+        return iterate(done + i, z, obj, step, kind)
+
+    status, gn_message, point = gauss_newton(point, evaluate, attempt, stop_test, pairing,
+                                             history, shifted, lower, left, say, t0)
+    return (point, status, f"{gn_message} (Gauss-Newton after the trust region: {message})",
+            status in (1, 2, 4))
 
 
 def _resolved_clusters(pairing: Pairing, rows, lam_meas, std_rel, w, point, iteration: int

@@ -247,7 +247,7 @@ def _unconverged_result(path: str) -> bool:
         doc = json.loads(Path(path).read_text(encoding="utf-8"))
     except FileNotFoundError:
         return True
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecursionError):
         return False
     return isinstance(doc, dict) and doc.get("converged") is False
 

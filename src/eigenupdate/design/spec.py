@@ -45,3 +45,8 @@ class DesignSpec:
     min_shift_in_std: float = 3.0
     min_relative_gap: float = 0.02
     max_added_mass: float | None = None
+
+    @property
+    def values(self) -> int:
+        """Added masses and springs to choose from at each coordinate."""
+        return len(self.masses) + len(self.stiffnesses)

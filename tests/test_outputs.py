@@ -79,7 +79,7 @@ def test_links_loops_and_dangling(fig2, run_cli):
 @pytest.mark.parametrize("command", [
     ["report", "{d}/study.toml", "-o", "{d}/measured.csv"],
     ["design", "{d}/study.toml", "-o", "{d}/measured.csv"],
-    ["simulate", "{d}/study.toml", "-o", "{d}/measured.csv"],
+    ["simulate", "{d}/truth.toml", "-o", "{d}/truth.toml"],
     ["frf", "{d}/study.toml", "--input", "1", "--output", "1", "-o", "{d}/measured.csv"],
     ["sweep", "{d}/study.toml", "--coordinate", "1", "--max-mass", "1", "-o",
      "{d}/truth.toml"],

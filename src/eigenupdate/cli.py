@@ -127,7 +127,8 @@ def cmd_simulate(args) -> int:
     _finite(args.noise_hz, "--noise-hz")
     _finite(args.std_hz, "--std-hz", positive=True)
     study = load_study(args.study)
-    _not_inputs({"-o": args.output}, study.inputs(measurements=True, frf=True))
+    # the study's measurement file is where simulated data may go: not read by this run
+    _not_inputs({"-o": args.output}, study.inputs(frf=True))
     rows = workflow.simulate_study(study, args.noise_hz, args.std_hz, args.seed)
     write_measurements(args.output, rows)
     print(f"wrote {len(rows)} frequencies of {len(study.configurations)} configurations to "
@@ -271,8 +272,8 @@ def cmd_extract(args) -> int:
             raise InputError("goes with FRF files; a study says kind in "
                              "[measurement.frf_options]", field="--kind")
         study = load_study(inputs[0], require_model=False)
-        _not_inputs({"-o": args.output, "--uff55": args.uff55},
-                    study.inputs(measurements=True, frf=True))
+        # the study's measurement file is where the extracted frequencies go
+        _not_inputs({"-o": args.output, "--uff55": args.uff55}, study.inputs(frf=True))
         done = workflow.extract_study(study, progress=_progress)
         label = study.model.coordinate_table.point_label if study.model is not None else None
     else:  # FRF files on the command line: one configuration per file, named by its stem

@@ -5,6 +5,8 @@ broken stdout that loses nothing silently (issue 23)."""
 import io
 import os
 import shutil
+import socket
+import stat
 import sys
 
 import pytest
@@ -43,16 +45,27 @@ def test_fifo_device_directory_refused(fig2, run_cli):
     bad(run_cli, ["simulate", fig2 / "truth.toml", "-o", fig2 / "fifo"], "fifo", "-o",
         "not a regular file")
     assert (fig2 / "fifo").is_fifo()
-    bad(run_cli, ["simulate", fig2 / "truth.toml", "-o", os.devnull], os.devnull,
-        "not a regular file")
-    assert os.path.exists(os.devnull) and not os.path.isfile(os.devnull)
+    # a socket stands for a device: a regression must not replace this machine's /dev/null
+    sock = socket.socket(socket.AF_UNIX)
+    sock.bind(str(fig2 / "sock"))
+    try:
+        bad(run_cli, ["simulate", fig2 / "truth.toml", "-o", fig2 / "sock"], "sock",
+            "not a regular file")
+        assert stat.S_ISSOCK(os.lstat(fig2 / "sock").st_mode)
+        os.symlink(fig2 / "sock", fig2 / "to_sock")
+        bad(run_cli, ["simulate", fig2 / "truth.toml", "-o", fig2 / "to_sock"], "to_sock",
+            "not a regular file")
+    finally:
+        sock.close()
     (fig2 / "d").mkdir()
     bad(run_cli, ["update", fig2 / "study.toml", "--save", fig2 / "d"], "--save", "directory")
     bad(run_cli, ["montecarlo", fig2 / "study.toml", "--trials", "1", "--in-process", "-o",
                   fig2 / "measured.csv"], "-o", "not a directory")
-    before.pop("d", None)
+    for k in ("d", "sock", "to_sock"):
+        before.pop(k, None)
     after = snapshot(fig2)
-    after.pop("d", None)
+    for k in ("d", "sock", "to_sock"):
+        after.pop(k, None)
     assert after == before
 
 

@@ -555,8 +555,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         with contextlib.redirect_stdout(held):
             status = _main(argv)
     except SystemExit as exc:  # argparse: --help, usage errors
-        if out is not None:
-            out.write(held.getvalue())
+        with contextlib.suppress(OSError, ValueError, AttributeError):  # --help into a
+            out.write(held.getvalue())  # closed pipe: the usage status stands
         raise exc from None
     text = held.getvalue()
     if not text:

@@ -453,6 +453,8 @@ def run_case(seed: int, index: int, base: Path, cache: dict[str, Path]) -> tuple
                 code = exc.code
     except _Timeout:
         return "timeout", what
+    except KeyboardInterrupt:  # the campaign is stopped, not the case failed
+        raise
     except BaseException:
         return "traceback", what + "\n" + traceback.format_exc(limit=-3)
     finally:
@@ -528,7 +530,11 @@ def run(cases: int, seed: int = 0, keep: Path | None = None, progress: bool = Fa
         for i in range(first, first + cases):
             if progress == "each":
                 print(f"case {i}", file=sys.stderr, flush=True)
-            cls, detail = run_case(seed, i, base, cache)
+            try:
+                cls, detail = run_case(seed, i, base, cache)
+            except KeyboardInterrupt:  # a bounded campaign stopped: report what it reached
+                print(f"stopped before case {i}", file=sys.stderr, flush=True)
+                break
             counts[cls] += 1
             command = re.search(r", eigenupdate (\S+)", detail).group(1)
             by_command.setdefault(command, Counter())[cls] += 1
@@ -566,13 +572,14 @@ def main(argv: list[str] | None = None) -> int:
     faulthandler.enable()  # a crash in compiled code still says where
     # a case that tries to allocate tens of GiB fails here instead of swapping the machine
     resource.setrlimit(resource.RLIMIT_AS, (8 << 30, resource.RLIM_INFINITY))
+    signal.signal(signal.SIGTERM, signal.default_int_handler)  # `timeout` still reports
     if args.keep:
         args.keep.mkdir(parents=True, exist_ok=True)
     start = time.monotonic()
     counts, examples, by_command = run(args.cases, args.seed, args.keep,
                                        progress="each" if args.verbose else True,
                                        first=args.first)
-    print(f"{args.cases} cases from {args.first}, seed {args.seed}, "
+    print(f"{sum(counts.values())} cases from {args.first}, seed {args.seed}, "
           f"{time.monotonic() - start:.0f} s")
     for cls in (*EXPECTED, *sorted(set(counts) - set(EXPECTED))):
         print(f"  {cls:28s} {counts.get(cls, 0)}")

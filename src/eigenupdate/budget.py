@@ -44,8 +44,16 @@ def limit(name: str) -> int:
     except ValueError:
         value = -1
     if value < 1:
-        raise InputError(f"must be an integer >= 1, got {text!r}", field=env)
+        raise InputError(f"must be an integer >= 1, got {text!r}", source="environment",
+                         field=env)
     return value
+
+
+def check_environment() -> None:
+    """Raise InputError for a limit set to something that is not a limit (the command
+    line calls this first, so a bad setting stops every command at once)."""
+    for name in LIMITS:
+        limit(name)
 
 
 def require(name: str, value: float, what: str, *, source: str | None = None,

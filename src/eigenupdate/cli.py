@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from eigenupdate import workflow
+from eigenupdate import budget, workflow
 from eigenupdate.design.executor import SCHEDULER_ENV, executor_for
 from eigenupdate.design.montecarlo import montecarlo, study_setup
 from eigenupdate.design.montecarlo_io import FILES as MC_FILES
@@ -588,6 +588,7 @@ def _main(argv: Sequence[str] | None) -> int:
             warnings.simplefilter("always", EigenupdateWarning)
             warnings.showwarning = _show_warning  # one line, no source location
             parallel.threads()  # a bad EIGENUPDATE_THREADS stops every command at once
+            budget.check_environment()  # and so does a bad limit
             return args.func(args)
     except (InputError, NumericalError) as exc:
         # exit 2: bad input, singular matrix, repeated eigenvalue; 1: not converged

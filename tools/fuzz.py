@@ -347,7 +347,8 @@ def attack_output(d: Path, argv: list[str], files: list[str], outputs: list[str]
         (target / "keep").write_text("kept\n")
     else:
         name = "n" * (249 if kind == "name of 249" else 300 - len(target.suffix)) + target.suffix
-        outputs = [o for o in outputs if o != target.name] + [name]
+        slash = "/" if f"{target.name}/" in outputs else ""  # an output directory
+        outputs = [o for o in outputs if o.rstrip("/") != target.name] + [name + slash]
         argv[i] = str(target.with_name(name))
     return kind, outputs, sock
 

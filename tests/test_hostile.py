@@ -40,3 +40,12 @@ def test_extreme_prior_stds(mixed, run_cli, args):
     if code == 2:
         assert len(err.strip().splitlines()) == 1, err
     assert Path(mixed / "study.toml").exists()
+
+
+def test_table_without_rows():
+    """A Monte Carlo whose every trial is refused has no parameter rows (fuzz seed 1,
+    case 1109: TypeError in the table before)."""
+    from eigenupdate.report.text import table
+
+    assert table(["parameter", "bias"], []).splitlines() == ["parameter  bias",
+                                                              "---------  ----"]

@@ -187,7 +187,7 @@ def test_missing_design_table_and_overwriting_the_study(tmp_path, run_cli):
     assert code == 2 and "no [design] table" in err
     before = p.read_bytes()
     code, _, err = run_cli("design", p, "-o", p)
-    assert code == 2 and "overwrite the input study" in err and p.read_bytes() == before
+    assert code == 2 and "is an input of this run" in err and p.read_bytes() == before
 
 
 def test_modes_from_upper_frequency():

@@ -435,7 +435,7 @@ def test_truncated_file(tmp_path: Path):
         (b"    -1\n    58\ngarbage\n    -1\n", "dataset 1 \\(type 58\\): pyuff cannot parse it"),
         (
             b"    -1\n  abc\nfoo\n    -1\n",
-            "no FRF dataset \\(type 58\\) in file; found dataset types 0",
+            "line 2: no dataset type after the '-1' delimiter that opens dataset 1",
         ),
     ],
     ids=["empty", "binary-junk", "csv", "broken-58", "broken-header"],
@@ -667,3 +667,27 @@ def test_unknown_label_names_the_label_and_the_option(tmp_path: Path):
     msg = str(info.value)
     assert "'EU/EU'" in msg and '[measurement.frf_options] kind = "accelerance"' in msg
     assert "\n" not in msg
+
+
+@pytest.mark.parametrize("binary", [False, True])
+@pytest.mark.parametrize("blank", [b"\n", b"   \n", b"\r\n"])
+def test_blank_line_after_an_opening_delimiter(tmp_path: Path, binary: bool, blank: bytes):
+    """Issue 23: pyuff reads the blank line as the type of the dataset and skips it, so
+    the file read as 2 FRFs of 3 and the next resonance was taken for the missing mode's.
+    Now an error naming the line and the dataset; a blank line between datasets (after a
+    closing delimiter) is still harmless."""
+    path = tmp_path / "f.uff"
+    write_frfs(path, frf_set(np.linspace(1.0, 100.0, 50)), binary=binary)
+    raw = path.read_bytes()
+    u = pyuff.UFF(str(path))
+    u.get_set_types()
+    blocks = u._block_ind  # pyuff's own pairing of the tags: [opening, closing - 1]
+    assert len(blocks) == 3
+    cut = int(blocks[1][0]) + len(b"    -1\n")  # opening tag of dataset 2
+    path.write_bytes(raw[:cut] + blank + raw[cut:])
+    with pytest.raises(InputError, match="dataset 2: line [0-9]+: a blank line after the "
+                                         "'-1' delimiter that opens dataset 2"):
+        read_frfs(path)
+    closing = int(blocks[0][1]) + 1 + len(b"    -1\n")  # closing tag of dataset 1
+    path.write_bytes(raw[:closing] + blank + raw[closing:])
+    assert len(read_frfs(path)) == 3

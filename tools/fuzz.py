@@ -1,11 +1,16 @@
 """Fuzz the command line with seeded mutations of the shipped examples.
 
-Every case copies one scenario (the paper's Fig. 2 system, the paper's beam, the FRF
-example reduced to its bare structure with binary and ASCII UFF 58, the Fig. 2 system as
-Matrix Market files) into a fresh directory, mutates one of its files (numbers replaced
-by hostile values, lines deleted, swapped or repeated, huge fields, flipped bytes,
-truncation), sometimes puts files where the outputs go, runs one command in-process
-through ``eigenupdate.cli.main`` and checks the invariant:
+Every case copies one scenario (the paper's Fig. 2 system with a saved result, the
+paper's beam, the FRF example reduced to its bare structure with binary and ASCII UFF 58,
+the Fig. 2 system as Matrix Market files, and the NASTRAN frame where pyNastran is
+installed) into a fresh directory, mutates one of its files (numbers replaced by hostile
+values, lines deleted, swapped or repeated, huge fields, flipped bytes, truncation, and
+resource attacks: nesting thousands deep, a Matrix Market header of 3e6 x 3e6, a beam of
+10,001 nodes, ``additions = 2000000000``), sometimes puts files where the outputs go or
+attacks an output path (a FIFO, a socket, a link or hard link to an input, a dangling link,
+a link loop, a directory, a 249- or 300-character name), sometimes breaks stdout, runs
+one of the commands (all eleven) in-process through ``eigenupdate.cli.main`` and checks
+the invariant:
 
 * exit status 0, 1 or 2, never an exception (a traceback);
 * exit 1 only for an update that did not converge;
@@ -13,10 +18,15 @@ through ``eigenupdate.cli.main`` and checks the invariant:
   ``extract`` aside), at most ``MAX_LINE`` characters;
 * no NaN or inf in any output of a run with exit 0 (stdout and the files written);
 * no file of the case changed, and none created, by a failed run (exit 1 may create its
-  ``--save`` result); a successful run changes only its own outputs.
+  ``--save`` result); a successful run changes only its own outputs (a special file or
+  link replaced by a regular file counts as changed);
+* with a broken stdout, exit 2 naming the standard output (the files still written) or
+  the status the run would have had.
 
 Usage: ``python tools/fuzz.py --cases 10000 [--seed 0] [--keep DIR]``; prints the count
-of each class of outcome. ``tests/test_fuzz.py`` runs a few hundred cases.
+of each class of outcome, overall and by command (inputs mutated, runs, tracebacks, bad
+exits, hangs, NaN with exit 0, clobbered files). ``tests/test_fuzz.py`` runs a short
+seeded form in CI.
 """
 
 from __future__ import annotations
@@ -26,11 +36,14 @@ import contextlib
 import faulthandler
 import hashlib
 import io
+import os
 import random
 import re
 import resource
 import shutil
 import signal
+import socket
+import stat
 import struct
 import sys
 import tempfile
@@ -57,8 +70,13 @@ NAN = re.compile(r"\b(nan|inf|infinity)\b", re.IGNORECASE)
 # ---------------------------------------------------------------- scenarios
 
 def _fig2(d: Path) -> None:
+    """The Fig. 2 study, its truth and data, and the saved result of its update."""
+    from eigenupdate.cli import main
+
     for name in ("study.toml", "truth.toml", "measured.csv"):
         shutil.copy(EXAMPLES / "paper_fig2" / name, d / name)
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        assert main(["update", str(d / "study.toml"), "--save", str(d / "result.json")]) == 0
 
 
 def _beam(d: Path) -> None:
@@ -105,9 +123,17 @@ def _mtx(d: Path) -> None:
     shutil.copy(EXAMPLES / "paper_fig2" / "measured.csv", d / "measured.csv")
 
 
-# (command arguments, outputs it may write); {d} is the case directory
+def _nastran(d: Path) -> None:
+    for name in ("study.toml", "frame.bdf", "measured.csv"):
+        shutil.copy(EXAMPLES / "nastran_frame" / name, d / name)
+
+
+MC = ["mc/trials.csv", "mc/summary.json", "mc/std.png", "mc/zscores.png"]
+
+# (command arguments, outputs it may write); {d} is the case directory; an output ending
+# in "/" is a directory whose files the command names itself
 SCENARIOS = {
-    "fig2": (_fig2, ["study.toml", "truth.toml", "measured.csv"], [
+    "fig2": (_fig2, ["study.toml", "truth.toml", "measured.csv", "result.json"], [
         (["frequencies", "{d}/study.toml"], []),
         (["frequencies", "{d}/truth.toml", "--json"], []),
         (["frequencies", "{d}/study.toml", "--modes", "4"], []),
@@ -118,6 +144,21 @@ SCENARIOS = {
         (["simulate", "{d}/truth.toml", "-o", "{d}/sim.csv"], ["sim.csv"]),
         (["simulate", "{d}/study.toml", "-o", "{d}/study.toml"], ["study.toml"]),
         (["simulate", "{d}/truth.toml", "-o", "{d}/sim.csv", "--noise-hz", "{x}"], ["sim.csv"]),
+        (["design", "{d}/study.toml", "-o", "{d}/plan.toml"], ["plan.toml"]),
+        (["design", "{d}/study.toml", "-o", "{d}/plan.toml", "--scheduler", "{x}"],
+         ["plan.toml"]),
+        (["montecarlo", "{d}/study.toml", "--trials", "2", "--in-process", "--seed", "1",
+          "--truth", "{d}/truth.toml", "-o", "{d}/mc"], MC),
+        (["sweep", "{d}/study.toml", "--coordinate", "2", "--max-mass", "{x}", "-o",
+          "{d}/sweep.png"], ["sweep.png"]),
+        (["frf", "{d}/study.toml", "--input", "1", "--output", "2", "--updated",
+          "{d}/result.json", "-o", "{d}/frf.png"], ["frf.png"]),
+        (["report", "{d}/study.toml", "--result", "{d}/result.json", "-o", "{d}/report.html"],
+         ["report.html"]),
+        (["simulate-frf", "{d}/truth.toml", "-o", "{d}/frfs", "--input", "1", "--outputs",
+          "1", "2", "--fmax", "120", "--df", "{x}"], ["frfs/"]),
+        (["simulate-frf", "{d}/truth.toml", "-o", "{d}/frfs", "--input", "1", "--outputs",
+          "2", "--fmax", "120", "--noise", "{x}", "--binary"], ["frfs/"]),
     ]),
     "beam": (_beam, ["study.toml", "measured.csv"], [
         (["frequencies", "{d}/study.toml"], []),
@@ -129,6 +170,10 @@ SCENARIOS = {
         (["extract", "{d}/study.toml", "-o", "{d}/x.csv", "--uff55", "{d}/m.uff"],
          ["x.csv", "m.uff"]),
         (["extract", "{d}/ascii.toml", "-o", "{d}/x.csv"], ["x.csv"]),
+        (["extract", "{d}/ascii.uff", "-o", "{d}/x.csv", "--plots", "{d}/plots"],
+         ["x.csv", "plots/"]),
+        (["extract", "{d}/base.uff", "-o", "{d}/x.csv", "--kind", "receptance", "--json"],
+         ["x.csv"]),
     ]),
     "mtx": (_mtx, ["study.toml", "K0.mtx", "M0.mtx", "k1.mtx", "m2.mtx", "measured.csv"], [
         (["frequencies", "{d}/study.toml"], []),
@@ -136,6 +181,16 @@ SCENARIOS = {
         (["update", "{d}/study.toml"], []),
     ]),
 }
+try:  # the NASTRAN extra (numpy < 2) is another environment
+    import pyNastran  # noqa: F401
+except ImportError:
+    pass
+else:
+    SCENARIOS["nastran"] = (_nastran, ["study.toml", "frame.bdf", "measured.csv"], [
+        (["frequencies", "{d}/study.toml"], []),
+        (["check", "{d}/study.toml"], []),
+        (["update", "{d}/study.toml", "--save-bdf", "{d}/updated.bdf"], ["updated.bdf"]),
+    ])
 
 
 # ---------------------------------------------------------------- mutations
@@ -203,13 +258,104 @@ def mutate_binary(data: bytes, rng: random.Random) -> bytes:
     return bytes(buf)
 
 
+def mutate_resource(path: Path, data: bytes, rng: random.Random) -> bytes:
+    """An input that asks for more than a run may build (see eigenupdate/budget.py)."""
+    depth = rng.choice([100, 3000, 50_000])
+    if path.suffix == ".json":
+        return b'{"parameters": ' + b"[" * depth + b"]" * depth + b"}"
+    if path.suffix == ".mtx":
+        lines = data.split(b"\n")
+        i = next((k for k, ln in enumerate(lines) if ln and not ln.startswith(b"%")), 1)
+        size = rng.choice([b"3000000", b"100000000", b"2147483648"])
+        lines[i] = size + b" " + size + b" " + (lines[i].split() or [b"1"])[-1]
+        return b"\n".join(lines)
+    if path.suffix == ".toml":
+        kind = rng.choice(["deep", "additions", "nodes", "design"])
+        if kind == "deep":
+            return b"x = " + b"[" * depth + b"]" * depth + b"\n" + data
+        if kind == "additions" and b"[design]" in data:
+            return data.replace(b"[design]", b"[design]\nadditions = 2000000000")
+        if kind == "design" and b"[design]" in data:
+            coords = ", ".join(str(i) for i in range(1, 5)).encode()
+            masses = ", ".join(f"{0.01 * (i + 1):.2f}" for i in range(400)).encode()
+            return re.sub(rb"\[design\][^\[]*", b"[design]\ncoordinates = [" + coords +
+                          b"]\nmasses = [" + masses + b"]\nconfigurations = 3\nadditions = 4\n"
+                          b"modes = [1, 2]\nfrequency_std_hz = 0.01\n\n", data)
+        if b"nodes = [" in data:
+            nodes = ", ".join(f"{0.001 * i:.3f}" for i in range(10_001)).encode()
+            return re.sub(rb"nodes = \[[^\]]*\]", b"nodes = [" + nodes + b"]", data)
+        return b"x = " + b"{a = " * depth + b"1" + b"}" * depth + b"\n" + data
+    return data + b"9" * 1_000_000
+
+
 def mutate(path: Path, rng: random.Random) -> str:
     data = path.read_bytes()
+    if rng.random() < 0.1:
+        path.write_bytes(mutate_resource(path, data, rng))
+        return f"{path.name} (resource)"
     for _ in range(rng.choice([1, 1, 1, 2, 3])):
         binary = path.suffix == ".uff" and path.name == "base.uff"
         data = mutate_binary(data, rng) if binary else mutate_text(data, rng)
     path.write_bytes(data)
     return path.name
+
+
+ATTACKS = ("fifo", "socket", "link to input", "hard link to input", "dangling link",
+           "link loop", "directory", "name of 249", "name of 300")
+
+
+def attack_output(d: Path, argv: list[str], files: list[str], outputs: list[str],
+                  rng: random.Random) -> tuple[str, list[str], socket.socket | None]:
+    """Put something hostile where one output goes; returns (attack, outputs, socket)."""
+    flags = [i for i, a in enumerate(argv[:-1]) if a in ("-o", "--save", "--save-bdf",
+                                                          "--uff55", "--plots")
+             and argv[i + 1].startswith(str(d))]
+    if not flags:
+        return "(none)", outputs, None
+    i = rng.choice(flags) + 1
+    target = Path(argv[i])
+    if target.name in files:  # the output is itself an input: already an attack
+        return "(none)", outputs, None
+    if target.is_file():  # a pre-existing output gives way to the attack
+        target.unlink()
+    kind = rng.choice(ATTACKS)
+    sock = None
+    if kind == "fifo":
+        os.mkfifo(target)
+    elif kind == "socket":
+        sock = socket.socket(socket.AF_UNIX)
+        sock.bind(str(target))
+    elif kind in ("link to input", "hard link to input"):
+        # a file the command line names is an input for sure (a study's model or data
+        # file is one too, but the fuzzer does not parse the study to know)
+        named = [Path(a) for a in argv if a.startswith(str(d)) and Path(a).is_file()
+                 and Path(a) != target]
+        if not named:
+            return "(none)", outputs, None
+        source = rng.choice(named)
+        if kind == "link to input":
+            target.symlink_to(source)
+        else:
+            os.link(source, target)
+    elif kind == "dangling link":
+        target.symlink_to(d / "nowhere" / "x")
+    elif kind == "link loop":
+        target.symlink_to(d / "loop")
+        (d / "loop").symlink_to(target)
+    elif kind == "directory":
+        target.mkdir()
+        (target / "keep").write_text("kept\n")
+    else:
+        name = "n" * (249 if kind == "name of 249" else 300 - len(target.suffix)) + target.suffix
+        slash = "/" if f"{target.name}/" in outputs else ""  # an output directory
+        outputs = [o for o in outputs if o.rstrip("/") != target.name] + [name + slash]
+        argv[i] = str(target.with_name(name))
+    return kind, outputs, sock
+
+
+class _BrokenStdout(io.StringIO):
+    def write(self, s: str) -> int:
+        raise BrokenPipeError(32, "Broken pipe")
 
 
 # ---------------------------------------------------------------- one case
@@ -223,8 +369,22 @@ def _alarm(signum, frame):
 
 
 def _snapshot(d: Path) -> dict[str, str]:
-    return {str(p.relative_to(d)): hashlib.sha256(p.read_bytes()).hexdigest()
-            for p in sorted(d.rglob("*")) if p.is_file()}
+    """Every entry of ``d``: content hash of a regular file, else what it is (a link by
+    its target, a FIFO, a socket), so replacing one by a file is a change."""
+    out = {}
+    for p in sorted(d.rglob("*")):
+        st = os.lstat(p)
+        if stat.S_ISLNK(st.st_mode):
+            out[str(p.relative_to(d))] = "link to " + os.readlink(p)
+        elif stat.S_ISREG(st.st_mode):
+            out[str(p.relative_to(d))] = hashlib.sha256(p.read_bytes()).hexdigest()
+        elif not stat.S_ISDIR(st.st_mode):
+            out[str(p.relative_to(d))] = f"special {stat.S_IFMT(st.st_mode):o}"
+    return out
+
+
+def _allowed(name: str, outputs: list[str]) -> bool:
+    return any(name == o or (o.endswith("/") and name.startswith(o)) for o in outputs)
 
 
 def _strings(path: Path) -> list[str]:
@@ -270,11 +430,18 @@ def run_case(seed: int, index: int, base: Path, cache: dict[str, Path]) -> tuple
     x = rng.choice(HOSTILE)
     argv = [a.replace("{d}", str(d)).replace("{x}", x) for a in args]
     for out in outputs:
-        if rng.random() < 0.5 and not (d / out).exists():
+        if (rng.random() < 0.5 and not out.endswith("/") and not (d / out).exists()
+                and (d / out).parent.is_dir()):
             (d / out).write_text("pre-existing\n", encoding="utf-8")
+    attack, sock = "(none)", None
+    if rng.random() < 0.25:
+        attack, outputs, sock = attack_output(d, argv, files, outputs, rng)
+    broken = rng.random() < 0.1
     before = _snapshot(d)
-    stdout, stderr = io.StringIO(), io.StringIO()
-    what = f"seed {seed} case {index}: {name}, mutated {target}, eigenupdate {' '.join(argv)}"
+    stdout = _BrokenStdout() if broken else io.StringIO()
+    stderr = io.StringIO()
+    what = (f"seed {seed} case {index}: {name}, mutated {target}, output {attack}"
+            f"{', stdout broken' if broken else ''}, eigenupdate {' '.join(argv)}")
     old = signal.signal(signal.SIGALRM, _alarm)
     signal.alarm(TIMEOUT_S)
     try:
@@ -287,17 +454,29 @@ def run_case(seed: int, index: int, base: Path, cache: dict[str, Path]) -> tuple
                 code = exc.code
     except _Timeout:
         return "timeout", what
+    except KeyboardInterrupt:  # the campaign is stopped, not the case failed
+        raise
     except BaseException:
         return "traceback", what + "\n" + traceback.format_exc(limit=-3)
     finally:
         signal.alarm(0)
         signal.signal(signal.SIGALRM, old)
+        if sock is not None:
+            sock.close()
     after = _snapshot(d)
     changed = sorted(k for k in set(before) | set(after) if before.get(k) != after.get(k))
-    out, err = stdout.getvalue(), stderr.getvalue()
+    out, err = ("" if broken else stdout.getvalue()), stderr.getvalue()
     err_lines = [ln for ln in err.splitlines() if not PROGRESS.match(ln)]
     if code not in (0, 1, 2):
         return "bad exit status", f"{what}: {code!r}"
+    if broken and STDOUT_ERROR in err:  # the run's own outcome, then the stdout error
+        if len(err_lines) > 2 or not err_lines[-1].startswith("eigenupdate: error: "):
+            return "exit 2 not one line", f"{what}\n{err[:2000]}"
+        changed = sorted(k for k in set(before) | set(_snapshot(d))
+                         if before.get(k) != _snapshot(d).get(k))
+        if any(not _allowed(c, outputs) for c in changed):
+            return "clobbered", f"{what}: {changed}"
+        return "exit 2 (stdout broken)", what
     if code == 2:
         if len(err_lines) != 1 or not ERROR.match(err_lines[0]):
             return "exit 2 not one line", f"{what}\n{err[:2000]}"
@@ -310,35 +489,41 @@ def run_case(seed: int, index: int, base: Path, cache: dict[str, Path]) -> tuple
         if argv[0] != "update" or "not converged" not in err:
             return "exit 1 not non-convergence", f"{what}\n{err[:2000]}"
         allowed = [o for o in outputs if o not in before]  # only a new --save result
-        if any(c not in allowed for c in changed):
+        if any(not _allowed(c, allowed) for c in changed):
             return "clobbered", f"{what}: {changed}"
         return "exit 1 (not converged)", what
     if code == 2:
         if changed:
             return "clobbered", f"{what}: {changed}"
         return "exit 2 (input error)", what
-    if any(c not in outputs for c in changed):
+    if any(not _allowed(c, outputs) for c in changed):
         return "clobbered", f"{what}: {changed}"
     texts = [out] + [(d / c).read_text(encoding="utf-8", errors="replace") for c in changed
-                     if (d / c).exists()]
+                     if (d / c).is_file() and (d / c).suffix not in (".png", ".uff")]
     # a mutated title or configuration name may itself say "inf": echoed, not computed
     for s in _strings(Path(argv[1])) if len(argv) > 1 else []:
         texts = [t.replace(s, "") for t in texts]
     if any(NAN.search(t) for t in texts):
         return "NaN in output", what
-    if err_lines and argv[0] not in ("simulate",):
+    if err_lines and argv[0] not in ("simulate", "montecarlo", "design"):
         return "exit 0 with messages", f"{what}\n{err[:2000]}"
     return "exit 0", what
 
 
-EXPECTED = ("exit 0", "exit 1 (not converged)", "exit 2 (input error)")
+EXPECTED = ("exit 0", "exit 1 (not converged)", "exit 2 (input error)", "exit 2 (stdout broken)")
+STDOUT_ERROR = "eigenupdate: error: standard output:"
+BAD_EXITS = ("bad exit status", "exit 1 not non-convergence", "exit 2 not one line",
+             "exit 2 line too long", "exit 2 names no file", "exit 0 with messages")
+COLUMNS = {"tracebacks": ("traceback",), "bad exits": BAD_EXITS, "hangs": ("timeout",),
+           "NaN exit 0": ("NaN in output",), "clobbered": ("clobbered",)}
 
 
 def run(cases: int, seed: int = 0, keep: Path | None = None, progress: bool = False,
-        first: int = 0) -> tuple[Counter, dict[str, list[str]]]:
-    """Run cases ``first`` to ``first + cases - 1``; returns the count of each class and
-    the details of violations."""
+        first: int = 0) -> tuple[Counter, dict[str, list[str]], dict[str, Counter]]:
+    """Run cases ``first`` to ``first + cases - 1``; returns the count of each class, the
+    details of violations and the count of each class by command."""
     counts: Counter = Counter()
+    by_command: dict[str, Counter] = {}
     examples: dict[str, list[str]] = {}
     with tempfile.TemporaryDirectory(prefix="eigenupdate-fuzz-") as tmp:
         base, cache = Path(tmp), {}
@@ -346,8 +531,14 @@ def run(cases: int, seed: int = 0, keep: Path | None = None, progress: bool = Fa
         for i in range(first, first + cases):
             if progress == "each":
                 print(f"case {i}", file=sys.stderr, flush=True)
-            cls, detail = run_case(seed, i, base, cache)
+            try:
+                cls, detail = run_case(seed, i, base, cache)
+            except KeyboardInterrupt:  # a bounded campaign stopped: report what it reached
+                print(f"stopped before case {i}", file=sys.stderr, flush=True)
+                break
             counts[cls] += 1
+            command = re.search(r", eigenupdate (\S+)", detail).group(1)
+            by_command.setdefault(command, Counter())[cls] += 1
             if cls not in EXPECTED:
                 examples.setdefault(cls, []).append(detail)
                 if keep is not None:
@@ -356,7 +547,19 @@ def run(cases: int, seed: int = 0, keep: Path | None = None, progress: bool = Fa
             if progress and (i + 1 - first) % 100 == 0:
                 print(f"{i + 1 - first} cases, {time.monotonic() - start:.0f} s: {dict(counts)}",
                       file=sys.stderr, flush=True)
-    return counts, examples
+    return counts, examples, by_command
+
+
+def command_table(by_command: dict[str, Counter]) -> str:
+    """Counts by command: inputs mutated (= runs, one per case) and the violations."""
+    head = ["command", "inputs", "runs", *COLUMNS]
+    rows = [head]
+    for cmd in sorted(by_command):
+        c = by_command[cmd]
+        n = sum(c.values())
+        rows.append([cmd, str(n), str(n), *(str(sum(c[k] for k in v)) for v in COLUMNS.values())])
+    widths = [max(len(r[i]) for r in rows) for i in range(len(head))]
+    return "\n".join("  ".join(x.rjust(w) for x, w in zip(r, widths, strict=True)) for r in rows)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -370,15 +573,18 @@ def main(argv: list[str] | None = None) -> int:
     faulthandler.enable()  # a crash in compiled code still says where
     # a case that tries to allocate tens of GiB fails here instead of swapping the machine
     resource.setrlimit(resource.RLIMIT_AS, (8 << 30, resource.RLIM_INFINITY))
+    signal.signal(signal.SIGTERM, signal.default_int_handler)  # `timeout` still reports
     if args.keep:
         args.keep.mkdir(parents=True, exist_ok=True)
     start = time.monotonic()
-    counts, examples = run(args.cases, args.seed, args.keep,
-                           progress="each" if args.verbose else True, first=args.first)
-    print(f"{args.cases} cases from {args.first}, seed {args.seed}, "
+    counts, examples, by_command = run(args.cases, args.seed, args.keep,
+                                       progress="each" if args.verbose else True,
+                                       first=args.first)
+    print(f"{sum(counts.values())} cases from {args.first}, seed {args.seed}, "
           f"{time.monotonic() - start:.0f} s")
     for cls in (*EXPECTED, *sorted(set(counts) - set(EXPECTED))):
         print(f"  {cls:28s} {counts.get(cls, 0)}")
+    print("\nby command:\n" + command_table(by_command))
     for cls, details in examples.items():
         print(f"\n{cls}: {len(details)} case(s), first ones:")
         for detail in details[:3]:

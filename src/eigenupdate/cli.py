@@ -8,6 +8,9 @@ eigenvalue (a one-line message naming the file and the field; no traceback).
 from __future__ import annotations
 
 import argparse
+import contextlib
+import errno
+import io
 import json
 import os
 import re
@@ -20,9 +23,10 @@ from pathlib import Path
 
 import numpy as np
 
-from eigenupdate import workflow
+from eigenupdate import budget, workflow
 from eigenupdate.design.executor import SCHEDULER_ENV, executor_for
 from eigenupdate.design.montecarlo import montecarlo, study_setup
+from eigenupdate.design.montecarlo_io import FILES as MC_FILES
 from eigenupdate.design.montecarlo_io import write_montecarlo
 from eigenupdate.design.plan import design_plan
 from eigenupdate.design.plan_io import plan_study_text
@@ -42,6 +46,7 @@ from eigenupdate.errors import (
     shorten,
 )
 from eigenupdate.identify.weights import ESTIMATORS, OPTIMIZERS
+from eigenupdate.io import outputs
 from eigenupdate.io.atomic import make_dir, transaction, write_text
 from eigenupdate.io.measurements import write_measurements
 from eigenupdate.io.nastran_write import save_updated_bdf
@@ -60,43 +65,40 @@ from eigenupdate.solve.sweep import mass_sweep
 
 def _output_file(path: str | None, flag: str) -> None:
     """Refuse an output file that cannot be written, before any work is done."""
-    if path is None:
-        return
-    p = Path(path)
-    if not str(path) or p.is_dir():
-        raise InputError("is a directory or empty; give a file name", source=str(path),
-                         field=flag)
-    if not p.resolve().parent.is_dir():
-        raise InputError(f"directory {str(p.parent)!r} does not exist", source=str(path),
-                         field=flag)
+    outputs.check_file(path, flag)
 
 
-def _not_inputs(outputs: dict[str, str | Path | None], inputs: Sequence[Path]) -> None:
+def _not_inputs(outputs_: dict[str, str | Path | None], inputs: Sequence[Path]) -> None:
     """Refuse an output that is an input of the same run, or two outputs in one file."""
-    def key(p: str | Path) -> str:
-        return os.path.normcase(os.path.realpath(p))
-
-    seen = {key(p): "an input of this run" for p in inputs}
-    for flag, path in outputs.items():
-        if path is None:
-            continue
-        what = seen.get(key(path))
-        if what is not None:
-            raise InputError(f"is {what}; choose another output file", source=str(path),
-                             field=flag)
-        seen[key(path)] = f"also the output of {flag}"
+    outputs.check_not_inputs(outputs_, inputs)
 
 
 def _output_dir(path: str | None, flag: str) -> None:
-    """Refuse an output directory that is a file or whose parent does not exist."""
-    if path is None:
+    """Refuse an output directory that is a file or cannot receive files."""
+    outputs.check_dir(path, flag)
+
+
+def _files_in(directory: str | Path, names: Sequence[str], flag: str,
+              inputs: Sequence[Path]) -> None:
+    """The files a run writes into an output directory: regular files, none an input."""
+    paths = {f"{flag} {n}": Path(directory) / n for n in names}
+    if Path(directory).is_dir():
+        for f, p in paths.items():
+            outputs.check_file(p, f)
+    outputs.check_not_inputs(paths, inputs)
+
+
+_SCHEDULER = re.compile(r"(tcp://)?(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+):\d{1,5}")
+
+
+def _scheduler(address: str | None, flag: str) -> None:
+    """Refuse a scheduler address Dask cannot use as given (tls:// needs certificates
+    this command does not take; a missing port)."""
+    if address is None:
         return
-    p = Path(path)
-    if not str(path) or (p.exists() and not p.is_dir()):
-        raise InputError("exists and is not a directory", source=str(path), field=flag)
-    if not p.resolve().parent.is_dir():
-        raise InputError(f"directory {str(p.parent)!r} does not exist", source=str(path),
-                         field=flag)
+    if not _SCHEDULER.fullmatch(address) or int(address.rsplit(":", 1)[1]) > 65535:
+        raise InputError(f"{address!r} is not a scheduler address tcp://HOST:PORT (tls:// and "
+                         f"other protocols are not supported)", field=flag)
 
 
 def _finite(value: float | None, flag: str, *, positive: bool = False) -> None:
@@ -135,8 +137,11 @@ def cmd_frequencies(args) -> int:
 
 def cmd_simulate(args) -> int:
     _output_file(args.output, "-o")
+    _finite(args.noise_hz, "--noise-hz")
+    _finite(args.std_hz, "--std-hz", positive=True)
     study = load_study(args.study)
-    _not_inputs({"-o": args.output}, study.inputs())
+    # the study's measurement file is where simulated data may go: not read by this run
+    _not_inputs({"-o": args.output}, study.inputs(frf=True))
     rows = workflow.simulate_study(study, args.noise_hz, args.std_hz, args.seed)
     write_measurements(args.output, rows)
     print(f"wrote {len(rows)} frequencies of {len(study.configurations)} configurations to "
@@ -158,7 +163,7 @@ def cmd_update(args) -> int:
     if args.save_bdf and study.nastran is None:
         raise InputError("needs a study whose [model] type is \"nastran\"", field="--save-bdf")
     _not_inputs({"--save": args.save, "--save-bdf": args.save_bdf},
-                study.inputs(measurements=True))
+                study.inputs(measurements=True, frf=True))
     res = workflow.update_study(study, args.method, args.optimizer,
                                 progress=lambda line: print(line, file=sys.stderr))
     doc = res.to_dict()
@@ -179,9 +184,9 @@ def cmd_update(args) -> int:
 
 def cmd_design(args) -> int:
     _output_file(args.output, "-o")
-    if Path(args.output).resolve() == Path(args.study).resolve():
-        raise InputError("would overwrite the input study; give another file", field="-o")
+    _scheduler(args.scheduler, "--scheduler")
     study = load_study(args.study)
+    _not_inputs({"-o": args.output}, study.inputs(measurements=True, frf=True))
     if study.design is None:
         raise InputError("the study has no [design] table", source=str(study.path),
                          field="design")
@@ -224,7 +229,13 @@ def cmd_montecarlo(args) -> int:
         raise InputError(f"must be >= 1, got {args.trials}", field="--trials")
     if args.workers is not None and args.workers < 1:
         raise InputError(f"must be >= 1, got {args.workers}", field="--workers")
+    _scheduler(args.scheduler or (None if args.in_process else os.environ.get(SCHEDULER_ENV)),
+               "--scheduler" if args.scheduler else SCHEDULER_ENV)
     study = load_study(args.study)
+    if args.output:
+        truth = load_study(args.truth).inputs() if args.truth else []
+        _files_in(args.output, MC_FILES, "-o",
+                  [*study.inputs(measurements=True, frf=True), *truth])
     setup = study_setup(study, args.truth)
     bar = _progress_bar if sys.stderr.isatty() else None
     start = time.perf_counter()
@@ -277,7 +288,7 @@ def _unconverged_result(path: str) -> bool:
         doc = json.loads(Path(path).read_text(encoding="utf-8"))
     except FileNotFoundError:
         return True
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecursionError):
         return False
     return isinstance(doc, dict) and doc.get("converged") is False
 
@@ -301,6 +312,7 @@ def cmd_extract(args) -> int:
             raise InputError("goes with FRF files; a study says kind in "
                              "[measurement.frf_options]", field="--kind")
         study = load_study(inputs[0], require_model=False)
+        # the study's measurement file is where the extracted frequencies go
         _not_inputs({"-o": args.output, "--uff55": args.uff55}, study.inputs(frf=True))
         done = workflow.extract_study(study, progress=_progress)
         label = study.model.coordinate_table.point_label if study.model is not None else None
@@ -310,10 +322,10 @@ def cmd_extract(args) -> int:
         label = None
     res = done.result
     print(report.dumps(extraction_doc(res)) if args.json else extraction_text(res))
-    if res.problems:  # a failed run writes nothing
-        for p in res.problems[1:]:
-            _progress(f"eigenupdate: also: {p}")
-        raise InputError(res.problems[0])
+    if res.problems:  # a failed run writes nothing; one line, the others counted
+        more = len(res.problems) - 1
+        raise InputError(res.problems[0] + (f" (and {more} more problem(s): "
+                                            f"{'; '.join(res.problems[1:])})" if more else ""))
     results = res.modes
     if args.plots:
         make_dir(args.plots)
@@ -343,6 +355,9 @@ def cmd_simulate_frf(args) -> int:
     _output_dir(args.output, "-o")
     _finite(args.fmax, "--fmax", positive=True)
     _finite(args.df, "--df", positive=True)
+    _finite(args.noise, "--noise")
+    for eta in args.loss_factor:
+        _finite(eta, "--loss-factor")
     if args.fmax <= args.df or args.fmax / args.df > 1e7:
         raise InputError(f"need --df < --fmax and at most 1e7 lines, got --df {args.df:g}, "
                          f"--fmax {args.fmax:g}", field="--fmax")
@@ -352,8 +367,8 @@ def cmd_simulate_frf(args) -> int:
     sets = workflow.simulate_study_frfs(study, f, args.input, args.outputs, args.loss_factor,
                                noise=args.noise, seed=args.seed)
     out = Path(args.output)
-    _not_inputs({f"-o {c.name!r}": out / f"{_safe_name(c.name)}.uff" for c, _ in sets},
-                study.inputs(measurements=True, frf=True))
+    _files_in(out, [f"{_safe_name(c.name)}.uff" for c, _ in sets], "-o",
+              study.inputs(measurements=True, frf=True))
     make_dir(out)
     lines = ["[measurement.frf]"]
     for c, frfs in sets:
@@ -369,7 +384,7 @@ def cmd_frf(args) -> int:
     _finite(args.fmax, "--fmax", positive=True)
     _finite(args.loss_factor, "--loss-factor")
     study = load_study(args.study)
-    _not_inputs({"-o": args.o}, [*study.inputs(), *(Path(p) for p in
+    _not_inputs({"-o": args.o}, [*study.inputs(measurements=True, frf=True), *(Path(p) for p in
                                   (args.measured, args.updated, args.damping) if p)])
     c = workflow.compare_frf(study, args.input, args.output, configuration=args.configuration,
                     measured=args.measured, updated=args.updated, loss_factor=args.loss_factor,
@@ -387,7 +402,7 @@ def cmd_sweep(args) -> int:
     if args.modes is not None and args.modes < 1:
         raise InputError(f"must be >= 1, got {args.modes}", field="--modes")
     study = load_study(args.study)
-    _not_inputs({"-o": args.o}, study.inputs())
+    _not_inputs({"-o": args.o}, study.inputs(measurements=True, frf=True))
     n = args.modes or max(study.modes or [3])
     sweep = mass_sweep(study.model, args.coordinate, args.max_mass, n,
                        configuration=study.configuration(args.configuration))
@@ -402,7 +417,9 @@ def cmd_report(args) -> int:
              "--montecarlo": args.montecarlo}
     command = ["eigenupdate", "report", args.study, *[x for k, v in files.items() if v
                                                       for x in (k, v)], "-o", args.o]
-    _not_inputs({"-o": args.o}, [Path(args.study), *(Path(v) for v in files.values() if v)])
+    read = [Path(args.study), *(Path(v) for v in files.values() if v)]
+    _not_inputs({"-o": args.o}, [*read, *load_study(args.study).inputs(measurements=True,
+                                                                        frf=True)])
     page = render_report(args.study, result=args.result, extracted=args.extracted,
                          design=args.design, montecarlo=args.montecarlo,
                          command=shlex.join(command))
@@ -576,6 +593,37 @@ def _show_warning(message, category, filename, lineno, file=None, line=None) -> 
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run one command; its standard output is held until its files are written, so a
+    closed or broken stdout cannot lose them, and is then reported (exit status 2)."""
+    out = sys.stdout
+    held = io.StringIO()
+    try:
+        with contextlib.redirect_stdout(held):
+            status = _main(argv)
+    except SystemExit as exc:  # argparse: --help, usage errors
+        with contextlib.suppress(OSError, ValueError, AttributeError):  # --help into a
+            out.write(held.getvalue())  # closed pipe: the usage status stands
+        raise exc from None
+    text = held.getvalue()
+    if not text:
+        return status
+    try:
+        if out is None:  # started with stdout closed
+            raise BrokenPipeError(errno.EBADF, "standard output is closed")
+        out.write(text)
+        out.flush()
+    except (OSError, ValueError) as exc:
+        with contextlib.suppress(OSError, ValueError, AttributeError):  # none at exit
+            os.dup2(os.open(os.devnull, os.O_WRONLY), out.fileno())
+        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            print(f"eigenupdate: error: standard output: {why}; the files asked for were "
+                  f"written, the printed result was not", file=sys.stderr, flush=True)
+        return status or 2
+    return status
+
+
+def _main(argv: Sequence[str] | None) -> int:
     args = build_parser().parse_args(argv)
     if argv is None:  # this process is the command's own: see solve/memory.py
         keep_freed_memory()
@@ -586,6 +634,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             warnings.simplefilter("always", EigenupdateWarning)
             warnings.showwarning = _show_warning  # one line, no source location
             parallel.threads()  # a bad EIGENUPDATE_THREADS stops every command at once
+            budget.check_environment()  # and so does a bad limit
             return args.func(args)
     except (InputError, NumericalError) as exc:
         # exit 2: bad input, singular matrix, repeated eigenvalue; 1: not converged

@@ -15,13 +15,15 @@ and returns a typed result, so a notebook does what ``eigenupdate <command>`` do
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from eigenupdate.errors import InputError
+from eigenupdate.identify.consistency import residual_consistency
 from eigenupdate.identify.identifiability import IdentifiabilityReport, check
+from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.identify.updating import UpdateResult, update
 from eigenupdate.identify.weights import estimator_weights
 from eigenupdate.io.measurements import Measurement
@@ -58,13 +60,33 @@ def check_study(study: Study, method: str | None = None) -> IdentifiabilityRepor
 def update_study(study: Study, method: str | None = None, optimizer: str | None = None,
                  progress: Callable[[str], None] | None = None) -> UpdateResult:
     """The update with the study's measurements and settings (``eigenupdate update``);
-    ``progress`` gets one line per iteration."""
-    return update(
-        study.model, study.configurations, study.require_modes(), study.measurements(),
-        method=method or study.method, optimizer=optimizer or study.optimizer,
+    ``progress`` gets one line per iteration.
+
+    The measured frequencies are checked against the ordering laws first (with the bare
+    structure's rigid-body modes: added stiffness cannot lower an eigenvalue of a grounded
+    structure), and a converged fit that the data reject (chi-square test of the
+    residuals, :mod:`eigenupdate.identify.consistency`) is returned as not converged,
+    naming the configurations and modes that do not fit.
+    """
+    meas = study.measurements()
+    method = method or study.method
+    n_rigid = solve_configurations(study.model, study.configurations[:1], 1)[0].n_rigid
+    check_measured_frequencies(study.configurations, meas, source=str(study.frequencies),
+                               n_rigid=n_rigid)
+    res = update(
+        study.model, study.configurations, study.require_modes(), meas,
+        method=method, optimizer=optimizer or study.optimizer,
         max_iterations=study.max_iterations, xtol=study.tolerance,
         source=str(study.frequencies), progress=progress,
     )
+    if not res.success:
+        return res
+    fit = residual_consistency(res.rows, res.measured_hz, res.updated_hz, meas,
+                               res.identifiability.rank, model=study.model if
+                               method == "bayesian" else None, updated=res.parameters)
+    if fit is not None and fit.rejected:
+        res = replace(res, success=False, message=f"{res.message}; but {fit.message()}")
+    return res
 
 
 def study_frequencies(study: Study, n_modes: int | None = None) -> dict[str, np.ndarray]:

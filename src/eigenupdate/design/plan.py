@@ -4,13 +4,14 @@ predicted accuracy of the designed plan, of the study's own plan and of every ca
 
 from __future__ import annotations
 
-import itertools
-from collections.abc import Sequence
+import math
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
 from functools import partial
 
 import numpy as np
 
+from eigenupdate.budget import require
 from eigenupdate.design.covariance import posterior_covariance
 from eigenupdate.design.criteria import criterion_value
 from eigenupdate.design.prior import PriorScorer, has_prior, predict, screen_draws
@@ -116,16 +117,40 @@ def candidate_configurations(spec: DesignSpec) -> list[Configuration]:
     ['0.1 kg at 1', '0.2 kg at 1', '0.1 kg at 2', '0.2 kg at 2',
      '0.1 kg at 1 + 0.1 kg at 2', '0.1 kg at 1 + 0.2 kg at 2', '0.2 kg at 1 + 0.1 kg at 2']
     """
+    n = candidate_count(spec)
+    require("candidates", n, f"the [design] table asks for {n:,} candidate configurations "
+            f"({len(spec.coordinates)} coordinates, {spec.values} values each, up to "
+            f"{spec.additions:,} additions)", field="design")
     singles = [Addition(c, mass=m) for c in spec.coordinates for m in spec.masses]
     singles += [Addition(c, stiffness=k) for c in spec.coordinates for k in spec.stiffnesses]
-    groups = [(a,) for a in singles]
-    for n in range(2, spec.additions + 1):
-        groups += [g for g in itertools.combinations(singles, n)
-                   if len({a.coordinate for a in g}) == n]
+    groups = [g for k in range(1, min(spec.additions, len(spec.coordinates)) + 1)
+              for g in _distinct(singles, k)]
     if spec.max_added_mass is not None:
         limit = spec.max_added_mass * (1 + 1e-12)  # 0.1 + 0.2 is not above 0.3 kg
         groups = [g for g in groups if sum(a.mass for a in g) <= limit]
     return [Configuration(" + ".join(_label(a) for a in g), g) for g in groups]
+
+
+def candidate_count(spec: DesignSpec) -> int:
+    """Candidates before the ``max_added_mass`` filter: sum over k = 1..additions of
+    C(coordinates, k) v^k, v values (masses and springs) per coordinate; known before
+    any is built."""
+    nc = len(spec.coordinates)
+    return sum(math.comb(nc, k) * spec.values ** k for k in range(1, min(spec.additions, nc) + 1))
+
+
+def _distinct(singles: list[Addition], k: int, start: int = 0,
+              used: frozenset[int] = frozenset()) -> Iterator[tuple[Addition, ...]]:
+    """The k-combinations of ``singles`` at distinct coordinates, in the order of
+    ``itertools.combinations``, without visiting the others."""
+    if k == 0:
+        yield ()
+        return
+    for i in range(start, len(singles) - k + 1):
+        a = singles[i]
+        if a.coordinate not in used:
+            for rest in _distinct(singles, k - 1, i + 1, used | {a.coordinate}):
+                yield (a, *rest)
 
 
 def _label(a: Addition) -> str:

@@ -52,3 +52,8 @@ class DesignSpec:
     max_added_mass: float | None = None
     prior_draws: int = 64
     max_exchange_risk: float = 0.05
+
+    @property
+    def values(self) -> int:
+        """Added masses and springs to choose from at each coordinate."""
+        return len(self.masses) + len(self.stiffnesses)

@@ -9,7 +9,10 @@ Two facts hold for every structure, whatever its parameters:
   (elastic numbering; a grounded spring on a free structure can turn a rigid-body mode
   into elastic mode 1, which moves the numbering by up to r, hence the wider bounds).
   Configurations that add masses and springs together are not checked against the bare
-  structure.
+  structure. When the number of rigid-body modes of the bare structure is known
+  (``n_rigid``), the springs' lower bound is lambda_{k - min(r, n_rigid)}: on a grounded
+  structure added stiffness can only raise each eigenvalue, as added mass can only
+  lower it.
 
 Measured frequencies that break them are not a poor model but a labelling error (two
 modes swapped, one missed) and would drive the update far from the truth (a swapped pair
@@ -43,6 +46,7 @@ def check_measured_frequencies(
     n_std: float = N_STD,
     rtol: float = RTOL,
     source: str | None = None,
+    n_rigid: int | None = None,
 ) -> None:
     """Raise InputError if measured frequencies break ordering or interlacing.
 
@@ -52,6 +56,8 @@ def check_measured_frequencies(
     measurements : {(configuration name, elastic mode): Measurement}.
     n_std, rtol : allowance, in combined standard deviations or (without std) relative.
     source : the measurement file, for the message.
+    n_rigid : rigid-body modes of the bare structure, if known (tightens the bound of
+        added springs, see the module).
 
     Examples
     --------
@@ -89,14 +95,24 @@ def check_measured_frequencies(
             continue
         r = len({a.coordinate for a in c.additions})
         what = "adds mass" if masses else "adds grounded springs"
+        # springs can make up to min(r, n_rigid) rigid-body modes elastic
+        low = r if masses or n_rigid is None else min(r, n_rigid)
         for k, m in sorted(by_config.get(c.name, {}).items()):
             bounds = ((base.get(k if masses else k + r), 1.0, "above"),
-                      (base.get(k - r), -1.0, "below"))
+                      (base.get(k - low), -1.0, "below"))
             for b, sign, word in bounds:
                 if b is not None and sign * (m.frequency_hz - b.frequency_hz) > _tolerance(
                         m, b, n_std, rtol):
                     raise InputError(
                         f"configuration {c.name!r} {what} at {r} coordinate(s), yet its mode "
                         f"{k} at {m.frequency_hz:.6g} Hz is {word} mode {b.mode} of the bare "
-                        f"structure at {b.frequency_hz:.6g} Hz (interlacing); a swapped or "
-                        f"missed mode in one of them?", source=source)
+                        f"structure at {b.frequency_hz:.6g} Hz ({_law(masses, sign, low, r)}); "
+                        f"a swapped or missed mode in one of them?", source=source)
+
+
+def _law(masses: bool, sign: float, low: int, r: int) -> str:
+    if low == 0:
+        return "added stiffness cannot lower an eigenvalue"
+    if masses and sign > 0:
+        return "added mass cannot raise an eigenvalue"
+    return "interlacing"

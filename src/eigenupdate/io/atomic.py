@@ -3,15 +3,19 @@ then a rename over the target.
 
 Inside :func:`transaction` the renames are deferred: every output of a run is written to
 its temporary file first and all are renamed only when the run has succeeded, so a run
-that fails leaves every pre-existing file as it was.
+that fails leaves every pre-existing file as it was. The renames of one transaction are
+all or none: each replaced file is kept under a hard link until every rename has
+succeeded, and put back if one fails.
 """
 
 from __future__ import annotations
 
 import contextlib
 import contextvars
+import errno
 import os
 import secrets
+import shutil
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -41,6 +45,14 @@ def _unlink(path: Path) -> None:
         os.unlink(path)
 
 
+def temporary_name(name: str) -> str:
+    """A hidden, unique name in the directory of ``name``, no longer than the file
+    system allows however long ``name`` is (the suffix is kept for writers that go by
+    it)."""
+    suffix = Path(name).suffix[:16]
+    return f".{name[:40]}.{secrets.token_hex(6)}.tmp{suffix}"
+
+
 def atomic_write(path: PathLike, write: Callable[[str], None]) -> None:
     """Create ``path`` atomically: ``write(tmp)`` fills a temporary file, then it is renamed.
 
@@ -57,8 +69,13 @@ def atomic_write(path: PathLike, write: Callable[[str], None]) -> None:
     write : callable
         Called with the temporary file name; must write the complete content.
     """
-    target = Path(path)
-    tmp = target.with_name(f".{target.name}.{secrets.token_hex(6)}.tmp{target.suffix}")
+    # through a link, the file it leads to is replaced, never the link by a file
+    target = Path(os.path.realpath(path)) if os.path.islink(path) else Path(path)
+    if target.exists() and not target.is_file():  # the CLI refuses these before any work
+        raise IsADirectoryError(errno.EISDIR if target.is_dir() else errno.EPERM,
+                                "not a regular file; outputs are only regular files",
+                                str(path))
+    tmp = target.with_name(temporary_name(target.name))
     fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666)
     os.close(fd)
     try:
@@ -117,13 +134,44 @@ def transaction() -> Iterator[None]:
         if outer_made is not None:
             outer_made.extend(made)
         return
-    for i, (tmp, target) in enumerate(pending):
-        try:
+    _commit(pending)
+
+
+def _commit(pending: list[tuple[Path, Path]]) -> None:
+    """Rename every temporary file over its target, all or none."""
+    kept: dict[Path, Path | None] = {}  # target -> hard link to its old content, or None
+    done: list[Path] = []
+    try:
+        for _, target in pending:
+            if target not in kept:
+                old = None
+                if target.exists():
+                    old = target.with_name(temporary_name(target.name))
+                    try:
+                        os.link(target, old)
+                    except OSError:  # a file system without hard links
+                        shutil.copy2(target, old)
+                kept[target] = old
+        for tmp, target in pending:
             os.replace(tmp, target)
-        except BaseException:
-            for t, _ in pending[i:]:
-                _unlink(t)
-            raise
+            done.append(target)
+    except BaseException:
+        for target in reversed(done):
+            old = kept.get(target)
+            with contextlib.suppress(OSError):
+                if old is None:
+                    os.unlink(target)
+                else:
+                    os.replace(old, target)
+        for tmp, _ in pending:
+            _unlink(tmp)
+        for old in kept.values():
+            if old is not None:
+                _unlink(old)
+        raise
+    for old in kept.values():
+        if old is not None:
+            _unlink(old)
 
 
 @contextlib.contextmanager

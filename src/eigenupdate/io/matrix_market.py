@@ -11,6 +11,7 @@ import numpy as np
 import scipy.io
 import scipy.sparse as sp
 
+from eigenupdate.budget import require, require_model_size
 from eigenupdate.errors import InputError
 from eigenupdate.model.matrices import matrix_model
 from eigenupdate.model.parameters import Parameter
@@ -18,8 +19,6 @@ from eigenupdate.model.parametric import ParametricModel
 
 SYMMETRY_RTOL = 1e-10
 MAX_LINE = 1024
-MAX_SIZE = 10_000_000
-"""Largest number of rows of a matrix file (its index arrays alone take ~80 bytes a row)."""
 
 
 def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
@@ -51,8 +50,9 @@ def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
 
 def _check_header(path: Path, n: int | None) -> None:
     """Sizes the header declares, checked before anything of that size is allocated:
-    square, n x n when K0 is, at most MAX_SIZE rows, and no more entries than the file
-    can hold (a value takes at least 2 bytes, a coordinate entry at least 6)."""
+    square, n x n when K0 is, within the coordinate budget (:mod:`eigenupdate.budget`),
+    and no more entries than the file can hold (a value takes at least 2 bytes, a
+    coordinate entry at least 6)."""
     src = str(path)
     try:
         rows, cols, entries, fmt, _, _ = scipy.io.mminfo(path)
@@ -64,9 +64,7 @@ def _check_header(path: Path, n: int | None) -> None:
                          source=src)
     if n is not None and rows != n:
         raise InputError(f"the header declares {rows} x {rows}, K0 is {n} x {n}", source=src)
-    if rows > MAX_SIZE:
-        raise InputError(f"the header declares {rows} x {rows}; at most {MAX_SIZE} "
-                         f"coordinates are supported", source=src)
+    require("coordinates", rows, f"the header declares {rows:,} x {rows:,}", source=src)
     # scipy's compiled reader trusts its input: a 140,000-byte token crashes it (SIGSEGV)
     data = path.read_bytes()
     if not data.isascii():
@@ -95,6 +93,7 @@ def read_matrix_model(
     """
     K0 = read_matrix(k0)
     n = K0.shape[0]
+    require_model_size(n, len(parameters), "model.parameter")
     M0 = read_matrix(m0, n)
     terms = []
     for p, kf, mf in parameters:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from eigenupdate.budget import require_nesting
 from eigenupdate.errors import InputError
 from eigenupdate.io.measurements import read_measurements
 from eigenupdate.io.results import read_updated_values
@@ -25,7 +26,11 @@ PathLike = str | Path
 def _json(path: PathLike) -> Any:
     src = str(path)
     try:
-        return json.loads(Path(path).read_text(encoding="utf-8-sig"))
+        text = Path(path).read_text(encoding="utf-8-sig")
+        require_nesting(text, src)
+        return json.loads(text)
+    except InputError:  # too deeply nested
+        raise
     except OSError as exc:
         raise InputError(f"cannot read: {exc.strerror or exc}", source=src) from None
     except (UnicodeDecodeError, ValueError) as exc:

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
+from eigenupdate.budget import require_nesting
 from eigenupdate.errors import InputError
 from eigenupdate.io.uff import read_modes
 from eigenupdate.model.parametric import ParametricModel
@@ -21,10 +22,14 @@ def read_updated_values(path: str | Path, model: ParametricModel) -> dict[str, f
     """
     src = str(path)
     try:
-        doc = json.loads(Path(path).read_text(encoding="utf-8"))
+        text = Path(path).read_text(encoding="utf-8")
+        require_nesting(text, src)
+        doc = json.loads(text)
         values = doc["parameters"]
         if not isinstance(values, dict):
             raise TypeError
+    except InputError:  # too deeply nested
+        raise
     except OSError as exc:
         raise InputError(f"cannot read result: {exc.strerror or exc}", source=src) from None
     except (ValueError, KeyError, TypeError):

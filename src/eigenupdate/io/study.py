@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from eigenupdate.budget import require_nesting
 from eigenupdate.design.spec import CRITERIA, DesignSpec
 from eigenupdate.errors import InputError
 from eigenupdate.identify.weights import ESTIMATORS, OPTIMIZERS
@@ -177,7 +178,11 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
     src = str(path)
     try:
         # utf-8-sig: editors on Windows start the file with a byte-order mark
-        data = tomllib.loads(path.read_bytes().decode("utf-8-sig"))
+        text = path.read_bytes().decode("utf-8-sig")
+        require_nesting(text, src)  # before the recursive parser meets it
+        data = tomllib.loads(text)
+    except InputError:  # too deeply nested
+        raise
     except OSError as exc:
         raise InputError(f"cannot read study file: {exc.strerror or exc}", source=src) from None
     except UnicodeDecodeError as exc:

@@ -83,6 +83,7 @@ import io
 import math
 import operator
 import os
+import re
 import warnings
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, replace
@@ -235,6 +236,7 @@ def _open_uff(path: PathLike) -> tuple[Any, list[int]]:
             types = [int(t) for t in uff.get_set_types()]
     except Exception as exc:  # pyuff raises bare Exception
         raise InputError(f"not a readable universal file ({exc})", source=src) from None
+    _check_datasets(raw, uff, src)
     if types and not raw.rstrip(b" \t\r\n\x00\x1a").endswith(b"-1"):
         raise InputError(
             "file ends inside a dataset (truncated?): no closing '    -1' delimiter after the "
@@ -242,6 +244,30 @@ def _open_uff(path: PathLike) -> tuple[Any, list[int]]:
             source=src,
         )
     return uff, types
+
+
+_TYPE = re.compile(rb"[ \t]*(\d+)b?(?:[ \t].*)?\r?")
+
+
+def _check_datasets(raw: bytes, uff: Any, src: str) -> None:
+    """pyuff pairs the '    -1' tags of the file in order and reads the line after each
+    opening tag as the dataset type: a blank line there makes it skip the dataset without
+    a word. That is refused here, on pyuff's own pairing (``_block_ind``, pyuff 2.5), so
+    the file never reads as a shorter list."""
+    blocks = getattr(uff, "_block_ind", None)
+    if blocks is None:  # pragma: no cover - another pyuff: nothing to check against
+        return
+    starts = [int(b[0]) for b in blocks]
+    for k, s in enumerate(starts):
+        line_end = raw.find(b"\n", s)
+        nxt = raw.find(b"\n", line_end + 1) if line_end >= 0 else -1
+        head = raw[line_end + 1: nxt if nxt >= 0 else len(raw)] if line_end >= 0 else b""
+        if _TYPE.fullmatch(head) is None:
+            line = raw.count(b"\n", 0, s) + 2
+            what = "a blank line" if not head.strip() else "no dataset type"
+            raise InputError(f"line {line}: {what} after the '-1' delimiter that opens dataset "
+                             f"{k + 1}, where its type (such as 58) must be; the dataset would "
+                             f"be skipped", source=src, field=f"dataset {k + 1}")
 
 
 def _read_set(uff: Any, index: int, set_type: int, src: str, header_only: bool = False) -> dict:

@@ -14,6 +14,7 @@ from collections.abc import Sequence
 import numpy as np
 import scipy.sparse as sp
 
+from eigenupdate.budget import require_model_size
 from eigenupdate.errors import InputError
 from eigenupdate.model.coordinates import CoordinateTable
 from eigenupdate.model.parameters import Parameter
@@ -98,6 +99,7 @@ def beam_model(
     x = np.asarray(nodes, dtype=float)
     if x.ndim != 1 or x.size < 2:
         raise InputError("at least two node positions are required", field="model.nodes")
+    require_model_size(2 * x.size, 2 * (x.size - 1) + len(point_masses), "model.nodes")
     lengths = np.diff(x)
     if np.any(lengths <= 0) or not np.all(np.isfinite(x)):
         raise InputError(

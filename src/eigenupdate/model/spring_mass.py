@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import scipy.sparse as sp
 
+from eigenupdate.budget import require_model_size
 from eigenupdate.errors import InputError
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
@@ -51,6 +52,7 @@ def spring_mass_model(
     n = n if n is not None else max(used, default=0)
     if n < 1:
         raise InputError("the model has no coordinates", field="model")
+    require_model_size(n, len(masses) + len(springs))
     for m in masses:
         if not 1 <= m.coordinate <= n:
             raise InputError(f"unknown coordinate {m.coordinate}", field=f"mass {m.parameter.name}")

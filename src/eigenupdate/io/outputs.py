@@ -1,0 +1,130 @@
+"""Where a run may write, decided before the run does any work.
+
+An output is a regular file (or, for ``-o DIR``, a directory) that is none of the run's
+inputs, whatever links lead to it: a FIFO, a device such as /dev/null, a directory given
+for a file, a symbolic link loop or a dangling link are refused, and so is an output that
+is (after links, or as a hard link) the study, a model, measurement, FRF or result file
+the run reads. The directory that will receive the file is probed by creating and
+removing a file there, so a read-only directory or a name too long for the file system is
+reported by its own name before the work starts, never by the temporary file's.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import stat
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+
+from eigenupdate.errors import InputError
+from eigenupdate.io.atomic import temporary_name
+
+PathLike = str | os.PathLike
+
+
+def _error(path: PathLike, flag: str, message: str) -> InputError:
+    return InputError(message, source=str(path), field=flag)
+
+
+def _target(path: PathLike, flag: str) -> os.stat_result | None:
+    """stat of what ``path`` leads to after links; None if nothing is there."""
+    p = os.fspath(path)
+    try:
+        return os.stat(p)
+    except FileNotFoundError:
+        if os.path.islink(p):
+            raise _error(path, flag, f"is a dangling symbolic link (to {os.readlink(p)!r}); "
+                                     f"remove it or give another name") from None
+        return None
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise _error(path, flag, "is a symbolic link loop") from None
+        if exc.errno == errno.ENAMETOOLONG:
+            raise _error(path, flag, "the name is too long for the file system") from None
+        if exc.errno == errno.ENOTDIR:
+            raise _error(path, flag, "a part of the path is not a directory") from None
+        raise _error(path, flag, exc.strerror or str(exc)) from None
+
+
+def _probe(directory: Path, name: str, flag: str, shown: PathLike) -> None:
+    """Create and remove a file of the temporary name's length in ``directory``."""
+    if not directory.is_dir():
+        raise _error(shown, flag, f"directory {str(directory)!r} does not exist")
+    tmp = directory / temporary_name(name)
+    try:
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    except OSError as exc:
+        if exc.errno == errno.ENAMETOOLONG:
+            raise _error(shown, flag, "the file name is too long for the file system") from None
+        raise _error(shown, flag, f"cannot create a file in directory {str(directory)!r}: "
+                                  f"{exc.strerror or exc}") from None
+    os.close(fd)
+    os.unlink(tmp)
+    try:
+        limit = os.pathconf(directory, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255
+    if len(os.fsencode(name)) > limit:
+        raise _error(shown, flag, f"the file name has {len(os.fsencode(name))} bytes; this "
+                                  f"file system allows {limit}")
+
+
+def check_file(path: PathLike | None, flag: str) -> None:
+    """Refuse an output file that cannot be written as a regular file (see the module)."""
+    if path is None:
+        return
+    if not os.fspath(path):
+        raise _error(path, flag, "is empty; give a file name")
+    st = _target(path, flag)
+    real = Path(os.path.realpath(path))
+    if st is not None and stat.S_ISDIR(st.st_mode):
+        raise _error(path, flag, "is a directory; give a file name")
+    if st is not None and not stat.S_ISREG(st.st_mode):
+        raise _error(path, flag, "is not a regular file (a FIFO, device or socket); outputs "
+                                 "are written only to regular files")
+    _probe(real.parent, real.name, flag, path)
+
+
+def check_dir(path: PathLike | None, flag: str) -> None:
+    """Refuse an output directory that is something else or cannot receive files."""
+    if path is None:
+        return
+    if not os.fspath(path):
+        raise _error(path, flag, "is empty; give a directory name")
+    st = _target(path, flag)
+    real = Path(os.path.realpath(path))
+    if st is None:
+        _probe(real.parent, real.name, flag, path)
+    elif not stat.S_ISDIR(st.st_mode):
+        raise _error(path, flag, "exists and is not a directory")
+    else:
+        _probe(real, "x", flag, path)
+
+
+def _identity(path: PathLike) -> tuple[int, int] | str:
+    try:
+        st = os.stat(path)
+        return (st.st_dev, st.st_ino)  # a hard link is the same file
+    except OSError:
+        return os.path.normcase(os.path.realpath(path))
+
+
+def check_not_inputs(outputs: Mapping[str, PathLike | None],
+                     inputs: Iterable[PathLike]) -> None:
+    """Refuse an output that is an input of the same run, or two outputs in one file.
+
+    ``outputs`` maps the option (``-o``) to its path; links, hard links and relative
+    spellings of one file are recognised.
+    """
+    seen = {_identity(p): "an input of this run" for p in inputs}
+    for flag, path in outputs.items():
+        if path is None:
+            continue
+        key = _identity(path)
+        what = seen.get(key)
+        if what is not None:
+            raise _error(path, flag, f"is {what}; choose another output file")
+        seen[key] = f"also the output of {flag}"
+        # a new file is recognised by name only: two outputs with one new name
+        seen.setdefault(os.path.normcase(os.path.realpath(path)), f"also the output of {flag}")

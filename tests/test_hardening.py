@@ -177,7 +177,7 @@ def test_failed_extract_leaves_existing_outputs(tmp_path, run_cli, monkeypatch):
     def broken(path, modes):
         raise OSError(28, "No space left on device", str(path))
 
-    monkeypatch.setattr("eigenupdate.cli.write_modes", broken)
+    monkeypatch.setattr("eigenupdate.io.uff.write_modes", broken)
     code, _, err = run_cli("extract", tmp_path / "study.toml", "-o", tmp_path / "x.csv",
                            "--uff55", tmp_path / "m.uff")
     assert code == 2 and "No space left" in err

@@ -187,7 +187,7 @@ def test_automatic_choice_keeps_a_small_study_in_process(tmp_path, run_cli):
 def test_automatic_choice_starts_a_cluster_for_a_long_study(monkeypatch):
     # with the threshold at 0 s the automatic executor sends the rest to a local cluster
     # in batches: the same trials, bit for bit, as one process
-    import eigenupdate.design.executor as executor
+    from eigenupdate.design import executor
     from eigenupdate.design.executor import Automatic, InProcess
 
     monkeypatch.setattr(executor, "PARALLEL_MIN_S", 0.0)

@@ -31,82 +31,134 @@ the true system bare and with 0.35 kg at coordinates 1, 2 and 4.
 >>> {n: round(v, 4) for n, v in result.parameters.items() if n.startswith("m")}
 {'m1': 10.0, 'm2': 10.0, 'm3': 5.0, 'm4': 5.0}
 
-The same from the shipped study files: :func:`load_study` and the ``*_study`` functions
-(what the ``eigenupdate`` commands call).
+The same from the shipped study files: every command is one function taking a
+:class:`Study` (``eigenupdate check`` is :func:`check_study`, ``eigenupdate update`` is
+:func:`update_study`; :func:`check` and :func:`update` take the model and plan, as above):
+
+>>> from pathlib import Path
+>>> study = eu.load_study(Path(eu.__file__).parents[2] / "examples/paper_fig2/study.toml")
+>>> eu.frequencies(study)["base"].round(2).tolist()     # Table 5, initial model
+[46.46, 84.02, 98.9]
+>>> round(eu.update_study(study).parameters["k6"])                  # Table 4
+500000
+>>> [c.name for c in eu.design(study).plan.configurations]       # its [design] table
+['2 kg at 1', '2 kg at 3', '2 kg at 4']
+
+Names are imported on first use (``eigenupdate --help`` needs none of them). The
+commands ``design`` and ``report`` are functions here; their subpackages stay importable
+by ``from eigenupdate.design import plan`` or ``from eigenupdate.design.plan import ...``.
 """
 
-from eigenupdate.errors import (
-    EigenupdateWarning,
-    InputError,
-    NotConvergedError,
-    NumericalError,
-    RepeatedEigenvalueError,
-    SingularMatrixError,
-)
-from eigenupdate.identify.identifiability import IdentifiabilityReport, check, identifiability
-from eigenupdate.identify.updating import STATUS_MESSAGES, Iterate, Step, UpdateResult, update
-from eigenupdate.identify.weights import (
-    ESTIMATORS,
-    OPTIMIZERS,
-    EstimatorWeights,
-    estimator_weights,
-)
-from eigenupdate.io.frf_csv import read_frf_csv, write_frf_csv
-from eigenupdate.io.matrix_market import read_matrix_model
-from eigenupdate.io.measurements import Measurement, read_measurements, write_measurements
-from eigenupdate.io.study import Study, load_study
-from eigenupdate.io.uff import Mode, read_frf_files, read_frfs, read_modes, write_frfs, write_modes
-from eigenupdate.measure.dobson import dobson_fit, dobson_fit_modes
-from eigenupdate.measure.extraction import ExtractedMode, extract_configuration
-from eigenupdate.measure.frf import FRF, to_receptance
-from eigenupdate.measure.modal_fit import ModalFit, NoResonance
-from eigenupdate.measure.rational_fraction import rational_fraction_fit
-from eigenupdate.measure.synthetic import simulate_measurements, synthetic_frfs
-from eigenupdate.model.beam import beam_model
-from eigenupdate.model.configurations import Addition, Configuration, mass_at
-from eigenupdate.model.coordinates import Coordinate, CoordinateTable
-from eigenupdate.model.matrices import matrix_model
-from eigenupdate.model.parameters import Parameter
-from eigenupdate.model.parametric import ParametricModel
-from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
-from eigenupdate.solve.eigen import EigenSolution, solve_elastic
-from eigenupdate.solve.jacobian import Linearisation, linearise, solve_configurations
-from eigenupdate.solve.response import receptance
-from eigenupdate.solve.sweep import MassSweep, mass_sweep
-from eigenupdate.workflow import (
-    check_study,
-    compare_frf,
-    extract_study,
-    simulate_study,
-    simulate_study_frfs,
-    study_frequencies,
-    update_study,
-)
+from __future__ import annotations
 
-__all__ = [
+import importlib
+import sys
+import types
+from importlib.metadata import PackageNotFoundError, version
+from typing import Any
+
+# where each public name lives: module, or (module, name there) where the names differ
+_WHERE: dict[str, str | tuple[str, str]] = {
     # errors and warnings
-    "EigenupdateWarning", "InputError", "NotConvergedError", "NumericalError",
-    "RepeatedEigenvalueError", "SingularMatrixError",
+    **dict.fromkeys(["EigenupdateWarning", "InputError", "NotConvergedError", "NumericalError",
+                     "RepeatedEigenvalueError", "SingularMatrixError"], "eigenupdate.errors"),
     # model
-    "Addition", "Configuration", "Coordinate", "CoordinateTable", "Mass", "ParametricModel",
-    "Parameter", "Spring", "beam_model", "mass_at", "matrix_model", "spring_mass_model",
+    "Addition": "eigenupdate.model.configurations",
+    "Configuration": "eigenupdate.model.configurations",
+    "mass_at": "eigenupdate.model.configurations",
+    "Coordinate": "eigenupdate.model.coordinates",
+    "CoordinateTable": "eigenupdate.model.coordinates",
+    "Mass": "eigenupdate.model.spring_mass",
+    "Spring": "eigenupdate.model.spring_mass",
+    "spring_mass_model": "eigenupdate.model.spring_mass",
+    "ParametricModel": "eigenupdate.model.parametric",
+    "Parameter": "eigenupdate.model.parameters",
+    "beam_model": "eigenupdate.model.beam",
+    "matrix_model": "eigenupdate.model.matrices",
     # solve
-    "EigenSolution", "Linearisation", "MassSweep", "linearise", "mass_sweep", "receptance",
-    "solve_configurations", "solve_elastic",
+    "EigenSolution": "eigenupdate.solve.eigen",
+    "solve_elastic": "eigenupdate.solve.eigen",
+    "Linearisation": "eigenupdate.solve.jacobian",
+    "linearise": "eigenupdate.solve.jacobian",
+    "solve_configurations": "eigenupdate.solve.jacobian",
+    "MassSweep": "eigenupdate.solve.sweep",
+    "mass_sweep": "eigenupdate.solve.sweep",
+    "receptance": "eigenupdate.solve.response",
     # identify
-    "ESTIMATORS", "OPTIMIZERS", "EstimatorWeights", "IdentifiabilityReport", "Iterate",
-    "STATUS_MESSAGES", "Step", "UpdateResult", "check", "estimator_weights", "identifiability",
-    "update",
+    "ESTIMATORS": "eigenupdate.choices",
+    "OPTIMIZERS": "eigenupdate.choices",
+    "EstimatorWeights": "eigenupdate.identify.weights",
+    "estimator_weights": "eigenupdate.identify.weights",
+    "IdentifiabilityReport": "eigenupdate.identify.identifiability",
+    "check": "eigenupdate.identify.identifiability",
+    "identifiability": "eigenupdate.identify.identifiability",
+    **dict.fromkeys(["Iterate", "STATUS_MESSAGES", "Step", "UpdateResult", "update"],
+                    "eigenupdate.identify.updating"),
     # measure
-    "ExtractedMode", "FRF", "ModalFit", "NoResonance", "dobson_fit", "dobson_fit_modes",
-    "extract_configuration", "rational_fraction_fit", "simulate_measurements", "synthetic_frfs",
-    "to_receptance",
+    "ExtractedMode": "eigenupdate.measure.extraction",
+    "extract_configuration": "eigenupdate.measure.extraction",
+    "FRF": "eigenupdate.measure.frf",
+    "to_receptance": "eigenupdate.measure.frf",
+    "ModalFit": "eigenupdate.measure.modal_fit",
+    "NoResonance": "eigenupdate.measure.modal_fit",
+    "dobson_fit": "eigenupdate.measure.dobson",
+    "dobson_fit_modes": "eigenupdate.measure.dobson",
+    "rational_fraction_fit": "eigenupdate.measure.rational_fraction",
+    "simulate_measurements": "eigenupdate.measure.synthetic",
+    "synthetic_frfs": "eigenupdate.measure.synthetic",
     # io
-    "Measurement", "Mode", "Study", "load_study", "read_frf_csv", "read_frf_files",
-    "read_frfs", "read_matrix_model", "read_measurements", "read_modes", "write_frf_csv",
-    "write_frfs", "write_measurements", "write_modes",
-    # the commands as functions
-    "check_study", "compare_frf", "extract_study", "simulate_study", "simulate_study_frfs",
-    "study_frequencies", "update_study",
-]
-__version__ = "0.1.0"
+    "Measurement": "eigenupdate.io.measurements",
+    "read_measurements": "eigenupdate.io.measurements",
+    "write_measurements": "eigenupdate.io.measurements",
+    "Study": "eigenupdate.io.study",
+    "load_study": "eigenupdate.io.study",
+    "read_frf_csv": "eigenupdate.io.frf_csv",
+    "write_frf_csv": "eigenupdate.io.frf_csv",
+    "read_matrix_model": "eigenupdate.io.matrix_market",
+    **dict.fromkeys(["Mode", "read_frf_files", "read_frfs", "read_modes", "write_frfs",
+                     "write_modes"], "eigenupdate.io.uff"),
+    "read_nastran": "eigenupdate.io.nastran",
+    # the commands as functions of a Study (check and update: of a model, above)
+    **dict.fromkeys(["check_study", "compare_frf", "extract_study", "simulate_study",
+                     "simulate_study_frfs", "study_frequencies", "update_study", "design",
+                     "montecarlo", "report", "sweep"], "eigenupdate.workflow"),
+    "frequencies": ("eigenupdate.workflow", "study_frequencies"),
+    "extract": ("eigenupdate.workflow", "extract_study"),
+    "frf": ("eigenupdate.workflow", "compare_frf"),
+}
+
+__all__ = sorted(_WHERE)
+
+try:
+    __version__ = version("eigenupdate")
+except PackageNotFoundError:  # run from a source tree that was never installed
+    __version__ = "0+unknown"
+
+
+def __getattr__(name: str) -> Any:
+    """Import a public name on first use (PEP 562) and keep it."""
+    where = _WHERE.get(name)
+    if where is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module, attr = (where, name) if isinstance(where, str) else where
+    value = getattr(importlib.import_module(module), attr)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})
+
+
+class _Package(types.ModuleType):
+    """This package, whose public functions ``design`` and ``report`` keep their names
+    when the subpackages of the same names are imported (the import system binds a
+    subpackage to its parent's attribute; that binding is refused here)."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in _WHERE and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package

@@ -23,20 +23,10 @@ from pathlib import Path
 
 import numpy as np
 
-from eigenupdate import budget, workflow
-from eigenupdate.design.executor import SCHEDULER_ENV, executor_for
-from eigenupdate.design.montecarlo import montecarlo, study_setup
-from eigenupdate.design.montecarlo_io import FILES as MC_FILES
-from eigenupdate.design.montecarlo_io import write_montecarlo
-from eigenupdate.design.plan import design_plan
-from eigenupdate.design.plan_io import plan_study_text
-from eigenupdate.design.plan_report import (
-    design_doc,
-    design_text,
-    validation_doc,
-    validation_text,
-)
-from eigenupdate.design.validate import validate_design
+# only what the parser and the error handling need: the commands import the rest, so
+# that --help starts in about the time NumPy and SciPy do
+from eigenupdate import budget
+from eigenupdate.choices import ESTIMATORS, FRF_KINDS, OPTIMIZERS, SCHEDULER_ENV
 from eigenupdate.errors import (
     MAX_MESSAGE,
     EigenupdateWarning,
@@ -45,22 +35,10 @@ from eigenupdate.errors import (
     NumericalError,
     shorten,
 )
-from eigenupdate.identify.weights import ESTIMATORS, OPTIMIZERS
 from eigenupdate.io import outputs
 from eigenupdate.io.atomic import make_dir, transaction, write_text
-from eigenupdate.io.measurements import write_measurements
-from eigenupdate.io.nastran_write import save_updated_bdf
-from eigenupdate.io.study import load_study
-from eigenupdate.io.uff import Mode, write_frfs, write_modes
-from eigenupdate.measure.extraction import extraction_csv
-from eigenupdate.measure.frf import FRF_KINDS, dof_label
-from eigenupdate.measure.survey import extraction_doc, extraction_text
-from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
-from eigenupdate.report import text as report
-from eigenupdate.report.html import render_report
 from eigenupdate.solve import parallel
 from eigenupdate.solve.memory import keep_freed_memory
-from eigenupdate.solve.sweep import mass_sweep
 
 
 def _output_file(path: str | None, flag: str) -> None:
@@ -121,6 +99,10 @@ def _seed(text: str) -> int:
 
 
 def cmd_frequencies(args) -> int:
+    from eigenupdate import workflow
+    from eigenupdate.io.study import load_study
+    from eigenupdate.report import text as report
+
     study = load_study(args.study)
     freqs = workflow.study_frequencies(study, args.modes)
     doc = {"configurations": [{"name": name, "frequencies_hz": f.tolist()}
@@ -136,6 +118,10 @@ def cmd_frequencies(args) -> int:
 
 
 def cmd_simulate(args) -> int:
+    from eigenupdate import workflow
+    from eigenupdate.io.measurements import write_measurements
+    from eigenupdate.io.study import load_study
+
     _output_file(args.output, "-o")
     _finite(args.noise_hz, "--noise-hz")
     _finite(args.std_hz, "--std-hz", positive=True)
@@ -150,6 +136,10 @@ def cmd_simulate(args) -> int:
 
 
 def cmd_check(args) -> int:
+    from eigenupdate import workflow
+    from eigenupdate.io.study import load_study
+    from eigenupdate.report import text as report
+
     study = load_study(args.study)
     r = workflow.check_study(study, args.method)
     print(report.dumps(r.to_dict()) if args.json else report.check_text(r, study.title))
@@ -157,6 +147,11 @@ def cmd_check(args) -> int:
 
 
 def cmd_update(args) -> int:
+    from eigenupdate import workflow
+    from eigenupdate.io.nastran_write import save_updated_bdf
+    from eigenupdate.io.study import load_study
+    from eigenupdate.report import text as report
+
     _output_file(args.save, "--save")
     _output_file(args.save_bdf, "--save-bdf")
     study = load_study(args.study)
@@ -183,31 +178,33 @@ def cmd_update(args) -> int:
 
 
 def cmd_design(args) -> int:
+    from eigenupdate import workflow
+    from eigenupdate.design.executor import executor_for
+    from eigenupdate.design.plan_io import plan_study_text
+    from eigenupdate.design.plan_report import (
+        design_doc,
+        design_text,
+        validation_doc,
+        validation_text,
+    )
+    from eigenupdate.io.study import load_study
+    from eigenupdate.report import text as report
+
     _output_file(args.output, "-o")
     _scheduler(args.scheduler, "--scheduler")
     study = load_study(args.study)
     _not_inputs({"-o": args.output}, study.inputs(measurements=True, frf=True))
-    if study.design is None:
-        raise InputError("the study has no [design] table", source=str(study.path),
-                         field="design")
-    if args.validate is not None and args.validate < 2:
-        raise InputError(f"must be >= 2, got {args.validate}", field="--validate")
     ex = None
     if args.scheduler or args.workers:
         if args.workers is not None and args.workers < 1:
             raise InputError(f"must be >= 1, got {args.workers}", field="--workers")
         ex = executor_for(args.scheduler, n_workers=args.workers)
     try:
-        res = design_plan(study.model, study.design, study.method, study.configurations[1:],
-                          executor=ex)
-        val = None
-        if args.validate:
-            val = validate_design(study.model, study.design, res, study.method, args.validate,
-                                  study.max_iterations, study.tolerance, args.seed, ex,
-                                  optimizer=study.optimizer)
+        done = workflow.design(study, validate=args.validate, seed=args.seed, executor=ex)
     finally:
         if ex is not None:
             ex.close()
+    res, val = done.plan, done.validation
     write_text(args.output, plan_study_text(study.path, res.configurations, res.modes,
                                             args.output))
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
@@ -224,6 +221,13 @@ def cmd_design(args) -> int:
 
 
 def cmd_montecarlo(args) -> int:
+    from eigenupdate import workflow
+    from eigenupdate.design.executor import executor_for
+    from eigenupdate.design.montecarlo_io import FILES as MC_FILES
+    from eigenupdate.design.montecarlo_io import write_montecarlo
+    from eigenupdate.io.study import load_study
+    from eigenupdate.report import text as report
+
     _output_dir(args.output, "-o")
     if args.trials < 1:
         raise InputError(f"must be >= 1, got {args.trials}", field="--trials")
@@ -236,11 +240,11 @@ def cmd_montecarlo(args) -> int:
         truth = load_study(args.truth).inputs() if args.truth else []
         _files_in(args.output, MC_FILES, "-o",
                   [*study.inputs(measurements=True, frf=True), *truth])
-    setup = study_setup(study, args.truth)
     bar = _progress_bar if sys.stderr.isatty() else None
     start = time.perf_counter()
     with executor_for(args.scheduler, args.in_process, args.workers) as ex:
-        res = montecarlo(setup, args.trials, args.seed, ex, bar)
+        res = workflow.montecarlo(study, args.trials, truth=args.truth, seed=args.seed,
+                                  executor=ex, progress=bar)
         where = repr(ex)
     wall = time.perf_counter() - start
     doc = {**res.summary(), "executor": where, "wall_time_s": wall}
@@ -303,6 +307,15 @@ def _safe_name(name: str) -> str:
 
 
 def cmd_extract(args) -> int:
+    from eigenupdate import workflow
+    from eigenupdate.io.study import load_study
+    from eigenupdate.io.uff import Mode, write_modes
+    from eigenupdate.measure.extraction import extraction_csv
+    from eigenupdate.measure.frf import dof_label
+    from eigenupdate.measure.survey import extraction_doc, extraction_text
+    from eigenupdate.plot.plots import plot_extraction_fit
+    from eigenupdate.report import text as report
+
     _output_file(args.output, "-o")
     _output_file(args.uff55, "--uff55")
     _output_dir(args.plots, "--plots")
@@ -352,6 +365,10 @@ def cmd_extract(args) -> int:
 
 
 def cmd_simulate_frf(args) -> int:
+    from eigenupdate import workflow
+    from eigenupdate.io.study import load_study
+    from eigenupdate.io.uff import write_frfs
+
     _output_dir(args.output, "-o")
     _finite(args.fmax, "--fmax", positive=True)
     _finite(args.df, "--df", positive=True)
@@ -380,6 +397,10 @@ def cmd_simulate_frf(args) -> int:
 
 
 def cmd_frf(args) -> int:
+    from eigenupdate import workflow
+    from eigenupdate.io.study import load_study
+    from eigenupdate.plot.plots import plot_frf_comparison
+
     _output_file(args.o, "-o")
     _finite(args.fmax, "--fmax", positive=True)
     _finite(args.loss_factor, "--loss-factor")
@@ -397,32 +418,35 @@ def cmd_frf(args) -> int:
 
 
 def cmd_sweep(args) -> int:
+    from eigenupdate import workflow
+    from eigenupdate.io.study import load_study
+    from eigenupdate.plot.plots import plot_mass_sweep
+
     _output_file(args.o, "-o")
     _finite(args.max_mass, "--max-mass", positive=True)
-    if args.modes is not None and args.modes < 1:
-        raise InputError(f"must be >= 1, got {args.modes}", field="--modes")
     study = load_study(args.study)
     _not_inputs({"-o": args.o}, study.inputs(measurements=True, frf=True))
-    n = args.modes or max(study.modes or [3])
-    sweep = mass_sweep(study.model, args.coordinate, args.max_mass, n,
-                       configuration=study.configuration(args.configuration))
+    sweep = workflow.sweep(study, args.coordinate, args.max_mass, args.modes, args.configuration)
     plot_mass_sweep(args.o, sweep, title=study.title)
     _progress(f"wrote {args.o}")
     return 0
 
 
 def cmd_report(args) -> int:
+    from eigenupdate import workflow
+    from eigenupdate.io.study import load_study
+
     _output_file(args.o, "-o")
     files = {"--result": args.result, "--extracted": args.extracted, "--design": args.design,
              "--montecarlo": args.montecarlo}
     command = ["eigenupdate", "report", args.study, *[x for k, v in files.items() if v
                                                       for x in (k, v)], "-o", args.o]
     read = [Path(args.study), *(Path(v) for v in files.values() if v)]
-    _not_inputs({"-o": args.o}, [*read, *load_study(args.study).inputs(measurements=True,
-                                                                        frf=True)])
-    page = render_report(args.study, result=args.result, extracted=args.extracted,
-                         design=args.design, montecarlo=args.montecarlo,
-                         command=shlex.join(command))
+    study = load_study(args.study)
+    _not_inputs({"-o": args.o}, [*read, *study.inputs(measurements=True, frf=True)])
+    page = workflow.report(study, result=args.result, extracted=args.extracted,
+                           design=args.design, montecarlo=args.montecarlo,
+                           command=shlex.join(command))
     write_text(args.o, page)
     _progress(f"wrote {args.o} ({len(page.encode()) / 1024:.0f} kB)")
     return 0

@@ -17,6 +17,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -37,6 +38,12 @@ from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.coordinates import CoordinateTable
 from eigenupdate.solve.jacobian import solve_configurations
 from eigenupdate.solve.response import receptance
+from eigenupdate.solve.sweep import MassSweep, mass_sweep
+
+if TYPE_CHECKING:  # design and report import Dask, jinja2, matplotlib: only when used
+    from eigenupdate.design.montecarlo import MonteCarloResult
+    from eigenupdate.design.plan import DesignResult
+    from eigenupdate.design.validate import Validation
 
 
 def _rows(study: Study) -> list[tuple[str, int]]:
@@ -226,3 +233,76 @@ def _matching_frf(frfs: list[FRF], table: CoordinateTable, response: int, excita
         raise InputError(f"no FRF for response {table.label(response)}, reference "
                          f"{table.label(excitation)} (file has {have})", source=source)
     return match[0]
+
+
+def sweep(study: Study, coordinate: int, max_mass: float, n_modes: int | None = None,
+          configuration: str | None = None) -> MassSweep:
+    """Elastic frequencies against a mass added at ``coordinate`` from 0 to ``max_mass`` kg
+    (``eigenupdate sweep``, paper Fig. 4), on ``configuration`` (default: the first);
+    ``n_modes`` defaults to the study's highest mode (3 without modes)."""
+    if n_modes is not None and n_modes < 1:
+        raise InputError(f"must be >= 1, got {n_modes}", field="--modes")
+    return mass_sweep(study.model, coordinate, max_mass, n_modes or max(study.modes or [3]),
+                      configuration=study.configuration(configuration))
+
+
+@dataclass(frozen=True)
+class StudyDesign:
+    """The plan chosen for a study and, if asked for, its virtual tests."""
+
+    plan: DesignResult
+    validation: Validation | None
+
+
+def design(study: Study, *, validate: int | None = None, seed: int | None = 0,
+           executor=None) -> StudyDesign:
+    """The added masses the study's ``[design]`` table asks for (``eigenupdate design``),
+    then ``validate`` virtual tests of that plan (truth drawn from the prior) if given.
+
+    ``executor`` screens the candidates and runs the trials (default: this process); see
+    :mod:`eigenupdate.design.executor`. The caller closes it.
+    """
+    from eigenupdate.design.plan import design_plan
+    from eigenupdate.design.validate import validate_design
+
+    if study.design is None:
+        raise InputError("the study has no [design] table", source=str(study.path),
+                         field="design")
+    if validate is not None and validate < 2:
+        raise InputError(f"must be >= 2, got {validate}", field="--validate")
+    res = design_plan(study.model, study.design, study.method, study.configurations[1:],
+                      executor=executor)
+    val = None
+    if validate:
+        val = validate_design(study.model, study.design, res, study.method, validate,
+                              study.max_iterations, study.tolerance, seed, executor,
+                              optimizer=study.optimizer)
+    return StudyDesign(res, val)
+
+
+def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
+               seed: int | None = None, executor=None,
+               progress: Callable[[int, int], None] | None = None) -> MonteCarloResult:
+    """``trials`` virtual tests of the study's plan (``eigenupdate montecarlo``): the truth
+    drawn from the priors, or the values of the study file ``truth``; noise as the study's
+    measurements or design say. ``executor`` as in :func:`design` (default: this process);
+    ``progress(done, total)`` after each batch."""
+    from eigenupdate.design.montecarlo import montecarlo as run
+    from eigenupdate.design.montecarlo import study_setup
+
+    if trials < 1:
+        raise InputError(f"must be >= 1, got {trials}", field="--trials")
+    setup = study_setup(study, None if truth is None else str(truth))
+    return run(setup, trials, seed, executor, progress)
+
+
+def report(study: Study, *, result: str | Path | None = None,
+           extracted: str | Path | None = None, design: str | Path | None = None,
+           montecarlo: str | Path | None = None, command: str | None = None) -> str:
+    """The study's self-contained HTML report (``eigenupdate report``) from the saved
+    files of the other commands (without ``result``, the report runs the update); see
+    :func:`eigenupdate.report.html.render_report`."""
+    from eigenupdate.report.html import render_report
+
+    return render_report(study.path, result=result, extracted=extracted, design=design,
+                         montecarlo=montecarlo, command=command)

@@ -17,10 +17,8 @@ import time
 from collections.abc import Callable, Sequence
 from typing import Any
 
+from eigenupdate.choices import SCHEDULER_ENV
 from eigenupdate.errors import InputError
-
-SCHEDULER_ENV = "EIGENUPDATE_SCHEDULER"
-"""Environment variable with the address of an existing Dask scheduler (tcp://host:port)."""
 
 Progress = Callable[[int, int], None]
 

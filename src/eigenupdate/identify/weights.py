@@ -16,14 +16,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from eigenupdate.choices import ESTIMATORS, OPTIMIZERS
 from eigenupdate.errors import InputError
 from eigenupdate.io.measurements import Measurement, eigenvalue_std, select
 from eigenupdate.model.parametric import ParametricModel
 
-ESTIMATORS = ("least-squares", "weighted-least-squares", "bayesian")
-"""The estimators :func:`eigenupdate.identify.updating.update` offers."""
-OPTIMIZERS = ("trust-region", "gauss-newton")
-"""Its optimisers (kept here with the estimators, which the study loader validates)."""
+__all__ = ["ESTIMATORS", "OPTIMIZERS", "EstimatorWeights", "check_estimator", "estimator_weights",
+           "prior_weights"]
 
 
 @dataclass(frozen=True)

@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from eigenupdate.choices import FRF_KINDS
 from eigenupdate.errors import InputError
 
 __all__ = [
@@ -41,8 +42,6 @@ __all__ = [
 
 PathLike = str | os.PathLike[str]
 
-#: FRF kinds accepted by :func:`to_receptance`.
-FRF_KINDS: tuple[str, str, str] = ("receptance", "mobility", "accelerance")
 
 _AXIS_RTOL = 1e-9
 _DIRECTION_NAMES = {0: "S", 1: "X", 2: "Y", 3: "Z", 4: "RX", 5: "RY", 6: "RZ"}

@@ -99,6 +99,13 @@ def test_design_and_montecarlo_as_functions(fig2):
         eu.design(truth)  # a study without one
 
 
+def test_version(run_cli):
+    code, out, err = run_cli("--version")
+    assert (code, err) == (0, "")
+    assert out.split() == ["eigenupdate", importlib.metadata.version("eigenupdate")]
+    assert eu.__version__ == importlib.metadata.version("eigenupdate")
+
+
 def _imports_of_help() -> set[str]:
     code = ("import sys\nfrom eigenupdate.cli import main\ntry:\n    main(['--help'])\n"
             "except SystemExit:\n    pass\nprint(' '.join(sys.modules), file=sys.stderr)")

@@ -25,7 +25,7 @@ import numpy as np
 
 # only what the parser and the error handling need: the commands import the rest, so
 # that --help starts in about the time NumPy and SciPy do
-from eigenupdate import budget
+from eigenupdate import __version__, budget
 from eigenupdate.choices import ESTIMATORS, FRF_KINDS, OPTIMIZERS, SCHEDULER_ENV
 from eigenupdate.errors import (
     MAX_MESSAGE,
@@ -466,6 +466,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Update FE model parameters from natural frequencies of the bare and "
                     "mass/stiffness-perturbed structure.",
     )
+    p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
     s = sub.add_parser("frequencies", help="elastic natural frequencies of every configuration")

@@ -14,12 +14,11 @@ from pathlib import Path
 from typing import Any
 
 from eigenupdate.budget import require_nesting
+from eigenupdate.choices import ESTIMATORS, FRF_KINDS, OPTIMIZERS
 from eigenupdate.design.spec import CRITERIA, DesignSpec
 from eigenupdate.errors import InputError
-from eigenupdate.identify.weights import ESTIMATORS, OPTIMIZERS
 from eigenupdate.io.matrix_market import read_matrix_model
 from eigenupdate.io.measurements import Measurement, read_measurements
-from eigenupdate.measure.frf import FRF_KINDS
 from eigenupdate.model.beam import beam_model, element_parameter_names
 from eigenupdate.model.configurations import BASE, Addition, Configuration
 from eigenupdate.model.parameters import Parameter

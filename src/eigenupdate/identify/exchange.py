@@ -31,8 +31,13 @@ optimiser, not from the first fit: the first fit is the attractor of its own lab
 and the other labelling's fit is far away (on Fig. 2, ten Gauss-Newton steps from the
 first fit did not reach it in one of the cases; from the initial model each converged
 in 4 iterations, as the first fit did). It also keeps the Bayesian prior anchored at the
-initial estimates. Cost: one update per candidate exchange, at most :data:`MAX_REFITS`,
-closest pairs (in std) first; the test stops at the first ambiguous exchange.
+initial estimates. A refit counts once it fits as well, converged or stopped by the
+iteration limit (its model is then a witness). Cost: one update per candidate exchange,
+at most :data:`MAX_REFITS`, closest pairs (in std) first, each with the study's
+iteration limit; exchanges that break an ordering law are refused before any solve;
+the test stops at the first ambiguous exchange. Measured: Fig. 2 1.1 s against 0.017 s
+for the fit (18 candidates, 6 refused by the ordering laws, two refits run to the
+limit of 20 iterations), the paper's beam 0.87 s against 0.038 s (24 of 73 candidates).
 """
 
 from __future__ import annotations
@@ -70,6 +75,8 @@ class Exchange:
     parameter: str
     difference: float
     """Largest relative difference of an updated parameter between the two fits."""
+    exchanged: dict[str, float]
+    """Updated parameters of the exchanged labelling's fit, by name."""
 
     def message(self) -> str:
         return (f"mode {self.mode} of {self.a!r} and {self.b!r} may be exchanged: both "
@@ -146,8 +153,8 @@ def exchange_test(
                          optimizer=optimizer, max_iterations=max_iterations, xtol=xtol)
         except (InputError, NumericalError):
             continue  # the exchanged values break an ordering law, or cannot be fitted
-        if not res.success:
-            continue
+        # a refit stopped by its iteration limit still counts if it already fits as well:
+        # its model is a witness that the exchanged labelling fits the data
         test = residual_consistency(res.rows, res.measured_hz, res.updated_hz, swapped,
                                     res.identifiability.rank,
                                     model=model if method == "bayesian" else None,
@@ -159,6 +166,7 @@ def exchange_test(
         j = int(np.argmax(rel))
         return ExchangeTest(
             Exchange(a, b, k, (chi2, np.nan if test is None else test.chi2),
-                     0 if test is None else test.dof, fit.names[j], float(rel[j])),
+                     0 if test is None else test.dof, fit.names[j], float(rel[j]),
+                     dict(zip(res.names, res.x.tolist(), strict=True))),
             refitted, max(0, len(todo) - max_refits))
     return ExchangeTest(None, refitted, max(0, len(todo) - max_refits))

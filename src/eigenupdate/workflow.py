@@ -23,6 +23,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.identify.consistency import residual_consistency
+from eigenupdate.identify.exchange import exchange_test
 from eigenupdate.identify.identifiability import IdentifiabilityReport, check
 from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.identify.updating import UpdateResult, update
@@ -73,7 +74,9 @@ def update_study(study: Study, method: str | None = None, optimizer: str | None 
     structure's rigid-body modes: added stiffness cannot lower an eigenvalue of a grounded
     structure), and a converged fit that the data reject (chi-square test of the
     residuals, :mod:`eigenupdate.identify.consistency`) is returned as not converged,
-    naming the configurations and modes that do not fit.
+    naming the configurations and modes that do not fit; so is a fit whose data another
+    labelling fits as well (a mode's values exchanged between two configurations,
+    :mod:`eigenupdate.identify.exchange`).
     """
     meas = study.measurements()
     method = method or study.method
@@ -91,8 +94,19 @@ def update_study(study: Study, method: str | None = None, optimizer: str | None 
     fit = residual_consistency(res.rows, res.measured_hz, res.updated_hz, meas,
                                res.identifiability.rank, model=study.model if
                                method == "bayesian" else None, updated=res.parameters)
-    if fit is not None and fit.rejected:
-        res = replace(res, success=False, message=f"{res.message}; but {fit.message()}")
+    if fit is None:
+        return res
+    if fit.rejected:
+        return replace(res, success=False, message=f"{res.message}; but {fit.message()}")
+    swap = exchange_test(study.model, study.configurations, study.require_modes(), meas, res,
+                         fit.chi2, method=method, optimizer=optimizer or study.optimizer,
+                         max_iterations=study.max_iterations, xtol=study.tolerance)
+    if swap.ambiguous is not None:
+        return replace(res, success=False, message=f"{res.message}; but "
+                       f"{swap.ambiguous.message()}")
+    if swap.skipped:
+        res = replace(res, message=f"{res.message}; mode exchanges between configurations "
+                      f"tested: {swap.refitted}, not tested (limit): {swap.skipped}")
     return res
 
 

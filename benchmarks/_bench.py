@@ -35,7 +35,7 @@ import eigenupdate.solve.eigen as eig
 import eigenupdate.solve.jacobian as jac
 import eigenupdate.solve.perturbed as pert
 from eigenupdate.identify.updating import update
-from eigenupdate.io.measurements import Measurement
+from eigenupdate.measure.measurement import Measurement
 from eigenupdate.model.configurations import BASE, Configuration, mass_at
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve import parallel

@@ -16,7 +16,7 @@ import pytest
 from conftest import EXAMPLES
 
 from eigenupdate.identify.consistency import ALPHA, DEFAULT_RELATIVE_STD, residual_consistency
-from eigenupdate.io.measurements import Measurement
+from eigenupdate.measure.measurement import Measurement
 
 FIG2 = EXAMPLES / "paper_fig2"
 

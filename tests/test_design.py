@@ -15,8 +15,8 @@ from eigenupdate.design.covariance import posterior_covariance
 from eigenupdate.design.plan import design_plan
 from eigenupdate.design.search import PlanScorer, exhaustive, greedy_exchange
 from eigenupdate.identify.updating import update
-from eigenupdate.io.measurements import Measurement
 from eigenupdate.io.study import load_study
+from eigenupdate.measure.measurement import Measurement
 from eigenupdate.model.configurations import BASE, Configuration
 from eigenupdate.solve.jacobian import solve_configurations
 

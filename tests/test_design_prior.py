@@ -18,8 +18,8 @@ from eigenupdate.design.plan import design_plan, frequency_std
 from eigenupdate.design.prior import draw_values, predict_plan
 from eigenupdate.design.validate import validate_design
 from eigenupdate.identify.weights import prior_weights
-from eigenupdate.io.measurements import eigenvalue_std
 from eigenupdate.io.study import load_study
+from eigenupdate.measure.measurement import eigenvalue_std
 from eigenupdate.model.configurations import BASE, Configuration
 from eigenupdate.solve.jacobian import linearise
 

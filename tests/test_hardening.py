@@ -83,7 +83,7 @@ def test_grounded_springs_bounds():
     base = {("base", k): (f, None) for k, f in ((1, 10.0), (2, 20.0), (3, 30.0))}
     c = Configuration("spring", (__import__("eigenupdate.model.configurations", fromlist=[
         "Addition"]).Addition(1, stiffness=1e5),))
-    from eigenupdate.io.measurements import Measurement
+    from eigenupdate.measure.measurement import Measurement
     meas = {k: Measurement(k[0], k[1], *v) for k, v in base.items()}
     meas[("spring", 1)] = Measurement("spring", 1, 15.0)   # within bare modes 1..2: fine
     check_measured_frequencies([Configuration("base"), c], meas)

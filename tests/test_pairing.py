@@ -130,7 +130,7 @@ def test_clusters_the_start_made_are_resolved_at_the_fit(optimizer):
     from models import fig2
 
     from eigenupdate.design.prior import draw_values
-    from eigenupdate.io.measurements import Measurement
+    from eigenupdate.measure.measurement import Measurement
 
     base = fig2()
     model = base.with_values(base.values)

@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 import eigenupdate.solve.jacobian as jacobian
 import eigenupdate.solve.perturbed as perturbed
 from eigenupdate.identify.updating import update
-from eigenupdate.io.measurements import Measurement
+from eigenupdate.measure.measurement import Measurement
 from eigenupdate.model.beam import beam_model
 from eigenupdate.model.configurations import Addition, Configuration, mass_at
 from eigenupdate.model.parameters import Parameter

@@ -13,8 +13,9 @@ from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.uff import Mode, read_frfs, read_modes, write_frfs, write_modes
+from eigenupdate.io.uff import read_frfs, read_modes, write_frfs, write_modes
 from eigenupdate.measure.frf import FRF, check_same_axis, to_receptance
+from eigenupdate.measure.modes import Mode
 
 # Analytic viscously damped SDOF: m x'' + c x' + k x = F.
 M, K, C = 1.5, 6.0e4, 9.0

@@ -11,7 +11,7 @@ from eigenupdate.errors import InputError
 from eigenupdate.identify.identifiability import check
 from eigenupdate.identify.updating import PRECISION, STATUS_MESSAGES, Step, update
 from eigenupdate.identify.weights import estimator_weights
-from eigenupdate.io.measurements import Measurement
+from eigenupdate.measure.measurement import Measurement
 from eigenupdate.model.configurations import Configuration, mass_at
 from eigenupdate.solve.jacobian import linearise, solve_configurations
 

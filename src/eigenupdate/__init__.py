@@ -107,7 +107,7 @@ _WHERE: dict[str, str | tuple[str, str]] = {
     "simulate_measurements": "eigenupdate.measure.synthetic",
     "synthetic_frfs": "eigenupdate.measure.synthetic",
     # io
-    "Measurement": "eigenupdate.io.measurements",
+    "Measurement": "eigenupdate.measure.measurement",
     "read_measurements": "eigenupdate.io.measurements",
     "write_measurements": "eigenupdate.io.measurements",
     "Study": "eigenupdate.io.study",
@@ -115,8 +115,10 @@ _WHERE: dict[str, str | tuple[str, str]] = {
     "read_frf_csv": "eigenupdate.io.frf_csv",
     "write_frf_csv": "eigenupdate.io.frf_csv",
     "read_matrix_model": "eigenupdate.io.matrix_market",
-    **dict.fromkeys(["Mode", "read_frf_files", "read_frfs", "read_modes", "write_frfs",
-                     "write_modes"], "eigenupdate.io.uff"),
+    **dict.fromkeys(["read_frfs", "read_modes", "write_frfs", "write_modes"],
+                    "eigenupdate.io.uff"),
+    "read_frf_files": "eigenupdate.io.frf_files",
+    "Mode": "eigenupdate.measure.modes",
     "read_nastran": "eigenupdate.io.nastran",
     # the commands as functions of a Study (check and update: of a model, above)
     **dict.fromkeys(["check_study", "compare_frf", "extract_study", "simulate_study",

@@ -309,9 +309,10 @@ def _safe_name(name: str) -> str:
 def cmd_extract(args) -> int:
     from eigenupdate import workflow
     from eigenupdate.io.study import load_study
-    from eigenupdate.io.uff import Mode, write_modes
+    from eigenupdate.io.uff import write_modes
     from eigenupdate.measure.extraction import extraction_csv
     from eigenupdate.measure.frf import dof_label
+    from eigenupdate.measure.modes import Mode
     from eigenupdate.measure.survey import extraction_doc, extraction_text
     from eigenupdate.plot.plots import plot_extraction_fit
     from eigenupdate.report import text as report

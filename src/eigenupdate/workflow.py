@@ -28,11 +28,11 @@ from eigenupdate.identify.identifiability import IdentifiabilityReport, check
 from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.identify.updating import UpdateResult, update
 from eigenupdate.identify.weights import estimator_weights
-from eigenupdate.io.measurements import Measurement
+from eigenupdate.io.frf_files import read_frf_files
 from eigenupdate.io.results import read_loss_factors, read_updated_values
 from eigenupdate.io.study import Study
-from eigenupdate.io.uff import read_frf_files
 from eigenupdate.measure.frf import FRF
+from eigenupdate.measure.measurement import Measurement
 from eigenupdate.measure.survey import TestExtraction, extract_test
 from eigenupdate.measure.synthetic import simulate_measurements, synthetic_frfs
 from eigenupdate.model.configurations import Configuration

@@ -22,7 +22,7 @@ from eigenupdate.design.spec import DesignSpec
 from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.identify.updating import update
 from eigenupdate.identify.weights import prior_weights
-from eigenupdate.io.measurements import Measurement, eigenvalue_std
+from eigenupdate.measure.measurement import Measurement, eigenvalue_std
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.jacobian import linearise, solve_configurations

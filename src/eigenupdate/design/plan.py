@@ -20,7 +20,7 @@ from eigenupdate.design.search import PlanScorer, exhaustive, greedy_exchange
 from eigenupdate.design.spec import DesignSpec
 from eigenupdate.errors import InputError
 from eigenupdate.identify.weights import prior_weights
-from eigenupdate.io.measurements import eigenvalue_std
+from eigenupdate.measure.measurement import eigenvalue_std
 from eigenupdate.model.configurations import Addition, Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.jacobian import solve_configurations

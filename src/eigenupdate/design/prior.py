@@ -214,7 +214,7 @@ def predict_plan(model: ParametricModel, configurations: Sequence[Configuration]
     come within ``min_relative_gap`` (the modes between them are not solved)."""
     from eigenupdate.design.covariance import posterior_covariance
     from eigenupdate.identify.weights import prior_weights
-    from eigenupdate.io.measurements import eigenvalue_std
+    from eigenupdate.measure.measurement import eigenvalue_std
     from eigenupdate.solve.jacobian import linearise
 
     t0 = time.perf_counter()

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.stats
 
-from eigenupdate.io.measurements import Measurement
+from eigenupdate.measure.measurement import Measurement
 from eigenupdate.model.parametric import ParametricModel
 
 ALPHA = 1e-4

@@ -55,7 +55,7 @@ import numpy as np
 from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.identify.consistency import DEFAULT_RELATIVE_STD, residual_consistency
 from eigenupdate.identify.updating import UpdateResult, update
-from eigenupdate.io.measurements import Measurement
+from eigenupdate.measure.measurement import Measurement
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.eigen import DENSE_LIMIT

@@ -26,7 +26,7 @@ import math
 from collections.abc import Mapping, Sequence
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.measurements import Measurement
+from eigenupdate.measure.measurement import Measurement
 from eigenupdate.model.configurations import BASE, Configuration
 
 N_STD = 3.0

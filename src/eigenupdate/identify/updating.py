@@ -71,7 +71,7 @@ from eigenupdate.identify.optimizers import (
 from eigenupdate.identify.pairing import Pairing, PairingNote
 from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.identify.weights import OPTIMIZERS, estimator_weights
-from eigenupdate.io.measurements import Measurement, select, to_eigenvalue
+from eigenupdate.measure.measurement import Measurement, select, to_eigenvalue
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.eigen import WarmStart

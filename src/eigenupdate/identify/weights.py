@@ -18,7 +18,7 @@ import numpy as np
 
 from eigenupdate.choices import ESTIMATORS, OPTIMIZERS
 from eigenupdate.errors import InputError
-from eigenupdate.io.measurements import Measurement, eigenvalue_std, select
+from eigenupdate.measure.measurement import Measurement, eigenvalue_std, select
 from eigenupdate.model.parametric import ParametricModel
 
 __all__ = ["ESTIMATORS", "OPTIMIZERS", "EstimatorWeights", "check_estimator", "estimator_weights",

@@ -6,28 +6,18 @@ from __future__ import annotations
 
 import csv
 import io
-from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Iterable
 from pathlib import Path
-
-import numpy as np
 
 from eigenupdate.errors import InputError, shorten
 from eigenupdate.io.atomic import write_text
 from eigenupdate.io.numbers import parse_float, parse_int
+from eigenupdate.measure.measurement import Measurement
 
 COLUMNS = ("configuration", "mode", "frequency_hz", "std_hz")
 MAX_LINE_CHARS = 10_000
 """Longer lines are refused (the csv module's own field limit is 131,072)."""
 MAX_FILE_BYTES = 100 * 2**20
-
-
-@dataclass(frozen=True)
-class Measurement:
-    configuration: str
-    mode: int
-    frequency_hz: float
-    std_hz: float | None = None
 
 
 def read_measurements(
@@ -114,39 +104,3 @@ def write_measurements(path: str | Path, rows: Iterable[Measurement]) -> None:
         std = "" if m.std_hz is None else repr(float(m.std_hz))
         w.writerow([m.configuration, m.mode, repr(float(m.frequency_hz)), std])
     write_text(path, buf.getvalue())
-
-
-def select(
-    measurements: Mapping[tuple[str, int], Measurement],
-    rows: Sequence[tuple[str, int]],
-    need_std: bool,
-    source: str | None = None,
-) -> tuple[np.ndarray, np.ndarray | None]:
-    """Frequencies (and std) in the order of ``rows``; InputError names what is missing."""
-    f, s = [], []
-    for cfg, mode in rows:
-        m = measurements.get((cfg, mode))
-        if m is None:
-            raise InputError(f"no measurement for configuration {cfg!r} mode {mode}", source=source)
-        if need_std and m.std_hz is None:
-            raise InputError(
-                f"std_hz is empty for configuration {cfg!r} mode {mode}; weighted methods need it",
-                source=source,
-            )
-        f.append(m.frequency_hz)
-        s.append(m.std_hz)
-    return np.array(f), (np.array(s, dtype=float) if need_std else None)
-
-
-def eigenvalue_std(frequency_hz: np.ndarray, std_hz: np.ndarray) -> np.ndarray:
-    """Standard deviation of lambda = (2 pi f)^2 from that of f: 8 pi^2 f sigma_f.
-
-    >>> round(float(eigenvalue_std(np.array([100.0]), np.array([0.5]))[0]), 3)
-    3947.842
-    """
-    return 8 * np.pi**2 * frequency_hz * std_hz
-
-
-def to_eigenvalue(frequency_hz):
-    """lambda = omega^2 = (2 pi f)^2, (rad/s)^2."""
-    return (2 * np.pi * np.asarray(frequency_hz, dtype=float)) ** 2

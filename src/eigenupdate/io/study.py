@@ -18,7 +18,8 @@ from eigenupdate.choices import ESTIMATORS, FRF_KINDS, OPTIMIZERS
 from eigenupdate.design.spec import CRITERIA, DesignSpec
 from eigenupdate.errors import InputError
 from eigenupdate.io.matrix_market import read_matrix_model
-from eigenupdate.io.measurements import Measurement, read_measurements
+from eigenupdate.io.measurements import read_measurements
+from eigenupdate.measure.measurement import Measurement
 from eigenupdate.model.beam import beam_model, element_parameter_names
 from eigenupdate.model.configurations import BASE, Addition, Configuration
 from eigenupdate.model.parameters import Parameter

@@ -13,8 +13,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.measurements import Measurement
 from eigenupdate.measure.frf import FRF
+from eigenupdate.measure.measurement import Measurement
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.jacobian import solve_configurations

@@ -1,9 +1,8 @@
-"""Universal file (UFF) input/output: FRFs (dataset 58 / 58b) and normal modes (dataset 55).
+"""Universal file dataset 58 / 58b: frequency response functions.
 
-Parsing and formatting are done by `pyuff <https://github.com/ladisk/pyuff>`_; this module
-maps its dataset dictionaries to :class:`~eigenupdate.measure.frf.FRF` and :class:`Mode`,
-validates them and turns every failure on bad input into an
-:class:`~eigenupdate.errors.InputError` naming the file and the field.
+Parsing and formatting are done by `pyuff <https://github.com/ladisk/pyuff>`_ (see
+:mod:`eigenupdate.io.uff._pyuff` for its quirks handled here); this module maps its dataset
+dictionaries to :class:`~eigenupdate.measure.frf.FRF` and validates them.
 
 Dataset 58 fields used (pyuff names, record/field of the UFF 58 specification)
 -----------------------------------------------------------------------------
@@ -48,54 +47,21 @@ abscissa (``abscissa_min``/``abscissa_inc``, or each value for uneven spacing) w
 (``%13.5e``, as the UFF specification prescribes).  Binary 58b stores IEEE doubles, so
 ordinates round-trip exactly; :func:`write_frfs` keeps the axis exact in 58b by using
 uneven spacing when ``min + k inc`` with 6-digit values would not reproduce it.
-Dataset 55 stores every real number with 6 significant digits (``%13.5e``).
 
 pyuff quirks handled here (pyuff 2.5.8)
---------------------------------------
-* ``UFF.write_sets(mode="overwrite")`` with a binary 58b set truncates the file it has
-  just written (the header is lost) - files are always written in ``"add"`` mode to a
-  fresh temporary file which then replaces the destination.
-* ``UFF.write_sets`` silently replaces NaN/inf data by 0/huge numbers
-  (``np.nan_to_num``) - :func:`write_frfs` refuses non-finite data instead.
-* The 58b header field "number of bytes" is written as ``8 * num_pts`` although complex
-  data take 16 (even) or 24 (uneven) bytes per point; pyuff's reader ignores it.
-* ``UFF.get_set_formats`` always reports ASCII (it compares a byte to ``'b'``); the
-  ``binary`` key of the read dataset is correct.
-* ``UFF.read_sets`` returns a dict for one set and a list otherwise, and replaces every
-  parse error by ``Exception('Error when reading data-set(s).')``; a file cut inside its
-  last dataset is silently read without it.  Sets are read one at a time here and a
-  file that does not end with the ``-1`` delimiter is rejected as truncated.
-* A 58b set written with ``force_double=False`` (single precision, ``ord_data_type`` 5)
-  gets 8-byte doubles under a single-precision header and reads back as twice as many
-  garbage values; the ``num_pts`` check here rejects such files, and :func:`write_frfs`
-  always writes double precision.
-* ``UFF.write_sets`` re-reads the whole file after every dataset (quadratic in the
-  number of datasets), and labels longer than 20 characters shift the fixed columns;
-  the labels written here are short.
-* pyuff may ``print``; its output and warnings are suppressed while it runs (by
-  redirecting ``sys.stdout``, which is process-wide).
 """
 
 from __future__ import annotations
 
-import contextlib
-import io
 import math
-import operator
-import os
-import re
-import warnings
-from collections.abc import Iterator, Sequence
-from dataclasses import dataclass, replace
-from pathlib import Path
-from typing import Any
+from collections.abc import Sequence
 
 import numpy as np
 import pyuff
-from numpy.typing import ArrayLike
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.atomic import atomic_write
+from eigenupdate.io.uff._pyuff import PathLike, _open_uff, _quiet, _read_set
 from eigenupdate.measure.frf import (
     FRF,
     FRF_KINDS,
@@ -104,9 +70,7 @@ from eigenupdate.measure.frf import (
     to_receptance,
 )
 
-__all__ = ["Mode", "read_frfs", "read_modes", "write_frfs", "write_modes"]
-
-PathLike = str | os.PathLike[str]
+__all__ = ["read_frfs", "write_frfs"]
 
 # UFF 58 record 6 field 1.
 _FUNC_NAMES = {
@@ -198,91 +162,6 @@ _KNOWN = "m/N, (m/s)/N, (m/s^2)/N = (1/N)*(m/s^2) = m/s^2/N, g/N, mm, in/s, ..."
 # Tolerance for require_uniform: ASCII UFF stores an uneven abscissa with 6 digits.
 _UNIFORM_RTOL = 1e-5
 _AXIS_RTOL = 1e-9
-
-
-# ----------------------------------------------------------------------------- helpers
-
-
-@contextlib.contextmanager
-def _quiet() -> Iterator[None]:
-    """Silence pyuff's prints and warnings."""
-    with (
-        contextlib.redirect_stdout(io.StringIO()),
-        warnings.catch_warnings(),
-        np.errstate(all="ignore"),
-    ):
-        warnings.simplefilter("ignore")
-        yield
-
-
-def _read_bytes(path: PathLike) -> bytes:
-    src = str(path)
-    if Path(path).is_dir():
-        raise InputError("is a directory, not a universal file", source=src)
-    try:
-        with open(path, "rb") as fh:
-            return fh.read()
-    except OSError as exc:
-        raise InputError(f"cannot read file: {exc.strerror or exc}", source=src) from None
-
-
-def _open_uff(path: PathLike) -> tuple[Any, list[int]]:
-    """Read the file into bytes (for the checks) and index its datasets with pyuff."""
-    src = str(path)
-    raw = _read_bytes(path)
-    try:
-        with _quiet():
-            uff = pyuff.UFF(os.fspath(path))
-            types = [int(t) for t in uff.get_set_types()]
-    except Exception as exc:  # pyuff raises bare Exception
-        raise InputError(f"not a readable universal file ({exc})", source=src) from None
-    _check_datasets(raw, uff, src)
-    if types and not raw.rstrip(b" \t\r\n\x00\x1a").endswith(b"-1"):
-        raise InputError(
-            "file ends inside a dataset (truncated?): no closing '    -1' delimiter after the "
-            f"last of {len(types)} complete dataset(s)",
-            source=src,
-        )
-    return uff, types
-
-
-_TYPE = re.compile(rb"[ \t]*(\d+)b?(?:[ \t].*)?\r?")
-
-
-def _check_datasets(raw: bytes, uff: Any, src: str) -> None:
-    """pyuff pairs the '    -1' tags of the file in order and reads the line after each
-    opening tag as the dataset type: a blank line there makes it skip the dataset without
-    a word. That is refused here, on pyuff's own pairing (``_block_ind``, pyuff 2.5), so
-    the file never reads as a shorter list."""
-    blocks = getattr(uff, "_block_ind", None)
-    if blocks is None:  # pragma: no cover - another pyuff: nothing to check against
-        return
-    starts = [int(b[0]) for b in blocks]
-    for k, s in enumerate(starts):
-        line_end = raw.find(b"\n", s)
-        nxt = raw.find(b"\n", line_end + 1) if line_end >= 0 else -1
-        head = raw[line_end + 1: nxt if nxt >= 0 else len(raw)] if line_end >= 0 else b""
-        if _TYPE.fullmatch(head) is None:
-            line = raw.count(b"\n", 0, s) + 2
-            what = "a blank line" if not head.strip() else "no dataset type"
-            raise InputError(f"line {line}: {what} after the '-1' delimiter that opens dataset "
-                             f"{k + 1}, where its type (such as 58) must be; the dataset would "
-                             f"be skipped", source=src, field=f"dataset {k + 1}")
-
-
-def _read_set(uff: Any, index: int, set_type: int, src: str, header_only: bool = False) -> dict:
-    try:
-        with _quiet():
-            dset = uff.read_sets(index, header_only=header_only)
-    except Exception as exc:
-        raise InputError(
-            f"dataset {index + 1} (type {set_type}): pyuff cannot parse it ({exc})",
-            source=src,
-            field=f"dataset {index + 1}",
-        ) from None
-    if not isinstance(dset, dict):  # pragma: no cover - pyuff returns a dict for one set
-        raise InputError(f"dataset {index + 1}: unexpected pyuff result", source=src)
-    return dset
 
 
 def _norm_units(label: object) -> str | None:
@@ -698,298 +577,3 @@ def write_frfs(path: PathLike, frfs: Sequence[FRF], binary: bool = False) -> Non
     atomic_write(path, _write)
 
 
-# ----------------------------------------------------------------------------- modes (55)
-
-
-@dataclass(frozen=True, eq=False, repr=False)
-class Mode:
-    """A real normal mode as stored in dataset 55 (analysis type 2, normal mode).
-
-    Parameters
-    ----------
-    frequency_hz : float
-        Natural frequency in Hz (``freq``, record 8 field 1), finite and ``>= 0``.
-    loss_factor : float
-        Hysteretic (structural) damping loss factor eta, written to ``modal_damp_his``
-        ("modal hysteretic damping ratio", record 8 field 4).
-    damping_ratio : float
-        Viscous damping ratio zeta (``modal_damp_vis``, record 8 field 3); 0 if unused.
-        For light damping eta ~ 2 zeta; the two are stored independently.
-    modal_mass : float
-        Modal mass (``modal_m``, record 8 field 2); 0 means unknown / not mass-normalised.
-    node_nums : array_like of int, shape (m,)
-        Node numbers of the shape (record 9).
-    shape : array_like of float, shape (m, 3) or (m, 6), optional
-        Shape values per node: translations X, Y, Z (``r1``-``r3``) and optionally
-        rotations (``r4``-``r6``).  Default: zeros with 3 columns.
-    mode_number : int
-        Mode number (``mode_n``, record 7 field 4); 0 means "use the position in the list"
-        when writing.
-    source : str
-        File the mode came from, used in error messages.
-    label : str
-        Free text kept in the dataset's third ID line, e.g. the test configuration.
-
-    Notes
-    -----
-    Dataset 55 stores every number with 6 significant digits (``%13.5e``).
-
-    Examples
-    --------
-    >>> m = Mode.point(12.5, 0.8, (7, -3), loss_factor=0.02)
-    >>> m
-    Mode(12.5 Hz, loss_factor=0.02, 1 node(s))
-    >>> m.shape.tolist()
-    [[0.0, 0.0, -0.8]]
-    """
-
-    frequency_hz: float
-    loss_factor: float = 0.0
-    damping_ratio: float = 0.0
-    modal_mass: float = 0.0
-    node_nums: ArrayLike = (1,)
-    shape: ArrayLike | None = None
-    mode_number: int = 0
-    source: str = ""
-    label: str = ""
-
-    def __post_init__(self) -> None:
-        src = self.source or None
-        for name in ("frequency_hz", "loss_factor", "damping_ratio", "modal_mass"):
-            try:
-                value = float(getattr(self, name))
-            except (TypeError, ValueError):
-                raise InputError(
-                    f"not a number: {getattr(self, name)!r}", source=src, field=name
-                ) from None
-            if not math.isfinite(value):
-                raise InputError(f"non-finite value {value!r}", source=src, field=name)
-            object.__setattr__(self, name, value)
-        if self.frequency_hz < 0:
-            raise InputError(
-                f"negative frequency {self.frequency_hz:g} Hz", source=src, field="frequency_hz"
-            )
-        nodes = np.array(self.node_nums).ravel()
-        if nodes.size == 0 or not np.issubdtype(nodes.dtype, np.integer):
-            raise InputError(
-                f"must be a non-empty sequence of integers, got {self.node_nums!r}",
-                source=src,
-                field="node_nums",
-            )
-        nodes = nodes.astype(np.int64)
-        if self.shape is None:
-            shape = np.zeros((nodes.size, 3))
-        else:
-            try:
-                shape = np.array(self.shape, dtype=np.float64)
-            except (TypeError, ValueError):
-                raise InputError(
-                    "must be real numbers (complex shapes are not supported)",
-                    source=src,
-                    field="shape",
-                ) from None
-            if shape.ndim == 1:
-                shape = shape.reshape(1, -1)
-        if shape.ndim != 2 or shape.shape[0] != nodes.size or shape.shape[1] not in (3, 6):
-            raise InputError(
-                f"must have shape ({nodes.size}, 3) or ({nodes.size}, 6), got {shape.shape}",
-                source=src,
-                field="shape",
-            )
-        if not np.isfinite(shape).all():
-            raise InputError("non-finite value", source=src, field="shape")
-        try:
-            number = operator.index(self.mode_number)
-        except TypeError:
-            raise InputError(
-                f"must be an integer, got {self.mode_number!r}", source=src, field="mode_number"
-            ) from None
-        nodes.flags.writeable = False
-        shape.flags.writeable = False
-        object.__setattr__(self, "node_nums", nodes)
-        object.__setattr__(self, "shape", shape)
-        object.__setattr__(self, "mode_number", int(number))
-        object.__setattr__(self, "source", str(self.source))
-
-    @classmethod
-    def point(
-        cls,
-        frequency_hz: float,
-        value: float,
-        dof: tuple[int, int],
-        *,
-        loss_factor: float = 0.0,
-        damping_ratio: float = 0.0,
-        modal_mass: float = 0.0,
-        mode_number: int = 0,
-    ) -> Mode:
-        """A mode known at one DOF only, e.g. a (real) modal constant from a point FRF.
-
-        ``value`` is placed in the column of ``dof``'s direction (``r1``..``r6``) of a
-        one-node shape, negated for a negative direction code.
-        """
-        node, direction = int(dof[0]), int(dof[1])
-        if not 1 <= abs(direction) <= 6:
-            raise ValueError(f"dof direction must be +-1..6, got {direction}")
-        shape = np.zeros((1, 6 if abs(direction) > 3 else 3))
-        shape[0, abs(direction) - 1] = value if direction > 0 else -value
-        return cls(
-            frequency_hz,
-            loss_factor=loss_factor,
-            damping_ratio=damping_ratio,
-            modal_mass=modal_mass,
-            node_nums=(node,),
-            shape=shape,
-            mode_number=mode_number,
-        )
-
-    def __repr__(self) -> str:
-        return (
-            f"Mode({self.frequency_hz:g} Hz, loss_factor={self.loss_factor:g}, "
-            f"{np.asarray(self.node_nums).size} node(s))"
-        )
-
-
-def write_modes(path: PathLike, modes: Sequence[Mode]) -> None:
-    """Write normal modes as datasets 55 (analysis type 2) to a universal file.
-
-    Fields written per mode: ``freq`` = frequency_hz, ``modal_m`` = modal_mass,
-    ``modal_damp_vis`` = damping_ratio, ``modal_damp_his`` = loss_factor, ``mode_n`` =
-    mode_number (or the 1-based position when 0), ``load_case`` = 1, ``node_nums`` and
-    ``r1``..``r3`` (``r1``..``r6`` with data characteristic 3 for 6-column shapes),
-    specific data type 8 (displacement).  Values get 6 significant digits.  The file is
-    replaced atomically.
-
-    Raises
-    ------
-    ValueError
-        If ``modes`` is empty.
-    """
-    if len(modes) == 0:
-        raise ValueError(f"{path}: no modes to write")
-    dsets = []
-    for k, mode in enumerate(modes, start=1):
-        shape = np.asarray(mode.shape)
-        six = shape.shape[1] == 6
-        cols = {f"r{j + 1}": shape[:, j].copy() for j in range(shape.shape[1])}
-        dsets.append(
-            pyuff.prepare_55(
-                id1="eigenupdate normal mode",
-                id2=f"mode {mode.mode_number or k}",
-                id3=mode.label[:80] or "NONE",
-                id4="NONE",
-                id5="NONE",
-                model_type=1,
-                analysis_type=2,
-                data_ch=3 if six else 2,
-                spec_data_type=8,
-                data_type=2,
-                n_data_per_node=6 if six else 3,
-                load_case=1,
-                mode_n=int(mode.mode_number or k),
-                freq=float(mode.frequency_hz),
-                modal_m=float(mode.modal_mass),
-                modal_damp_vis=float(mode.damping_ratio),
-                modal_damp_his=float(mode.loss_factor),
-                node_nums=np.asarray(mode.node_nums, dtype=np.int64),
-                **cols,
-            )
-        )
-
-    def _write(tmp: str) -> None:
-        with _quiet():
-            pyuff.UFF(tmp).write_sets(dsets, mode="add")
-
-    atomic_write(path, _write)
-
-
-def read_modes(path: PathLike) -> list[Mode]:
-    """Read all normal-mode datasets (type 55, analysis type 2) of a universal file.
-
-    The inverse of :func:`write_modes`; other datasets are skipped.
-
-    Returns
-    -------
-    list of Mode
-        In file order, with ``source=str(path)``.
-
-    Raises
-    ------
-    InputError
-        If the file cannot be read, holds no normal-mode dataset, or a dataset cannot be
-        parsed or has complex or non-finite values.
-    """
-    src = str(path)
-    uff, types = _open_uff(path)
-    modes: list[Mode] = []
-    other: set[int] = set()
-    for index, set_type in enumerate(types):
-        if set_type != 55:
-            continue
-        dset = _read_set(uff, index, set_type, src)
-        analysis = int(dset.get("analysis_type", -1))
-        if analysis != 2:
-            other.add(analysis)
-            continue
-        where = f"dataset {index + 1}"
-        if int(dset.get("data_type", 2)) != 2:
-            raise InputError(
-                f"{where}: complex mode shape data (data type {dset.get('data_type')}) in a "
-                "normal-mode dataset is not supported",
-                source=src,
-                field="data_type",
-            )
-        ncol = 6 if "r4" in dset else 3
-        try:
-            shape = np.column_stack(
-                [np.asarray(dset[f"r{j + 1}"], dtype=np.float64) for j in range(ncol)]
-            )
-            mode = Mode(
-                frequency_hz=dset["freq"],
-                loss_factor=dset.get("modal_damp_his", 0.0),
-                damping_ratio=dset.get("modal_damp_vis", 0.0),
-                modal_mass=dset.get("modal_m", 0.0),
-                node_nums=np.asarray(dset["node_nums"], dtype=np.int64),
-                shape=shape,
-                mode_number=int(dset.get("mode_n", 0)),
-                label="" if str(dset.get("id3", "NONE")).strip() == "NONE"
-                else str(dset.get("id3", "")).strip(),
-            )
-        except (KeyError, TypeError, ValueError) as exc:  # InputError is a ValueError
-            err = InputError(f"{where}: {exc}", source=src)
-            err.field = getattr(exc, "field", None)
-            raise err from None
-        modes.append(replace(mode, source=src))
-    if not modes:
-        extra = (
-            f"; the type-55 datasets have analysis types {sorted(other)}"
-            if other
-            else f"; found dataset types {sorted(set(types))}"
-            if types
-            else "; no universal-file datasets found"
-        )
-        raise InputError(
-            f"no normal-mode dataset (type 55, analysis type 2) in file{extra}", source=src
-        )
-    return modes
-
-
-def read_frf_files(
-    paths: Sequence[PathLike], kinds: Sequence[str | None] | None = None
-) -> list[FRF]:
-    """FRFs of several files: ``.csv`` files by :func:`eigenupdate.io.frf_csv.read_frf_csv`
-    (one receptance each), anything else as a universal file (:func:`read_frfs`, with
-    ``kinds[i]`` as the ``default_kind`` of file ``i``)."""
-    from eigenupdate.io.frf_csv import read_frf_csv
-
-    out: list[FRF] = []
-    for i, p in enumerate(paths):
-        kind = None if kinds is None else kinds[i]
-        if str(p).lower().endswith(".csv"):
-            if kind not in (None, "receptance"):  # the CSV format holds receptance only
-                raise InputError(f"an FRF CSV holds receptance (m/N); kind {kind!r} applies "
-                                 f"to universal files", source=str(p), field="kind")
-            out.append(read_frf_csv(p))
-        else:
-            out += read_frfs(p, default_kind=kind)
-    return out

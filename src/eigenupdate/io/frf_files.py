@@ -1,0 +1,30 @@
+"""FRFs of several files, each read by the reader of its format."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from eigenupdate.errors import InputError
+from eigenupdate.io.frf_csv import read_frf_csv
+from eigenupdate.io.uff import read_frfs
+from eigenupdate.io.uff._pyuff import PathLike
+from eigenupdate.measure.frf import FRF
+
+
+def read_frf_files(
+    paths: Sequence[PathLike], kinds: Sequence[str | None] | None = None
+) -> list[FRF]:
+    """FRFs of several files: ``.csv`` files by :func:`eigenupdate.io.frf_csv.read_frf_csv`
+    (one receptance each), anything else as a universal file (:func:`read_frfs`, with
+    ``kinds[i]`` as the ``default_kind`` of file ``i``)."""
+    out: list[FRF] = []
+    for i, p in enumerate(paths):
+        kind = None if kinds is None else kinds[i]
+        if str(p).lower().endswith(".csv"):
+            if kind not in (None, "receptance"):  # the CSV format holds receptance only
+                raise InputError(f"an FRF CSV holds receptance (m/N); kind {kind!r} applies "
+                                 f"to universal files", source=str(p), field="kind")
+            out.append(read_frf_csv(p))
+        else:
+            out += read_frfs(p, default_kind=kind)
+    return out

@@ -28,6 +28,7 @@ import scipy.sparse as sp
 
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_constraints import constraint_equations
+from eigenupdate.io.nastran_continuum import assemble_continuum
 from eigenupdate.io.nastran_deck import Deck, load_deck
 from eigenupdate.io.nastran_fields import FIELDS, NOT_LINEAR, get_field, set_field, stores
 from eigenupdate.io.nastran_lines import assemble_lines
@@ -37,7 +38,7 @@ from eigenupdate.io.nastran_points import (
     assemble_conm2,
     assemble_scalars,
 )
-from eigenupdate.model import constraints, reduction
+from eigenupdate.model import constraints, reduction, shells
 from eigenupdate.model.coordinates import Coordinate, CoordinateTable
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
@@ -234,6 +235,8 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
 
     assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
                    k0, m0, kj, mj)
+    assemble_continuum(bdf, grid, xyz, frames, nids.size, consistent, wtmass,
+                       _param(bdf, "K6ROT", shells.K6ROT), pindex, values, k0, m0, kj, mj)
     assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj)
     assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
     assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj)

@@ -29,6 +29,9 @@ SHELLS = {"CQUAD4": 4, "CTRIA3": 3}
 SOLIDS = {("CHEXA", 8): "CHEXA8", ("CPENTA", 6): "CPENTA6", ("CTETRA", 4): "CTETRA4",
           ("CTETRA", 10): "CTETRA10"}
 PARTS = shells.STIFFNESS_PARTS
+RIGID_SHEAR = 1e3
+"""Transverse shear stiffness of a PSHELL with MID3 blank (shear-rigid in NASTRAN), as a
+multiple of MID2's E / (2 (1 + NU)) T."""
 
 
 def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot, pindex,
@@ -100,21 +103,25 @@ def _pshell(bdf, prop) -> dict:
         if prop.mid2 < 0:
             raise InputError(f"{where}: MID2 = {prop.mid2} (plane strain) is not supported")
         m2 = _mat1(bdf, prop.mid2, where + " MID2")
-        if not prop.mid3:
-            raise InputError(f"{where}: MID3 blank (a shear-rigid Kirchhoff plate) is not "
-                             f"supported: give MID3 (transverse shear)")
-        m3 = _mat1(bdf, prop.mid3, where + " MID3")
+        m3 = _mat1(bdf, prop.mid3, where + " MID3") if prop.mid3 else None
     ratio = 1.0 if prop.twelveIt3 is None else in_range(prop.twelveIt3, f"{where}: 12I/T^3")
     tst = 5.0 / 6.0 if prop.tst is None else in_range(prop.tst, f"{where}: TS/T")
     if m2 is not None and not (ratio > 0 and tst > 0):
         raise InputError(f"{where}: 12I/T^3 = {ratio:g} and TS/T = {tst:g} must be > 0")
     cm = shells.plane_stress(1.0, m1.nu)[0]
     cb = np.zeros((3, 3)) if m2 is None else shells.plane_stress(1.0, m2.nu)[0] * ratio / 12
+    rigid = m2 is not None and m3 is None
+    if rigid:
+        # MID3 blank: NASTRAN's shear-rigid (Kirchhoff) plate, as MID2's G times
+        # RIGID_SHEAR: the frequencies then differ from the rigid limit by 1/RIGID_SHEAR
+        # of the shear deformation's share, itself of order (T / L)^2
+        m3, tst = m2, RIGID_SHEAR
     cs = np.zeros((2, 2)) if m3 is None else np.eye(2) * tst
     return {"T": T, "cm": cm, "cb": cb, "cs": cs, "E1": m1.e, "E2": 0.0 if m2 is None else m2.e,
-            "G3": 0.0 if m3 is None else m3.g, "E3": 1.0 if m3 is None else m3.e, "mid1": m1.mid,
+            "G3": 0.0 if m3 is None else m3.e / (2 * (1 + m3.nu)) if rigid else m3.g,
+            "E3": 1.0 if m3 is None else m3.e, "mid1": m1.mid,
             "mid2": 0 if m2 is None else m2.mid, "mid3": 0 if m3 is None else m3.mid,
-            "tied3": m3 is not None and _tied(m3), "rho": m1.rho or 0.0,
+            "tied3": m3 is not None and (rigid or _tied(m3)), "rho": m1.rho or 0.0,
             "nsm": in_range(prop.nsm or 0.0, f"{where}: NSM"), "laminate": None}
 
 
@@ -271,14 +278,14 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
 
     def blocks(s: slice) -> list:
         R, parts = shells.local_parts(xyz_e[s], cm[s], cb[s], cs[s], k6rot, labels[s])
-        out = [_to_cd(shells.combine(R, parts, {p: c[s] for p, c in base.items()}),
-                      frames, nodes[s], 6)]
+        hit = {p: c[s] for p, c in base.items() if np.any(c[s])}
+        out = [_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6) if hit else None]
         for d in deriv_k:
             hit = {p: c[s] for p, c in d.items() if np.any(c[s])}
             out.append(_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6)
                        if hit else None)
         m = shells.shell_mass(xyz_e[s], lumped, labels[s])  # rotation-invariant
-        out.append(mbase[s, None, None] * m)
+        out.append(mbase[s, None, None] * m if np.any(mbase[s]) else None)
         out += [None if d is None or not np.any(d[s]) else d[s, None, None] * m
                 for d in deriv_m]
         return out
@@ -338,10 +345,10 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
     def blocks(s: slice) -> list:
         ku = _to_cd(solids.solid_stiffness(xyz_e[s], unit[s], labels[s]), frames, nodes[s], 3)
         m = solids.solid_mass(xyz_e[s], lumped, labels[s])
-        return ([kfac[s, None, None] * ku]
+        return ([kfac[s, None, None] * ku if np.any(kfac[s]) else None]
                 + [None if d is None or not np.any(d[s]) else d[s, None, None] * ku
                    for d in dk]
-                + [mfac[s, None, None] * m]
+                + [mfac[s, None, None] * m if np.any(mfac[s]) else None]
                 + [None if d is None or not np.any(d[s]) else d[s, None, None] * m
                    for d in dm])
 

@@ -12,6 +12,7 @@ import pytest
 from bounds import EPS
 from nastran_frames import need
 from plates import square_mesh
+from solid_meshes import box_mesh, solid_matrices
 
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.model import laminate
@@ -288,3 +289,29 @@ def test_unsupported_solid_input_is_named(tmp_path):
     path.write_text(flat)
     with pytest.raises(InputError, match="CTETRA 1: zero or changing-sign Jacobian"):
         _read(path)
+
+
+@pytest.mark.parametrize("kind", ["CHEXA8", "CHEXA20", "CPENTA6", "CPENTA15", "CTETRA4",
+                                  "CTETRA10"])
+def test_solid_deck_is_the_element_library(tmp_path, kind):
+    """Source: the element library's own assembly (tests/test_solids.py checks the
+    elements against closed forms); here the deck path (pyNastran's node order, PSOLID,
+    MAT1, COUPMASS) must give the same free-free frequencies, to the eigen-solvers'
+    rounding (1e-9 with room)."""
+    xyz, el = box_mesh((1.0, 0.3, 0.2), (3, 1, 1), kind)
+    card = kind.rstrip("0123456789")
+    lines = [f"GRID,{i + 1},,{x!r},{y!r},{z!r}" for i, (x, y, z) in enumerate(xyz)]
+    for k, e in enumerate(el):
+        ids = [str(n + 1) for n in e]
+        text = f"{card},{k + 1},2," + ",".join(ids[:6])
+        for j in range(6, len(ids), 8):
+            text += "\n," + ",".join(ids[j:j + 8])
+        lines.append(text)
+    path = tmp_path / "solid.bdf"
+    path.write_text("BEGIN BULK\nPARAM,COUPMASS,1\nPSOLID,2,1\n" + STEEL + "\n".join(lines)
+                    + "\nENDDATA\n")
+    m = _read(path).model
+    got = solve_elastic(m.stiffness(), m.mass(), 8).frequencies_hz
+    K, M = solid_matrices(xyz, el, E, NU, RHO)
+    want = solve_elastic(K, M, 8).frequencies_hz
+    assert np.allclose(got, want, rtol=1e-9, atol=0)

@@ -381,11 +381,11 @@ def _to_cd(blocks: np.ndarray, frames: np.ndarray, nodes: np.ndarray, per_node: 
 
 def _add(trip, mat, per_node: int) -> None:
     """Add a matrix assembled ``per_node`` coordinates a node to the 6-a-node triplets."""
-    coo = mat.tocoo()
-    if coo.nnz == 0:
+    if mat.nnz == 0:
         return
+    if per_node == 6:  # already numbered as the model
+        trip.add_matrix(mat)
+        return
+    coo = mat.tocoo()
     r, c = coo.row.astype(np.int64), coo.col.astype(np.int64)
-    if per_node != 6:
-        r = 6 * (r // per_node) + r % per_node
-        c = 6 * (c // per_node) + c % per_node
-    trip.add(r, c, coo.data)
+    trip.add(6 * (r // per_node) + r % per_node, 6 * (c // per_node) + c % per_node, coo.data)

@@ -125,8 +125,9 @@ MATERIALS = {1: {"E": 7.0e10, "G": None, "NU": 0.33, "RHO": 2700.0},
 
 
 def mixed_deck(coupmass: int, materials: dict) -> str:
-    """A CHEXA8, a CTETRA4, a CQUAD4 (PSHELL 1: all three MIDs MAT1 1, NSM) and a CTRIA3
-    (PSHELL 3: membrane and shear MAT1 3 with its own G, bending MAT1 1), WTMASS 0.5."""
+    """A CHEXA8, a CTETRA4, a CQUAD4 (PSHELL 1: all three MIDs MAT1 1, NSM), a CTRIA3
+    (PSHELL 3: membrane and shear MAT1 3 with its own G, bending MAT1 1) and a CQUAD4 of
+    PCOMP 5 (two MAT1 3 plies at 0 and 45 degrees, NSM), WTMASS 0.5."""
     mats = "".join(f"MAT1,{m},{v['E']!r},{'' if v['G'] is None else repr(v['G'])},"
                    f"{v['NU']!r},{v['RHO']!r}\n" for m, v in materials.items())
     return (f"BEGIN BULK\nPARAM,COUPMASS,{coupmass}\nPARAM,WTMASS,.5\n"
@@ -134,7 +135,8 @@ def mixed_deck(coupmass: int, materials: dict) -> str:
             "GRID,5,,0.,0.,1.\nGRID,6,,1.,0.,1.\nGRID,7,,1.,1.,1.2\nGRID,8,,0.,1.,1.\n"
             "GRID,9,,2.,0.,0.\nGRID,10,,2.,1.,0.02\nGRID,11,,.5,.5,2.\n"
             "CHEXA,1,2,1,2,3,4,5,6,\n,7,8\nCTETRA,2,2,5,6,8,11\n"
-            "CQUAD4,3,1,2,9,10,3\nCTRIA3,4,3,6,7,11\n"
+            "CQUAD4,3,1,2,9,10,3\nCTRIA3,4,3,6,7,11\nGRID,12,,3.,0.,0.\nGRID,13,,3.,1.,0.\n"
+            "CQUAD4,5,5,9,12,13,10\nPCOMP,5,,.2\n,3,.01,0.,,3,.02,45.\n"
             "PSHELL,1,1,.02,1,,1,,.1\nPSHELL,3,3,.03,1,,3\nPSOLID,2,2\n"
             f"{mats}SPC1,1,123456,1,4\nENDDATA\n")
 
@@ -170,6 +172,18 @@ def test_material_parameters_finite_differences(tmp_path, field, coupmass):
         # K is linear in the field: the difference of two assemblies of values ~|total|
         # loses ~100 eps |total| / h (sums of up to 24 x 24 products)
         assert np.max(np.abs(fd - dj)) <= 1e4 * EPS * max(abs(total).max(), 1e-300) / h
+def test_ply_of_a_mixed_pcomp_refused_as_parameter(tmp_path):
+    """A PCOMP of two materials: its condensed membrane is not linear in one's E (RHO
+    is: mass per area sum rho_k t_k)."""
+    path = tmp_path / "mixed.bdf"
+    path.write_text(mixed_deck(1, MATERIALS).replace(",3,.01,0.,,3,.02,45.",
+                                                     ",3,.01,0.,,1,.02,45.\n,3,.01,0."))
+    with pytest.raises(InputError, match="MAT1 3 field E: not a parameter of PCOMP 5"):
+        _read(path, [(Parameter("p", 0.0), CardField("MAT1", 3, "E"))])
+    nm = _read(path, [(Parameter("p", 0.0), CardField("MAT1", 3, "RHO"))])
+    assert nm.model.m_terms[0] is not None
+
+
 def _pcomp_props(plies: str, lam: str = "") -> str:
     return f"PCOMP,1,,,,,,,{lam}\n{plies}"
 

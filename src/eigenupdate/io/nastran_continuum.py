@@ -123,7 +123,8 @@ def _pshell(bdf, prop) -> dict:
             "G3": 0.0 if m3 is None else m3.e / (2 * (1 + m3.nu)) if rigid else m3.g,
             "E3": 1.0 if m3 is None else m3.e, "mid1": m1.mid,
             "mid2": 0 if m2 is None else m2.mid, "mid3": 0 if m3 is None else m3.mid,
-            "tied3": m3 is not None and (rigid or _tied(m3)), "rho": m1.rho or 0.0,
+            "tied3": m3 is not None and (rigid or _tied(m3)),
+            "mass": {m1.mid: (m1.rho or 0.0, T)},
             "nsm": in_range(prop.nsm or 0.0, f"{where}: NSM"), "laminate": None}
 
 
@@ -169,12 +170,21 @@ def _pcomp(bdf, prop) -> dict:
     plies = [_ply(bdf, int(m), f"{where} ply {i + 1}") for i, m in enumerate(mids)]
     T = float(t.sum())
     z0 = -T / 2 if prop.z0 is None else in_range(prop.z0, f"{where}: Z0")
-    return {"T": T, "E1": 1.0, "E2": 1.0, "G3": 1.0, "E3": 1.0, "mid1": 0, "mid2": 0, "mid3": 0,
-            "tied3": False, "rho": 0.0, "laminate": (
-                np.stack([p[0] for p in plies]), np.stack([p[1] for p in plies]), t, z0,
-                np.radians(angles)),
-            "nsm": float(np.sum([p[2] * ti for p, ti in zip(plies, t, strict=True)]))
-            + in_range(prop.nsm or 0.0, f"{where}: NSM"), "mids": {int(m) for m in mids}}
+    mass: dict = {}
+    for m, p, ti in zip(mids, plies, t, strict=True):
+        mass[int(m)] = (p[2], mass.get(int(m), (0.0, 0.0))[1] + ti)
+    out = {"T": T, "E1": 1.0, "E2": 1.0, "G3": 1.0, "E3": 1.0, "mid1": 0, "mid2": 0,
+           "mid3": 0, "tied3": False, "mass": mass,
+           "nsm": in_range(prop.nsm or 0.0, f"{where}: NSM"), "plies": set(mass),
+           "laminate": (np.stack([p[0] for p in plies]), np.stack([p[1] for p in plies]),
+                        t, z0, np.radians(angles))}
+    one = bdf.materials[int(mids[0])]
+    if len(mass) == 1 and one.type == "MAT1":
+        # one isotropic material: A, D ~ E and H ~ G, so its E is a linear parameter
+        # as a PSHELL's (the laminate's moduli are divided by them below)
+        out.update(E1=one.e, E2=one.e, G3=one.g or 1.0, E3=one.e, mid1=one.mid, mid2=one.mid,
+                   mid3=one.mid, tied3=_tied(one))
+    return out
 
 
 def _material_angle(bdf, elems, xyz_e: np.ndarray, labels: list[str]) -> np.ndarray:
@@ -243,22 +253,27 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             if big.any():
                 raise InputError(f"PCOMP {pid}: membrane-bending coupling (an unsymmetric "
                                  f"laminate, or Z0 != -T/2) is not supported")
-            cm[sel], cb[sel], cs[sel] = A / Tp, D / Tp**3, H / Tp
+            p = props[pid]  # moduli per unit E1, E2, G3 (1 unless one MAT1)
+            cm[sel], cb[sel] = A / (Tp * p["E1"]), D / (Tp**3 * p["E2"])
+            cs[sel] = H / (Tp * p["G3"])
     size = shells.stabilisation_size(xyz_e)
     total = {"membrane": E1 * T, "drilling": E1 * T, "bending": E2 * T**3,
              "shear": G3 * shells.shear_thickness(T, size)}
-    mass = wtmass * np.array([p["rho"] * p["T"] + p["nsm"] for p in rows])
+    mass = wtmass * np.array([sum(r * t for r, t in p["mass"].values()) + p["nsm"]
+                              for p in rows])
     deriv_k: list[dict] = [{} for _ in kj]
     deriv_m: list = [None for _ in mj]
     mids = {q: np.array([p[q] for p in rows]) for q in ("mid1", "mid2", "mid3")}
     tied3 = np.array([p["tied3"] for p in rows])
-    ply_mats = set().union(*(p.get("mids", set()) for p in rows))
     for (card, cid), slots in pindex.items():
         if card != "MAT1":
             continue
-        if cid in ply_mats and (set(slots) & {"E", "RHO"}):
-            raise InputError(f"MAT1 {cid} field {sorted(slots)[0]}: not a parameter of the "
-                             f"PCOMP plies that use it (not supported yet)")
+        mixed = sorted({e.pid for e, p in zip(elems, rows, strict=True)
+                        if cid in p.get("plies", ()) and p["mid1"] != cid})
+        if mixed and "E" in slots:
+            raise InputError(f"MAT1 {cid} field E: not a parameter of PCOMP {mixed[0]}, whose "
+                             f"plies use several materials (its condensed membrane is not "
+                             f"linear in one of them)")
         if "E" in slots:
             d = deriv_k[slots["E"]]
             sh = shells.shear_thickness(T, size)
@@ -269,9 +284,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                 if mask.any():
                     d[part] = np.where(mask, f, 0.0)
         if "RHO" in slots:
-            mask = mids["mid1"] == cid
-            if mask.any():
-                deriv_m[slots["RHO"]] = np.where(mask, wtmass * T, 0.0)
+            thick = np.array([p["mass"].get(cid, (0.0, 0.0))[1] for p in rows])
+            if thick.any():
+                deriv_m[slots["RHO"]] = wtmass * thick
     base = {part: tot - sum((values[j] * d[part] for j, d in enumerate(deriv_k) if part in d),
                             np.zeros(n)) for part, tot in total.items()}
     mbase = mass - sum((values[j] * d for j, d in enumerate(deriv_m) if d is not None),

@@ -44,6 +44,11 @@ def _run(setup, trials, seed, executor):
     return r, time.perf_counter() - start
 
 
+def _cpu() -> float:
+    """CPU seconds of this process, all threads (also run on each worker)."""
+    return time.process_time()
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--trials", type=int, help="default: sized by --seconds")
@@ -59,12 +64,19 @@ def main() -> None:
     with Automatic(n_workers=a.workers) as auto:  # what the command line does by default
         _, t_auto = _run(setup, PILOT, a.seed + 1, auto)
         auto_choice = str(auto)
+    c0 = _cpu()
     one, t_one = _run(setup, trials, a.seed, InProcess())
+    c_one = _cpu() - c0
     start = time.perf_counter()
     with DaskExecutor(n_workers=a.workers) as ex:
         t_start = time.perf_counter() - start
+        before = ex.client.run(_cpu)
         many, t_many = _run(setup, trials, a.seed, ex)
+        after = ex.client.run(_cpu)
         worker_env = ex.client.run(lambda: {v: os.environ.get(v) for v in THREAD_VARS})
+    # the machine is shared: CPU time says whether the workers did the same work as this
+    # process (then a shortfall in wall time is the load, not Dask)
+    c_many = sum(after[w] - before[w] for w in after)
     same = all(np.array_equal(x[k], y[k], equal_nan=True) and x["converged"] == y["converged"]
                for x, y in zip(one.trials, many.trials, strict=True)
                for k in ("truth", "estimate", "std"))
@@ -76,6 +88,8 @@ def main() -> None:
           f"{t_one / t_many:.2f}x = {t_one / t_many / a.workers:.2f} x workers "
           f"(+ {t_start:.1f} s cluster start-up)")
     print(f"  same results bit for bit:    {same}")
+    print(f"  CPU time: {c_one:.1f} s in one process, {c_many:.1f} s on the workers together "
+          f"({c_many / c_one:.2f}x)")
     envs = sorted({tuple(sorted(e.items())) for e in worker_env.values()})
     print(f"  thread settings here: {{{', '.join(f'{v}={os.environ[v]}' for v in THREAD_VARS)}}}"
           f"; on the workers: {[dict(e) for e in envs]}")
@@ -85,6 +99,7 @@ def main() -> None:
                "identical": bool(same), "trials": trials, "t_cluster": t_many,
                "t_cluster_start": t_start, "cores": os.cpu_count(), "load_average": load,
                "automatic_20_trials": {"choice": auto_choice, "seconds": t_auto},
+               "cpu_inprocess": c_one, "cpu_workers": c_many,
                "threads_here": {v: os.environ[v] for v in THREAD_VARS},
                "threads_on_workers": [dict(e) for e in envs]}
         Path(a.json).write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")

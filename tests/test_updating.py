@@ -3,7 +3,7 @@ and the safeguards of the iteration."""
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 from models import fig2, random_network
 
@@ -302,6 +302,7 @@ def test_check_and_update_agree_with_one_tiny_std():
 
 @settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(seed=st.integers(0, 2**32 - 1), n=st.integers(2, 5))
+@example(seed=124674, n=5)  # a trial point turned down on the way (nfev > nit)
 def test_last_step_without_a_solve_is_what_a_solve_gives(seed, n):
     # Where the trust region takes its last Gauss-Newton step without solving the point it
     # reaches (Step.FINAL), a solve there must agree with what it reported: the step
@@ -321,7 +322,6 @@ def test_last_step_without_a_solve_is_what_a_solve_gives(seed, n):
     res = update(start, configs, modes, data, max_iterations=50)
     assert res.converged, res.message
     assume(res.history[-1].kind is Step.FINAL)
-    assert res.nfev == res.nit  # the initial point and every iterate but the last solved
     x = np.array([res.parameters[n_] for n_ in start.names])
     before = np.array([res.history[-2].parameters[n_] for n_ in start.names])
     lin = linearise(start, configs, modes, x)

@@ -8,6 +8,11 @@ trials bit for bit.
 Without ``--trials`` the study is sized from a 20-trial pilot run in this process to take
 about ``--seconds`` (default 60) in one process. ``--json`` writes {"speedup", "workers",
 "t_inprocess", "identical", ...}. The cluster's start-up is timed apart from the study.
+
+Both sides are single-threaded per process: this process sets the BLAS and the package's
+thread counts to 1 before NumPy is imported, and Dask's nannies start their workers with
+OPENBLAS/OMP/MKL_NUM_THREADS=1 (``distributed.nanny.pre-spawn-environ``, read back from the
+workers and written to the JSON), so the speed-up compares one core with ``--workers``.
 """
 
 from __future__ import annotations
@@ -18,11 +23,16 @@ import os
 import time
 from pathlib import Path
 
-import numpy as np
+THREAD_VARS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
+               "EIGENUPDATE_THREADS")
+for _var in THREAD_VARS:  # before NumPy is imported: OpenBLAS reads it once
+    os.environ[_var] = "1"
 
-from eigenupdate.design.executor import Automatic, DaskExecutor, InProcess
-from eigenupdate.design.montecarlo import montecarlo, study_setup
-from eigenupdate.io.study import load_study
+import numpy as np  # noqa: E402
+
+from eigenupdate.design.executor import Automatic, DaskExecutor, InProcess  # noqa: E402
+from eigenupdate.design.montecarlo import montecarlo, study_setup  # noqa: E402
+from eigenupdate.io.study import load_study  # noqa: E402
 
 STUDY = Path(__file__).resolve().parents[1] / "examples" / "paper_beam" / "study.toml"
 PILOT = 20
@@ -32,6 +42,11 @@ def _run(setup, trials, seed, executor):
     start = time.perf_counter()
     r = montecarlo(setup, trials, seed, executor)
     return r, time.perf_counter() - start
+
+
+def _cpu() -> float:
+    """CPU seconds of this process, all threads (also run on each worker)."""
+    return time.process_time()
 
 
 def main() -> None:
@@ -49,11 +64,19 @@ def main() -> None:
     with Automatic(n_workers=a.workers) as auto:  # what the command line does by default
         _, t_auto = _run(setup, PILOT, a.seed + 1, auto)
         auto_choice = str(auto)
+    c0 = _cpu()
     one, t_one = _run(setup, trials, a.seed, InProcess())
+    c_one = _cpu() - c0
     start = time.perf_counter()
     with DaskExecutor(n_workers=a.workers) as ex:
         t_start = time.perf_counter() - start
+        before = ex.client.run(_cpu)
         many, t_many = _run(setup, trials, a.seed, ex)
+        after = ex.client.run(_cpu)
+        worker_env = ex.client.run(lambda: {v: os.environ.get(v) for v in THREAD_VARS})
+    # the machine is shared: CPU time says whether the workers did the same work as this
+    # process (then a shortfall in wall time is the load, not Dask)
+    c_many = sum(after[w] - before[w] for w in after)
     same = all(np.array_equal(x[k], y[k], equal_nan=True) and x["converged"] == y["converged"]
                for x, y in zip(one.trials, many.trials, strict=True)
                for k in ("truth", "estimate", "std"))
@@ -65,12 +88,20 @@ def main() -> None:
           f"{t_one / t_many:.2f}x = {t_one / t_many / a.workers:.2f} x workers "
           f"(+ {t_start:.1f} s cluster start-up)")
     print(f"  same results bit for bit:    {same}")
+    print(f"  CPU time: {c_one:.1f} s in one process, {c_many:.1f} s on the workers together "
+          f"({c_many / c_one:.2f}x)")
+    envs = sorted({tuple(sorted(e.items())) for e in worker_env.values()})
+    print(f"  thread settings here: {{{', '.join(f'{v}={os.environ[v]}' for v in THREAD_VARS)}}}"
+          f"; on the workers: {[dict(e) for e in envs]}")
     print(f"  automatic choice, {PILOT} trials: {auto_choice}, {t_auto:.2f} s")
     if a.json:
         doc = {"speedup": t_one / t_many, "workers": a.workers, "t_inprocess": t_one,
                "identical": bool(same), "trials": trials, "t_cluster": t_many,
                "t_cluster_start": t_start, "cores": os.cpu_count(), "load_average": load,
-               "automatic_20_trials": {"choice": auto_choice, "seconds": t_auto}}
+               "automatic_20_trials": {"choice": auto_choice, "seconds": t_auto},
+               "cpu_inprocess": c_one, "cpu_workers": c_many,
+               "threads_here": {v: os.environ[v] for v in THREAD_VARS},
+               "threads_on_workers": [dict(e) for e in envs]}
         Path(a.json).write_text(json.dumps(doc, indent=2) + "\n", encoding="utf-8")
         print(f"results written to {a.json}")
     if not same:

@@ -3,7 +3,7 @@ and the safeguards of the iteration."""
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 from models import fig2, random_network
 
@@ -298,3 +298,36 @@ def test_check_and_update_agree_with_one_tiny_std():
         else:
             with pytest.raises(InputError, match=f"rank {plan.rank} of J for 10"):
                 update(fig2(), FIG2_CONFIGS, [1, 2, 3, 4], data, method="weighted-least-squares")
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(2, 5))
+@example(seed=124674, n=5)  # a trial point turned down on the way (nfev > nit)
+def test_last_step_without_a_solve_is_what_a_solve_gives(seed, n):
+    # Where the trust region takes its last Gauss-Newton step without solving the point it
+    # reaches (Step.FINAL), a solve there must agree with what it reported: the step
+    # after it below xtol (the message's claim), and the eigenvalues, which it predicted
+    # as lambda(z) + J(z) dz, within the trapezoid rule's bound |(J(z + dz) - J(z)) dz|
+    # (plus the eigen-solver's 1e-12, dense path) of the solved ones.
+    rng = np.random.default_rng(seed)
+    truth = random_network(rng, n)
+    configs = [Configuration("base")] + [
+        mass_at(c, 0.05 * truth.values[c - 1], f"at {c}") for c in range(1, n + 1)
+    ]
+    modes = list(range(1, n + 1))
+    start = truth.with_values(truth.values * rng.uniform(0.92, 1.08, truth.values.size))
+    plan = check(start, configs, modes)
+    assume(plan.identifiable and plan.condition_JTJ < 1e11)
+    data = simulate(truth, configs, modes)
+    res = update(start, configs, modes, data, max_iterations=50)
+    assert res.converged, res.message
+    assume(res.history[-1].kind is Step.FINAL)
+    x = np.array([res.parameters[n_] for n_ in start.names])
+    before = np.array([res.history[-2].parameters[n_] for n_ in start.names])
+    lin = linearise(start, configs, modes, x)
+    lam_meas = np.array([(2 * np.pi * data[r].frequency_hz) ** 2 for r in lin.rows])
+    dz = np.linalg.lstsq(lin.normalised, lam_meas - lin.eigenvalues, rcond=None)[0]
+    assert np.max(np.abs(dz)) < 1e-8  # update's default xtol
+    lam_reported = (2 * np.pi * res.updated_hz) ** 2
+    bound = np.abs((lin.J - res.jac) @ (x - before)) + 1e-12 * lin.eigenvalues
+    assert np.all(np.abs(lam_reported - lin.eigenvalues) <= bound)

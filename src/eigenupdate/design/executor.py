@@ -2,11 +2,11 @@
 
 All map ``fn(item, shared)`` over ``items`` and return the results in the order of
 ``items``; ``shared`` (the model and plan) is sent to every Dask worker once (scatter with
-broadcast), not once per task, and the items go in batches (BATCHES_PER_WORKER per worker)
-so that each transfer carries enough work. Each task carries its own seed, so results do
-not depend on the executor or on the order in which tasks finish. :class:`Automatic` runs
-the first task here, and starts a local cluster for the rest only if the study would take
-long enough in this process to gain from one.
+broadcast), not once per task, and the items go in batches that shrink as the study
+proceeds (:func:`batches`): few transfers, and a short tail. Each task carries its own
+seed, so results do not depend on the executor or on the order in which tasks finish.
+:class:`Automatic` runs the first task here, and starts a local cluster for the rest only
+if the study would take long enough in this process to gain from one.
 """
 
 from __future__ import annotations
@@ -22,9 +22,9 @@ from eigenupdate.errors import InputError
 
 Progress = Callable[[int, int], None]
 
-BATCHES_PER_WORKER = 4
-"""Items go to Dask in this many batches per worker: few transfers, yet a slow batch
-cannot hold the others up for long."""
+SHARE = 2
+"""Each batch takes 1 / (SHARE x workers) of the items not yet batched (guided
+self-scheduling, Polychronopoulos & Kuck 1987)."""
 
 PARALLEL_MIN_S = 30.0
 """The automatic choice starts a local cluster only for studies estimated to take at least
@@ -34,6 +34,24 @@ import NumPy and SciPy and receive the model)."""
 
 def _batch(items: list, shared: Any, fn: Callable) -> list:
     return [fn(x, shared) for x in items]
+
+
+def batches(n: int, workers: int) -> list[slice]:
+    """Consecutive slices of ``range(n)`` for ``workers``, large first and down to one item.
+
+    Equal batches, four per worker, left one worker idle for up to a batch at the end
+    (an eighth of a 2-worker study); batches that shrink as the study proceeds keep the
+    tail to one small batch with O(workers log n) transfers.
+
+    >>> [s.stop - s.start for s in batches(20, 2)]
+    [5, 4, 3, 2, 2, 1, 1, 1, 1]
+    """
+    out, start = [], 0
+    while start < n:
+        size = max(1, math.ceil((n - start) / (SHARE * max(1, workers))))
+        out.append(slice(start, start + size))
+        start += size
+    return out
 
 
 class InProcess:
@@ -92,8 +110,7 @@ class DaskExecutor:
             return []
         [remote] = self.client.scatter([shared], broadcast=True)
         workers = max(1, len(self.client.scheduler_info()["workers"]))
-        size = math.ceil(len(items) / (BATCHES_PER_WORKER * workers))
-        chunks = [items[i:i + size] for i in range(0, len(items), size)]
+        chunks = [items[s] for s in batches(len(items), workers)]
         futures = self.client.map(_batch, chunks, [remote] * len(chunks),
                                   [fn] * len(chunks), pure=False)
         done = 0

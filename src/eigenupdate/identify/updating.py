@@ -47,7 +47,10 @@ Both optimisers stop when the Gauss-Newton step at an accepted point is below ``
 when it would change no parameter by more than ``PRECISION`` of its posterior standard
 deviation (the data cannot resolve it), or when the decrease it predicts is below
 ``ftol``: checked before the step's point is solved, so a converged fit costs no extra
-eigen-solution.
+eigen-solution. The trust region also stops where the Gauss-Newton steps contract so fast
+that the step after the next one is predicted below ``xtol``: it takes that last step
+without solving its point (:func:`eigenupdate.identify.optimizers.finish_step`; the
+history marks it, the message gives the prediction).
 """
 
 from __future__ import annotations
@@ -406,16 +409,17 @@ def update(
     else:
         status, message, point, success = trust_region(point, evaluate, stop_test, pairing,
                                                         history, iterate, lower,
-                                                        max_iterations, say, t0)
+                                                        max_iterations, say, t0, xtol)
         point, status, message, success = _finish_by_gauss_newton(
             point, status, message, success, stop_test, evaluate, attempt, pairing, history,
             iterate, lower, max_iterations, say, t0)
     if success and pairing.clustered:
         released = _resolved_clusters(pairing, rows, lam_meas, std_rel, w, point, len(history))
         if released:
-            # refit with every mode whose pairing the fit has settled
-            point = paired(point.z, point.lin)
+            # refit with every mode whose pairing the fit has settled (solved afresh where
+            # the last step was taken without a solve)
             cache.clear()
+            point = evaluate(point.z) if point.predicted else paired(point.z, point.lin)
             cache[point.z.tobytes()] = point
             say(f"[{len(history) - 1}/{max_iterations}] clusters resolved at the fit: "
                 f"{released}; refitting with {len(pairing.groups)} equations")
@@ -427,7 +431,7 @@ def update(
             else:
                 status, message, point, success = trust_region(
                     point, evaluate, stop_test, pairing, history, iterate, lower,
-                    max_iterations, say, t0)
+                    max_iterations, say, t0, xtol)
                 point, status, message, success = _finish_by_gauss_newton(
                     point, status, message, success, stop_test, evaluate, attempt, pairing,
                     history, iterate, lower, max_iterations, say, t0)

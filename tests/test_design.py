@@ -93,7 +93,7 @@ def test_predicted_std_is_the_updaters_posterior_std(path, method):
     meas = {(c.name, k): Measurement(c.name, k, float(sol.frequencies_hz[k - 1]), std_hz[k])
             for c, sol in zip(configs, sols, strict=True) for k in modes}
     res = update(s.model, configs, modes, meas, method=method)
-    assert res.nit == 0 and res.converged
+    assert res.nit == 0 and res.success
     spec = s.design
     r = design_plan(s.model, spec, method, configs[1:])
     own = next(p for p in r.plans if p.label == "study's plan")

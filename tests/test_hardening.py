@@ -198,15 +198,15 @@ def test_unconverged_update_never_replaces_a_converged_result(fig2, run_cli):
     result = fig2 / "result.json"
     assert run_cli("update", fig2 / "study.toml", "--save", result)[0] == 0
     good = result.read_text()
-    assert json.loads(good)["converged"] is True
+    assert json.loads(good)["success"] is True
     short = write(fig2, FIG2.replace("max_iterations = 20", "max_iterations = 1"), "short.toml")
     code, _, err = run_cli("update", short, "--save", result)
     assert code == 1 and "kept" in err and "--force" in err
     assert result.read_text() == good
     code, _, _ = run_cli("update", short, "--save", result, "--force")
-    assert code == 1 and json.loads(result.read_text())["converged"] is False
+    assert code == 1 and json.loads(result.read_text())["success"] is False
     code, _, _ = run_cli("update", short, "--save", result)  # unconverged over unconverged
-    assert code == 1 and json.loads(result.read_text())["converged"] is False
+    assert code == 1 and json.loads(result.read_text())["success"] is False
 
 
 # ------------------------------------------------------------ silent wrong answers

@@ -163,15 +163,15 @@ def cmd_update(args) -> int:
                                 progress=lambda line: print(line, file=sys.stderr))
     doc = res.to_dict()
     kept = None
-    if args.save and (res.converged or args.force or _unconverged_result(args.save)):
+    if args.save and (res.success or args.force or _unconverged_result(args.save)):
         write_text(args.save, report.dumps({"study": str(study.path), **doc}) + "\n")
     elif args.save:
         kept = f"; {shorten(args.save)} kept (it is not an unconverged result; --force replaces it)"
-    if args.save_bdf and res.converged:
+    if args.save_bdf and res.success:
         save_updated_bdf(study, res, args.save_bdf)
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
     print(report.dumps(doc) if args.json else report.update_text(res, initial, study.title))
-    if not res.converged:
+    if not res.success:
         print(f"eigenupdate: not converged: {res.message}{kept or ''}", file=sys.stderr)
         return 1
     return 0
@@ -294,7 +294,7 @@ def _unconverged_result(path: str) -> bool:
         return True
     except (OSError, ValueError, RecursionError):
         return False
-    return isinstance(doc, dict) and doc.get("converged") is False
+    return isinstance(doc, dict) and doc.get("success") is False
 
 
 def _progress(msg: str) -> None:

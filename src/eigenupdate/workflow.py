@@ -29,7 +29,7 @@ from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.identify.updating import UpdateResult, update
 from eigenupdate.identify.weights import estimator_weights
 from eigenupdate.io.frf_files import read_frf_files
-from eigenupdate.io.results import read_loss_factors, read_updated_values
+from eigenupdate.io.results import read_loss_factors, read_result
 from eigenupdate.io.study import Study
 from eigenupdate.measure.frf import FRF
 from eigenupdate.measure.measurement import Measurement
@@ -226,7 +226,7 @@ def compare_frf(study: Study, excitation: int, response: int, *,
         eta_text = "extracted loss factors " + ", ".join(f"{e:.3g}" for e in eta)
     models = [study.model]
     if updated:
-        models.append(study.model.with_values(read_updated_values(updated, study.model)))
+        models.append(read_result(updated, study.model).model)
     curves = [receptance(m, f, excitation, response, configuration=config,
                          loss_factor=eta if damping else loss_factor) for m in models]
     return FrfComparison(

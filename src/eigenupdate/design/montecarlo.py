@@ -69,7 +69,7 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
     names = [model.names[j] for j in upd]
     out.update(estimate=np.array([res.parameters[n] for n in names]),
                std=np.array([np.nan if res.std[n] is None else res.std[n] for n in names]),
-               converged=res.converged, nit=res.nit, message=res.message)
+               converged=res.success, nit=res.nit, message=res.message)
     return out
 
 

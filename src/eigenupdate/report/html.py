@@ -48,13 +48,10 @@ from matplotlib.figure import Figure
 from eigenupdate import workflow
 from eigenupdate.errors import InputError
 from eigenupdate.identify.identifiability import IdentifiabilityReport
+from eigenupdate.identify.updating import UpdateResult
 from eigenupdate.io.atomic import scratch, write_text
-from eigenupdate.io.report_inputs import (
-    ExtractedRow,
-    read_extracted,
-    read_result,
-    read_summary,
-)
+from eigenupdate.io.report_inputs import ExtractedRow, read_extracted, read_summary
+from eigenupdate.io.results import read_result
 from eigenupdate.io.study import Study, load_study
 from eigenupdate.measure.extraction import DISAGREEMENT_WARNING
 from eigenupdate.measure.frf import FRF
@@ -355,8 +352,9 @@ def _extraction_section(
     return sec
 
 
-def _update_doc(study: Study, result: dict | None) -> tuple[dict | None, str]:
-    """The update as the saved-result document, and where it comes from."""
+def _update_result(study: Study, result: UpdateResult | None
+                   ) -> tuple[UpdateResult | None, str]:
+    """The update's result, and where it comes from."""
     if result is not None:
         return result, "read from the saved result"
     if study.frequencies is None or not study.modes:
@@ -366,61 +364,58 @@ def _update_doc(study: Study, result: dict | None) -> tuple[dict | None, str]:
         res = workflow.update_study(study)
     except InputError as exc:  # e.g. a rank-deficient plan: the page says why
         return None, f"The update was not run: {exc}"
-    return res.to_dict(), ("computed by this report (no saved result was given), with the "
-                             "study's settings")
+    return res, "computed by this report (no saved result was given), with the study's settings"
 
 
-def _update_section(study: Study, doc: dict, origin: str) -> Section:
+def _update_section(study: Study, res: UpdateResult, origin: str) -> Section:
     model = study.model
     initial = dict(zip(model.names, model.values.tolist(), strict=True))
-    names = [n for n in model.names if n in doc["std"]]
+    names = [n for n in model.names if n in res.std]
     sec = Section("update", "The update")
-    status = "converged" if doc["converged"] else "DID NOT CONVERGE"
+    status = "converged" if res.success else "DID NOT CONVERGE"
     sec.paragraphs = [
-        f"{doc['method']}, {status} after {doc['iterations']} iteration(s) "
-        f"({doc['message'].removeprefix('converged: ')}); {origin}.",
+        f"{res.method}, {status} after {res.nit} iteration(s) "
+        f"({res.message.removeprefix('converged: ')}); {origin}.",
         "Change % is relative to the initial value; the posterior std is that of the "
         "estimator (a parameter without a defined std shows '-').",
     ]
     rows = []
     for n in names:
-        v0, v = initial[n], doc["parameters"][n]
-        rows.append([n, v0, v, None if v0 == 0 else 100.0 * (v - v0) / v0, doc["std"].get(n)])
+        v0, v = initial[n], res.parameters[n]
+        rows.append([n, v0, v, None if v0 == 0 else 100.0 * (v - v0) / v0, res.std.get(n)])
     sec.blocks.append(_table("Parameters: initial, updated, change and posterior std",
                              ["parameter", "initial", "updated", "change %", "posterior std"],
                              rows, "parameters-updated"))
     if any(initial[n] != 0 for n in names):
         sec.blocks.append(_figure_image(
-            figures.parameter_change_figure(names, initial, doc["parameters"], doc["std"]),
+            figures.parameter_change_figure(names, initial, res.parameters, res.std),
             "Change of each updated parameter (% of initial) with +-1 posterior std "
             "(parameters starting at 0 are in the table only)", "parameter changes"))
-    steps = doc.get("steps") or [{} for _ in doc["history"]]
+    history = [h.parameters for h in res.history]
     sec.blocks.append(_table(
         "Iterations (0 is the initial model): objective, fraction of the Gauss-Newton step "
         "taken, note", ["iteration", "objective", "step", "note"],
-        [[i, s.get("objective"), s.get("step"), s.get("note") or None]
-         for i, s in enumerate(steps)], "steps"))
+        [[h.iteration, h.objective, h.step, h.kind.value or None] for h in res.history],
+        "steps"))
     sec.blocks.append(_table(
         "Parameter values at each iteration",
-        ["parameter", *[f"it. {i}" for i in range(len(doc["history"]))]],
-        [[n, *[h[n] for h in doc["history"]]] for n in names], "history"))
+        ["parameter", *[f"it. {i}" for i in range(len(history))]],
+        [[n, *[h[n] for h in history]] for n in names], "history"))
     sec.blocks.append(_figure_image(
-        figures.history_figure([s.get("objective") for s in steps], doc["history"], names),
+        figures.history_figure([h.objective for h in res.history], history, names),
         "Objective and parameters (relative to initial) against iteration", "history"))
-    fr = doc["frequencies"]
+    fr = list(zip(res.rows, res.measured_hz.tolist(), res.initial_hz.tolist(),
+                  res.updated_hz.tolist(), strict=True))
     sec.blocks.append(_table(
         "Natural frequencies: measured, initial and updated model (Hz), errors in %",
         ["configuration", "mode", "measured", "initial", "updated", "initial error %",
          "updated error %"],
-        [[r["configuration"], r["mode"], r["measured_hz"], r["initial_hz"], r["updated_hz"],
-          100 * (r["initial_hz"] - r["measured_hz"]) / r["measured_hz"],
-          100 * (r["updated_hz"] - r["measured_hz"]) / r["measured_hz"]] for r in fr],
+        [[c, k, m, i, u, 100 * (i - m) / m, 100 * (u - m) / m] for (c, k), m, i, u in fr],
         "frequencies"))
     sec.blocks.append(_figure_image(
         figures.frequency_error_figure(
-            [f"{r['configuration']} / {r['mode']}" for r in fr],
-            [r["measured_hz"] for r in fr], [r["initial_hz"] for r in fr],
-            [r["updated_hz"] for r in fr]),
+            [f"{c} / {k}" for (c, k), *_ in fr], [m for _, m, _, _ in fr],
+            [i for _, _, i, _ in fr], [u for *_, u in fr]),
         "Model minus measured frequency in % of measured: initial model, updated model "
         "(each panel on its own scale)", "frequency errors"))
     return sec
@@ -449,7 +444,7 @@ def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Se
     base = study.configurations[0]
     models = {"initial": study.model}
     if doc is not None:
-        models["updated"] = study.model.with_values(doc["parameters"])
+        models["updated"] = study.model.with_values(doc.parameters)
     eta, eta_text = _loss_factors(study, fitted, extracted)
     skipped = []
     frfs = fitted.frfs.get(base.name, []) if fitted else []
@@ -475,7 +470,7 @@ def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Se
         intro.append(f"Not compared (no model coordinate in the file): {', '.join(skipped)}.")
     if not frfs:
         intro = ["No measured FRFs in the study: no receptance comparison."]
-    sweep_values = doc["parameters"] if doc is not None else None
+    sweep_values = doc.parameters if doc is not None else None
     coords = sorted({(a.coordinate, a.mass) for c in study.configurations for a in c.additions
                      if a.mass > 0})
     biggest: dict[int, float] = {}
@@ -643,7 +638,7 @@ def render_report(
                                        ("montecarlo", "Monte Carlo summary", montecarlo))
                  if p is not None]
     fitted = workflow.extract_study(study) if study.frf else None
-    doc, origin = _update_doc(study, res)
+    doc, origin = _update_result(study, res)
 
     sections = [_study_section(study)]
     for s in (_identifiability_section(study),

@@ -1,0 +1,89 @@
+"""The result classes as the contract: one versioned JSON document each, written by
+``to_dict`` and read back by ``from_dict`` to an equal object (JSON text in between, so
+the round trip is what a saved file gives); a document of another kind or with a bad
+field is refused naming the file and the field."""
+
+import json
+import re
+
+import numpy as np
+import pytest
+from conftest import EXAMPLES
+
+import eigenupdate as eu
+from eigenupdate.identify.identifiability import IdentifiabilityReport
+from eigenupdate.identify.updating import UpdateResult
+from eigenupdate.report.text import dumps
+
+
+@pytest.fixture(scope="module")
+def fig2():
+    return eu.load_study(EXAMPLES / "paper_fig2" / "study.toml")
+
+
+@pytest.fixture(scope="module")
+def result(fig2):
+    return eu.update_study(fig2)
+
+
+def _through_json(doc: dict) -> dict:
+    return json.loads(dumps(doc))
+
+
+def _same_arrays(a, b) -> None:
+    # JSON writes a float with repr: the round trip is exact, so equality is the test
+    assert (a is None) == (b is None)
+    if a is not None:
+        np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
+
+
+def test_update_result_round_trip(fig2, result):
+    back = UpdateResult.from_dict(_through_json(result.to_dict()), "r.json", fig2.model)
+    for key in result.keys():
+        if key in ("model", "identifiability"):
+            continue
+        a, b = result[key], back[key]
+        if isinstance(a, np.ndarray) or key in ("cov",):
+            _same_arrays(a, b)
+        else:
+            assert a == b, key
+    assert back.identifiability == result.identifiability
+    np.testing.assert_array_equal(back.model.values, result.model.values)
+    assert back.to_dict() == _through_json(result.to_dict())
+    # without the study's model the numbers are there, the model is not
+    assert UpdateResult.from_dict(_through_json(result.to_dict())).model is None
+
+
+def test_check_round_trip(fig2):
+    r = eu.check_study(fig2)
+    assert IdentifiabilityReport.from_dict(_through_json(r.to_dict())) == r
+    # a singular plan: the infinite condition is null in JSON and infinite again after
+    singular = IdentifiabilityReport(["a", "b"], 1, 1, np.inf, np.inf, [1.0, 0.0],
+                                     {"a": 1.0, "b": 0.0})
+    doc = _through_json(singular.to_dict())
+    assert doc["condition_J"] is None
+    assert IdentifiabilityReport.from_dict(doc) == singular
+
+
+@pytest.mark.parametrize("change, field", [
+    ({"schema": "eigenupdate.update/1"}, "schema"),
+    ({"schema": None}, "schema"),
+    ({"nit": "4"}, "nit"),
+    ({"success": 1}, "success"),
+    ({"x": [1.0]}, "x"),
+    ({"fun": [1.0, "a"]}, "fun"),
+    ({"std": {}}, "std"),
+    ({"cost": -1.0}, "cost"),
+    ({"history": [{"iteration": 0}]}, "history[0].note"),
+])
+def test_update_result_refuses_a_bad_document(result, change, field):
+    doc = {**_through_json(result.to_dict()), **change}
+    with pytest.raises(eu.InputError, match="r.json: " + re.escape(field)):
+        UpdateResult.from_dict(doc, "r.json")
+
+
+def test_a_result_of_another_kind_is_refused(fig2, result):
+    with pytest.raises(eu.InputError, match="schema.*expected 'eigenupdate.update/2'"):
+        UpdateResult.from_dict(eu.check_study(fig2).to_dict(), "c.json")
+    with pytest.raises(eu.InputError, match="must be a JSON object"):
+        UpdateResult.from_dict([1, 2], "c.json")

@@ -181,14 +181,14 @@ def cmd_design(args) -> int:
     from eigenupdate import workflow
     from eigenupdate.design.executor import executor_for
     from eigenupdate.design.plan_io import plan_study_text
-    from eigenupdate.design.plan_report import (
+    from eigenupdate.io.study import load_study
+    from eigenupdate.report import text as report
+    from eigenupdate.report.design import (
         design_doc,
         design_text,
         validation_doc,
         validation_text,
     )
-    from eigenupdate.io.study import load_study
-    from eigenupdate.report import text as report
 
     _output_file(args.output, "-o")
     _scheduler(args.scheduler, "--scheduler")
@@ -223,8 +223,8 @@ def cmd_design(args) -> int:
 def cmd_montecarlo(args) -> int:
     from eigenupdate import workflow
     from eigenupdate.design.executor import executor_for
-    from eigenupdate.design.montecarlo_io import FILES as MC_FILES
-    from eigenupdate.design.montecarlo_io import write_montecarlo
+    from eigenupdate.io.montecarlo import FILES as MC_FILES
+    from eigenupdate.io.montecarlo import write_montecarlo
     from eigenupdate.io.study import load_study
     from eigenupdate.report import text as report
 
@@ -313,7 +313,6 @@ def cmd_extract(args) -> int:
     from eigenupdate.measure.extraction import extraction_csv
     from eigenupdate.measure.frf import dof_label
     from eigenupdate.measure.modes import Mode
-    from eigenupdate.measure.survey import extraction_doc, extraction_text
     from eigenupdate.plot.plots import plot_extraction_fit
     from eigenupdate.report import text as report
 
@@ -335,7 +334,7 @@ def cmd_extract(args) -> int:
         done = workflow.extract_files(inputs, args.kind, progress=_progress)
         label = None
     res = done.result
-    print(report.dumps(extraction_doc(res)) if args.json else extraction_text(res))
+    print(report.dumps(res.to_dict()) if args.json else report.extraction_text(res))
     if res.problems:  # a failed run writes nothing; one line, the others counted
         more = len(res.problems) - 1
         raise InputError(res.problems[0] + (f" (and {more} more problem(s): "

@@ -30,7 +30,7 @@ from eigenupdate.identify.updating import UpdateResult, update
 from eigenupdate.identify.weights import estimator_weights
 from eigenupdate.io.frf_files import read_frf_files
 from eigenupdate.io.results import read_loss_factors, read_result
-from eigenupdate.io.study import Study
+from eigenupdate.io.study import Study, load_study
 from eigenupdate.measure.frf import FRF
 from eigenupdate.measure.measurement import Measurement
 from eigenupdate.measure.survey import TestExtraction, extract_test
@@ -306,7 +306,11 @@ def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
 
     if trials < 1:
         raise InputError(f"must be >= 1, got {trials}", field="--trials")
-    setup = study_setup(study, None if truth is None else str(truth))
+    values = None
+    if truth is not None:
+        t = load_study(truth).model
+        values = dict(zip(t.names, t.values.tolist(), strict=True))
+    setup = study_setup(study, values, None if truth is None else str(truth))
     return run(setup, trials, seed, executor, progress)
 
 

@@ -244,23 +244,20 @@ PRIOR_DRAWS = 64
 (the design's default)."""
 
 
-def study_setup(study, truth: str | None = None) -> TrialSetup:
-    """The trial setup of a study: its plan, modes, method, noise, and optional truth study
-    (a study file whose model gives every parameter's true value, by name)."""
+def study_setup(study, truth: dict[str, float] | None = None,
+                truth_source: str | None = None) -> TrialSetup:
+    """The trial setup of a study: its plan, modes, method, noise, and optional true value
+    of every parameter by name (read from ``truth_source``, for the messages)."""
     modes = tuple(study.require_modes())
     measured = study.measurements() if study.frequencies is not None else None
     std = noise_std(study.model, study.configurations, modes, measured, study.design,
                     str(study.path))
     values = None
     if truth is not None:
-        from eigenupdate.io.study import load_study
-
-        t = load_study(truth)
-        given = dict(zip(t.model.names, t.model.values.tolist(), strict=True))
-        missing = [n for n in study.model.names if n not in given]
+        missing = [n for n in study.model.names if n not in truth]
         if missing:
-            raise InputError(f"no true value for parameter(s) {missing}", source=truth,
+            raise InputError(f"no true value for parameter(s) {missing}", source=truth_source,
                              field="model")
-        values = np.array([given[n] for n in study.model.names])
+        values = np.array([truth[n] for n in study.model.names])
     return TrialSetup(study.model, tuple(study.configurations), modes, std, study.method,
                       study.max_iterations, study.tolerance, values, study.optimizer)

@@ -9,6 +9,7 @@ from typing import Any
 
 from eigenupdate.identify.identifiability import IdentifiabilityReport
 from eigenupdate.identify.updating import UpdateResult
+from eigenupdate.measure.survey import TestExtraction
 
 
 def table(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
@@ -100,3 +101,30 @@ def update_text(r: UpdateResult, initial: dict[str, float], title: str) -> str:
           n["reason"]] for n in notes],
     ) if notes else None
     return "\n\n".join(x for x in [head, params, steps, freqs, pairing] if x)
+
+
+def extraction_text(result: TestExtraction) -> str:
+    """Per configuration: accepted modes, rejected candidates, missing/unexpected modes."""
+    blocks = []
+    for ex in result.configurations:
+        lines = [f"{ex.configuration} ({ex.line_spacing_hz:.4g} Hz lines; "
+                 + "; ".join(ex.notes) + ")"]
+        if not ex.modes:
+            lines.append("  no validated resonance")
+        else:
+            lines.append(table(
+                ["mode", "f Hz", "std Hz", "loss factor", "std", "fit R2", "check diff/std",
+                 "model Hz", "note"],
+                [[m.mode, m.frequency_hz, m.std_hz, m.loss_factor, m.loss_factor_std,
+                  m.fit_quality, m.disagreement, m.model_hz,
+                  "under-resolved" if m.under_resolved else ""] for m in ex.modes]))
+        for r in ex.rejected:
+            lines.append(f"  rejected {r.frequency_hz:.6g} Hz (band {r.band_hz[0]:.5g}-"
+                         f"{r.band_hz[1]:.5g} Hz): {r.reason}")
+        for k, f in ex.missing:
+            lines.append(f"  missing: model mode {k} ({f:.6g} Hz) expected, not found")
+        for m in ex.unexpected:
+            lines.append(f"  unexpected: {m.frequency_hz:.6g} Hz matches no model mode")
+        blocks.append("\n".join(lines))
+    return "\n\n".join(blocks)
+

@@ -70,4 +70,4 @@ def test_package_graph():
         assert not graph.get(core, set()) & set(BOUNDARY), core
     # model is the bottom of the core; solve uses only model
     assert graph.get("model", set()) <= {"errors", "budget", "choices", "schema"}
-    assert graph.get("solve", set()) <= {"model", "errors", "budget", "choices"}
+    assert graph.get("solve", set()) <= {"model", "errors", "budget", "choices", "schema"}

@@ -87,3 +87,59 @@ def test_a_result_of_another_kind_is_refused(fig2, result):
         UpdateResult.from_dict(eu.check_study(fig2).to_dict(), "c.json")
     with pytest.raises(eu.InputError, match="must be a JSON object"):
         UpdateResult.from_dict([1, 2], "c.json")
+
+
+def test_sweep_round_trip(fig2):
+    s = eu.sweep(fig2, 1, 0.35)
+    back = eu.MassSweep.from_dict(_through_json(s.to_dict()))
+    for key in ("added_mass", "frequencies_hz"):
+        _same_arrays(getattr(s, key), getattr(back, key))
+    assert (back.reference_mass, back.coordinate, back.configuration) == (
+        s.reference_mass, s.coordinate, s.configuration)
+    bad = {**s.to_dict(), "frequencies_hz": s.frequencies_hz[:-1].tolist()}
+    with pytest.raises(eu.InputError, match="s.json: frequencies_hz: needs one row"):
+        eu.MassSweep.from_dict(bad, "s.json")
+
+
+def test_design_round_trip(fig2):
+    from eigenupdate.design.plan import DesignResult
+
+    d = eu.design(fig2).plan
+    back = DesignResult.from_dict(_through_json(d.to_dict()))
+    assert back == d  # dataclasses of plain values: equal field by field
+    assert [c.name for c in back.configurations] == [c.name for c in d.configurations]
+    doc = {**d.to_dict(), "chosen": [len(d.candidates)]}
+    with pytest.raises(eu.InputError, match="d.json: chosen: must index"):
+        DesignResult.from_dict(doc, "d.json")
+
+
+def test_montecarlo_round_trip():
+    # one mass on one spring with priors (the doctest of design/montecarlo.py)
+    from eigenupdate.design.montecarlo import MonteCarloResult, TrialSetup, montecarlo
+
+    model = eu.spring_mass_model([eu.Mass(eu.Parameter("m", 2.0, 0.1), 1)],
+                                 [eu.Spring(eu.Parameter("k", 800.0, 40.0), (0, 1))])
+    configs = (eu.Configuration("base"), eu.mass_at(1, 1.0))
+    setup = TrialSetup(model, configs, (1,), {(c.name, 1): 0.01 for c in configs},
+                       "bayesian", 20, 1e-8)
+    r = montecarlo(setup, 5, seed=1)
+    back = MonteCarloResult.from_dict(_through_json(r.to_dict()))
+    assert back.summary() == r.summary() and back.entropy == r.entropy
+    assert back.names == r.names and back.counts() == r.counts()
+    for a, b in zip(r.trials, back.trials, strict=True):
+        for k in ("truth", "estimate", "std"):
+            _same_arrays(a[k], b[k])
+    _same_arrays(back.z_scores(), r.z_scores())
+    assert back.prior.draws == r.prior.draws
+
+
+def test_extraction_round_trip():
+    study = eu.load_study(EXAMPLES / "paper_beam_frf" / "study.toml")
+    res = eu.extract(study).result
+    back = type(res).from_dict(_through_json(res.to_dict()))
+    assert back == res  # every mode, fit (complex modal constant), rejection and note
+    doc = _through_json(res.to_dict())
+    doc["configurations"][0]["modes"][0]["fits"][0]["modal_constant"] = [1.0]
+    with pytest.raises(eu.InputError, match=re.escape(
+            "x.json: configurations[0].modes[0].fits[0].modal_constant")):
+        type(res).from_dict(doc, "x.json")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -25,6 +26,7 @@ from eigenupdate.identify.weights import prior_weights
 from eigenupdate.measure.measurement import Measurement, eigenvalue_std
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.schema import finite_or_none, reader
 from eigenupdate.solve.jacobian import linearise, solve_configurations
 
 
@@ -99,6 +101,50 @@ class MonteCarloResult:
     linear_std: np.ndarray
     entropy: int
     prior: PriorPrediction | None = None
+
+    SCHEMA: ClassVar[str] = "eigenupdate.montecarlo/1"
+
+    def to_dict(self) -> dict:
+        """JSON-ready document: the :meth:`summary` (its keys at the top, for readers of
+        the figures) and what :meth:`from_dict` needs to rebuild the result (trials with
+        truth, estimate and reported std; NaN is null)."""
+        def values(a: np.ndarray) -> list[float | None]:
+            return [finite_or_none(v) for v in np.asarray(a, dtype=float).tolist()]
+
+        return {
+            "schema": self.SCHEMA, **self.summary(), "names": self.names,
+            "trial_results": [{**t, **{k: values(t[k]) for k in ("truth", "estimate", "std")},
+                               "converged": bool(t["converged"]),
+                               "refused": bool(t["refused"]), "nit": int(t["nit"])}
+                              for t in self.trials],
+            "linear_std": values(self.linear_std), "entropy": str(self.entropy),
+            "prior": None if self.prior is None else {
+                "std": values(self.prior.std), "std_error": values(self.prior.std_error),
+                "gross_risk": self.prior.gross_risk, "draws": self.prior.draws,
+                "seconds": self.prior.seconds},
+        }
+
+    @classmethod
+    def from_dict(cls, doc: dict, source: str | None = None) -> MonteCarloResult:
+        """The result :meth:`to_dict` wrote; InputError naming the field otherwise."""
+        r = reader(doc, cls.SCHEMA, source)
+        names = [str(n) for n in r.raw("names", list)]
+        trials = []
+        for t in r.items("trial_results"):
+            arrays = {k: t.array(k, nulls=True) for k in ("truth", "estimate", "std")}
+            if any(a.size != len(names) for a in arrays.values()):
+                raise t.fail("truth", f"truth, estimate and std need {len(names)} values")
+            trials.append({**arrays, "converged": t.bool("converged"),
+                           "refused": t.bool("refused"), "nit": t.int("nit"),
+                           "message": t.str("message")})
+        p = r.child("prior", optional=True)
+        prior = None if p is None else PriorPrediction(
+            p.array("std"), p.array("std_error"), p.number("gross_risk"), p.int("draws"),
+            p.number("seconds"))
+        entropy = r.str("entropy")
+        if not entropy.isdigit():
+            raise r.fail("entropy", f"{entropy!r} is not a seed's entropy (digits)")
+        return cls(names, trials, r.array("linear_std"), int(entropy), prior)
 
     @property
     def predicted_std(self) -> np.ndarray:

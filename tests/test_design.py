@@ -119,9 +119,10 @@ def test_cli_design_writes_a_ready_study(tmp_path, run_cli):
     assert code == 0, err
     doc = json.loads(text)
     plan = load_study(out)
-    assert [c.name for c in plan.configurations[1:]] == [c["name"] for c in doc["chosen"]]
+    chosen = [doc["candidates"][i] for i in doc["chosen"]]
+    assert [c.name for c in plan.configurations[1:]] == [c["name"] for c in chosen]
     assert plan.modes == [1, 2, 3, 4] and plan.frequencies is None
-    assert plan.configurations[1].additions[0].mass == doc["chosen"][0]["additions"][0]["mass"]
+    assert plan.configurations[1].additions[0].mass == chosen[0]["additions"][0]["mass"]
     labels = [p["label"] for p in doc["plans"]]
     assert labels == ["designed", "exhaustive optimum", "study's plan",
                       "every admissible candidate"]

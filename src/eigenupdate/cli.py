@@ -184,7 +184,6 @@ def cmd_design(args) -> int:
     from eigenupdate.io.study import load_study
     from eigenupdate.report import text as report
     from eigenupdate.report.design import (
-        design_doc,
         design_text,
         validation_doc,
         validation_text,
@@ -209,7 +208,7 @@ def cmd_design(args) -> int:
                                             args.output))
     initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
     if args.json:
-        doc = design_doc(res, initial)
+        doc = res.to_dict()
         if val is not None:
             doc["validation"] = validation_doc(val)
         print(report.dumps(doc))
@@ -252,8 +251,8 @@ def cmd_montecarlo(args) -> int:
     if refused == len(res.trials):  # nothing ran: the plan or its data are refused
         raise InputError(doc["statistics_refused"], source=str(study.path))
     if args.output:
-        write_montecarlo(res, args.output, study.title)
-        write_text(Path(args.output) / "summary.json", report.dumps(doc) + "\n")
+        write_montecarlo(res, args.output, study.title,
+                         {"executor": where, "wall_time_s": wall})
     if args.json:
         print(report.dumps(doc))
     else:
@@ -318,6 +317,7 @@ def cmd_extract(args) -> int:
 
     _output_file(args.output, "-o")
     _output_file(args.uff55, "--uff55")
+    _output_file(args.save, "--save")
     _output_dir(args.plots, "--plots")
     inputs = args.inputs
     if len(inputs) == 1 and Path(inputs[0]).suffix.lower() == ".toml":
@@ -326,11 +326,13 @@ def cmd_extract(args) -> int:
                              "[measurement.frf_options]", field="--kind")
         study = load_study(inputs[0], require_model=False)
         # the study's measurement file is where the extracted frequencies go
-        _not_inputs({"-o": args.output, "--uff55": args.uff55}, study.inputs(frf=True))
+        _not_inputs({"-o": args.output, "--uff55": args.uff55, "--save": args.save},
+                    study.inputs(frf=True))
         done = workflow.extract_study(study, progress=_progress)
         label = study.model.coordinate_table.point_label if study.model is not None else None
     else:  # FRF files on the command line: one configuration per file, named by its stem
-        _not_inputs({"-o": args.output, "--uff55": args.uff55}, [Path(p) for p in inputs])
+        _not_inputs({"-o": args.output, "--uff55": args.uff55, "--save": args.save},
+                    [Path(p) for p in inputs])
         done = workflow.extract_files(inputs, args.kind, progress=_progress)
         label = None
     res = done.result
@@ -355,6 +357,8 @@ def cmd_extract(args) -> int:
                                         title=f"{ex.configuration}: {points[0]} / {points[1]}")
         _progress(f"wrote the fit plots to {args.plots}")
     write_text(args.output, extraction_csv(results))
+    if args.save:
+        write_text(args.save, report.dumps(res.to_dict()) + "\n")
     if args.uff55:
         write_modes(args.uff55, [
             Mode(m.frequency_hz, loss_factor=m.loss_factor, mode_number=m.mode,
@@ -437,15 +441,18 @@ def cmd_report(args) -> int:
     from eigenupdate.io.study import load_study
 
     _output_file(args.o, "-o")
-    files = {"--result": args.result, "--extracted": args.extracted, "--design": args.design,
+    files = {"--result": args.result, "--extraction": args.extraction,
+             "--extracted": args.extracted, "--design": args.design,
              "--montecarlo": args.montecarlo}
     command = ["eigenupdate", "report", args.study, *[x for k, v in files.items() if v
-                                                      for x in (k, v)], "-o", args.o]
+                                                      for x in (k, v)],
+               *(["--saved-only"] if args.saved_only else []), "-o", args.o]
     read = [Path(args.study), *(Path(v) for v in files.values() if v)]
     study = load_study(args.study)
     _not_inputs({"-o": args.o}, [*read, *study.inputs(measurements=True, frf=True)])
-    page = workflow.report(study, result=args.result, extracted=args.extracted,
-                           design=args.design, montecarlo=args.montecarlo,
+    page = workflow.report(study, result=args.result, extraction=args.extraction,
+                           extracted=args.extracted, design=args.design,
+                           montecarlo=args.montecarlo, solve=not args.saved_only,
                            command=shlex.join(command))
     write_text(args.o, page)
     _progress(f"wrote {args.o} ({len(page.encode()) / 1024:.0f} kB)")
@@ -543,6 +550,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--json", action="store_true", help="print the table as JSON")
     s.add_argument("--uff55", help="also write the modes (with loss factors) as UFF 55")
     s.add_argument("--plots", metavar="DIR", help="save a plot of every fit in DIR")
+    s.add_argument("--save", metavar="EXTRACTION.json",
+                   help="also write the whole extraction as JSON (for 'report --extraction')")
     s.set_defaults(func=cmd_extract)
 
     s = sub.add_parser("simulate-frf", help="synthetic noisy FRFs of every configuration (UFF 58)")
@@ -589,10 +598,16 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("study")
     s.add_argument("--result", metavar="RESULT.json", help="result of 'update --save' (default: "
                    "the report runs the update)")
+    s.add_argument("--extraction", metavar="EXTRACTION.json",
+                   help="result of 'extract --save' (default: the report extracts)")
     s.add_argument("--extracted", metavar="CSV", help="extraction CSV of 'extract -o'")
-    s.add_argument("--design", metavar="PLAN.json", help="test design, any JSON object")
-    s.add_argument("--montecarlo", metavar="SUMMARY.json", help="Monte Carlo summary, any JSON "
-                   "object")
+    s.add_argument("--design", metavar="DESIGN.json",
+                   help="'design --json' (or any JSON object, shown as it is)")
+    s.add_argument("--montecarlo", metavar="SUMMARY.json",
+                   help="summary.json of 'montecarlo -o' (or any JSON object)")
+    s.add_argument("--saved-only", action="store_true",
+                   help="solve nothing: show the saved results given, without the plan's "
+                        "check at the initial model and the predictions of Fig. 4 and 7")
     s.add_argument("-o", required=True, metavar="REPORT.html")
     s.set_defaults(func=cmd_report)
     return p

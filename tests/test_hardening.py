@@ -13,13 +13,13 @@ import scipy.sparse as sp
 from conftest import EXAMPLES
 from test_cli import FIG2, assert_bad, write
 
-from eigenupdate import cli
 from eigenupdate.errors import InputError
 from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.io.atomic import make_dir, transaction, write_text
 from eigenupdate.io.measurements import read_measurements
 from eigenupdate.io.study import load_study
 from eigenupdate.model.configurations import Configuration
+from eigenupdate.report import text
 from eigenupdate.solve.eigen import EigenSolution, negative_count, solve_elastic, sturm_check
 
 
@@ -364,6 +364,6 @@ def test_a_failed_run_leaves_no_directory_it_made(tmp_path):
 
 
 def test_progress_lines_are_one_printable_line(capsys):
-    cli._progress("[1/2] bad\nname\x1b[31m: 3 FRF(s)")
+    text.progress("[1/2] bad\nname\x1b[31m: 3 FRF(s)")
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "\x1b" not in err and "bad\\nname" in err

@@ -372,15 +372,26 @@ def _browser_or_skip():
 
 
 @pytest.mark.slow
-def test_reports_in_chromium(frf_report, fig2_report):
+def test_reports_in_chromium(frf_report, fig2_report, tmp_path):
     """The shipped examples' reports (Fig. 2 system; beam from FRFs) as a person would see
     them, in headless Chromium: (a) a screenshot that is not blank and no console errors
     (nor any request outside the file), (b) printed to PDF with a reasonable page count,
-    (c) every image decoded with a width and every table with the expected rows."""
+    (c) every image decoded with a width and every table with the expected rows, (d) the
+    text of every figure inside it."""
     _browser = _browser_or_skip()
     pages = {"frf": frf_report, "fig2": fig2_report}
     with _browser.Browser() as browser:
         seen = {name: browser.open(path) for name, path in pages.items()}
+        # (d) no figure clips its text: every title, label and tick inside the SVG (the
+        # Fig. 7 titles were cut off on both sides, the history's 10^7 at the top)
+        clipped = {}
+        for name, path in pages.items():
+            for img in parse(path.read_text()).images:
+                svg = base64.b64decode(img["src"].split(",", 1)[1]).decode()
+                out = browser.text_outside(svg, tmp_path)
+                if out:
+                    clipped[f"{name}: {img['alt']}"] = out[:2]
+        assert not clipped, clipped
     for name, page in seen.items():
         assert page.errors == [], name
         assert all(u.startswith(("file:", "data:")) for u in page.requests), page.requests

@@ -121,9 +121,10 @@ _WHERE: dict[str, str | tuple[str, str]] = {
     "Mode": "eigenupdate.measure.modes",
     "read_nastran": "eigenupdate.io.nastran",
     # the commands as functions of a Study (check and update: of a model, above)
-    **dict.fromkeys(["check_study", "compare_frf", "extract_study", "simulate_study",
-                     "simulate_study_frfs", "study_frequencies", "update_study", "design",
-                     "montecarlo", "report", "sweep"], "eigenupdate.workflow"),
+    **dict.fromkeys(["check_study", "compare_frf", "extract_files", "extract_study",
+                     "simulate_study", "simulate_study_frfs", "study_frequencies",
+                     "update_study", "design", "montecarlo", "report", "report_data", "sweep"],
+                    "eigenupdate.workflow"),
     "frequencies": ("eigenupdate.workflow", "study_frequencies"),
     "extract": ("eigenupdate.workflow", "extract_study"),
     "frf": ("eigenupdate.workflow", "compare_frf"),

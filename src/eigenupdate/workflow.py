@@ -131,10 +131,12 @@ def simulate_study(study: Study, noise_hz: float = 0.0, std_hz: float | None = N
 
 @dataclass(frozen=True)
 class StudyExtraction:
-    """The FRFs read for each configuration and what was extracted from them."""
+    """The FRFs read for each configuration and what was extracted from them; ``label``
+    names an FRF's (node, direction) points by the model's coordinates (None: no model)."""
 
     frfs: dict[str, list[FRF]]
     result: TestExtraction
+    label: Callable[[tuple[int, int]], str] | None = None
 
 
 def extract_study(study: Study, progress: Callable[[str], None] | None = None
@@ -153,7 +155,8 @@ def extract_study(study: Study, progress: Callable[[str], None] | None = None
     res = extract_test(frfs, model=study.model, configurations=study.configurations,
                        used_modes=study.modes, bands_hz=study.bands_hz,
                        exclude_below_hz=study.exclude_below_hz, progress=progress)
-    return StudyExtraction(frfs, res)
+    return StudyExtraction(frfs, res, None if study.model is None
+                           else study.model.coordinate_table.point_label)
 
 
 def extract_files(paths: Sequence[str | Path], kind: str | None = None,
@@ -170,12 +173,17 @@ def extract_files(paths: Sequence[str | Path], kind: str | None = None,
     return StudyExtraction(frfs, extract_test(frfs, progress=progress))
 
 
-def simulate_study_frfs(study: Study, frequency_hz: np.ndarray, excitation: int,
+def simulate_study_frfs(study: Study, fmax_hz: float, df_hz: float, excitation: int,
                         outputs: Sequence[int], loss_factor: float | Sequence[float],
                         noise: float = 0.01,
                         seed: int | None = None) -> list[tuple[Configuration, list[FRF]]]:
-    """Synthetic noisy FRFs of every configuration (``eigenupdate simulate-frf``), one
-    random stream for all of them."""
+    """Synthetic noisy FRFs of every configuration (``eigenupdate simulate-frf``) on
+    ``df_hz``, 2 ``df_hz``, ... ``fmax_hz`` (not 0 Hz: rigid-body modes are infinite
+    there), one random stream for all of them."""
+    if not 0 < df_hz < fmax_hz or fmax_hz / df_hz > 1e7:
+        raise InputError(f"need --df < --fmax and at most 1e7 lines, got --df {df_hz:g}, "
+                         f"--fmax {fmax_hz:g}", field="--fmax")
+    frequency_hz = np.arange(df_hz, fmax_hz + 0.5 * df_hz, df_hz)
     if len(set(outputs)) != len(outputs):
         raise InputError(f"coordinates repeated in {list(outputs)}", field="--outputs")
     rng = np.random.default_rng(seed)
@@ -273,13 +281,20 @@ class StudyDesign:
 
 
 def design(study: Study, *, validate: int | None = None, seed: int | None = 0,
-           executor=None) -> StudyDesign:
+           executor=None, scheduler: str | None = None,
+           workers: int | None = None) -> StudyDesign:
     """The added masses the study's ``[design]`` table asks for (``eigenupdate design``),
     then ``validate`` virtual tests of that plan (truth drawn from the prior) if given.
 
-    ``executor`` screens the candidates and runs the trials (default: this process); see
-    :mod:`eigenupdate.design.executor`. The caller closes it.
+    ``executor`` screens the candidates and runs the trials (default: this process; the
+    caller closes it), or else a Dask cluster at ``scheduler`` or of ``workers`` local
+    processes, closed here; see :mod:`eigenupdate.design.executor`.
     """
+    from eigenupdate.design.executor import executor_for
+
+    if executor is None and (scheduler or workers):
+        with executor_for(scheduler, n_workers=workers) as ex:
+            return design(study, validate=validate, seed=seed, executor=ex)
     from eigenupdate.design.plan import design_plan
     from eigenupdate.design.validate import validate_design
 
@@ -315,7 +330,10 @@ def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
         t = load_study(truth).model
         values = dict(zip(t.names, t.values.tolist(), strict=True))
     setup = study_setup(study, values, None if truth is None else str(truth))
-    return run(setup, trials, seed, executor, progress)
+    res = run(setup, trials, seed, executor, progress)
+    if res.counts()[2] == trials:  # nothing ran: the plan or its data are refused
+        raise InputError(res.refusal(), source=str(study.path))
+    return res
 
 
 _DEFAULT_LOSS_FACTOR = 0.01  # as `eigenupdate frf` without --damping

@@ -44,3 +44,15 @@ def read_loss_factors(path: str | Path, configuration: str) -> list[float]:
         raise InputError(f"no loss factors of modes 1, 2, ... for configuration "
                          f"{configuration!r}", source=str(path))
     return [eta for _, eta in modes]
+
+
+def may_replace(path: str | Path) -> bool:
+    """True if ``path`` does not exist or holds a result saved with success false: only
+    those may be replaced by an unconverged result (without ``--force``)."""
+    try:
+        doc = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        return True
+    except (OSError, ValueError, RecursionError):
+        return False
+    return isinstance(doc, dict) and doc.get("success") is False

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from eigenupdate.identify.identifiability import IdentifiabilityReport
-from eigenupdate.identify.updating import UpdateResult
-from eigenupdate.measure.survey import TestExtraction
+if TYPE_CHECKING:  # types only: the command line imports this module before any command
+    from eigenupdate.identify.identifiability import IdentifiabilityReport
+    from eigenupdate.identify.updating import UpdateResult
+    from eigenupdate.measure.survey import TestExtraction
 
 
 def table(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
@@ -128,3 +130,51 @@ def extraction_text(result: TestExtraction) -> str:
         blocks.append("\n".join(lines))
     return "\n\n".join(blocks)
 
+
+
+def frequencies_doc(freqs: dict[str, Any]) -> dict:
+    """``frequencies --json``: every configuration's elastic frequencies (Hz)."""
+    return {"configurations": [{"name": name, "frequencies_hz": f.tolist()}
+                               for name, f in freqs.items()]}
+
+
+def frequencies_text(freqs: dict[str, Any], title: str) -> str:
+    n = len(next(iter(freqs.values())))
+    return (f"{title}: elastic natural frequencies (Hz)\n"
+            + table(["configuration", *[f"mode {k}" for k in range(1, n + 1)]],
+                    [[name, *[round(float(x), 4) for x in f]] for name, f in freqs.items()]))
+
+
+def montecarlo_text(doc: dict, title: str) -> str:
+    """``montecarlo``: the counts and, when given, the statistics per parameter of the
+    summary ``doc`` (:meth:`~eigenupdate.design.montecarlo.MonteCarloResult.summary`)."""
+    lines = [f"{title}: {doc['trials']} virtual tests: {doc['converged']} converged, "
+             f"{doc['not_converged']} not converged, {doc['refused']} refused; seed entropy "
+             f"{doc['seed_entropy']}"]
+    if doc["statistics_refused"] is not None:
+        return lines[0]
+    if "prior_draws" in doc:
+        lines.append(f"predicted std: averaged over {doc['prior_draws']} draws of the truth "
+                     f"from the prior ({doc['prior_draw_seconds']:.1f} s), +- its Monte Carlo "
+                     f"error; linear: at the prior mean")
+    lines.append(table(
+        ["parameter", "bias", "empirical std", "predicted std", "+-", "emp/pred",
+         "linear std", "coverage 2 std"],
+        [[n, p["bias"], p["empirical_std"], p["predicted_std"], p["predicted_std_error"],
+          p["ratio_empirical_to_predicted"], p["linear_std"], p["coverage_2std"]]
+         for n, p in doc["parameters"].items()]))
+    return "\n".join(lines)
+
+
+def progress_bar(done: int, total: int) -> None:
+    """``done`` of ``total`` as a bar on standard error (a terminal), redrawn in place."""
+    n = 30 * done // total
+    end = "\n" if done == total else ""
+    print(f"\r[{'#' * n}{'.' * (30 - n)}] {done}/{total}", end=end, file=sys.stderr, flush=True)
+
+
+def progress(msg: str) -> None:
+    """One line on standard error; names in it come from input files: one printable line."""
+    from eigenupdate.errors import MAX_MESSAGE, shorten
+
+    print(shorten(msg, MAX_MESSAGE), file=sys.stderr, flush=True)

@@ -24,31 +24,22 @@ Sections appear when their data exist:
 
 from __future__ import annotations
 
-import base64
 import hashlib
-import io
 import math
 import os
 import shlex
 import sys
-import tempfile
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
 import jinja2
-import matplotlib
-import numpy as np
-from matplotlib.figure import Figure
 
 from eigenupdate.design.montecarlo import MonteCarloResult
 from eigenupdate.design.plan import DesignResult
 from eigenupdate.identify.identifiability import IdentifiabilityReport
 from eigenupdate.identify.updating import UpdateResult
-from eigenupdate.io.atomic import scratch
 from eigenupdate.io.report_inputs import ExtractedRow
 from eigenupdate.io.study import Study
 from eigenupdate.measure.extraction import DISAGREEMENT_WARNING
@@ -56,86 +47,10 @@ from eigenupdate.measure.frf import FRF
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import figures
 from eigenupdate.report.data import ReportData
+from eigenupdate.report.page import Section, figure_image, plot_image, table
 
 PathLike = str | os.PathLike
 TEMPLATES = Path(__file__).with_name("templates")
-
-
-# ------------------------------------------------------------------ page structure
-
-
-@dataclass
-class Table:
-    """A real HTML table: header cells and rows of (text, is_number) cells."""
-
-    caption: str
-    header: list[str]
-    rows: list[list[tuple[str, bool]]]
-    name: str = ""  # data-name attribute, for tests and styling
-    kind: str = "table"
-
-
-@dataclass
-class Image:
-    """A figure as a ``data:`` URI."""
-
-    uri: str
-    caption: str
-    alt: str
-    kind: str = "image"
-
-
-@dataclass
-class Section:
-    """One section of the page: paragraphs, key facts, then tables and figures in order."""
-
-    id: str
-    title: str
-    paragraphs: list[str] = field(default_factory=list)
-    facts: list[tuple[str, str]] = field(default_factory=list)
-    blocks: list[Table | Image] = field(default_factory=list)
-    parts: list[Section] = field(default_factory=list)  # sub-sections (one per configuration)
-
-
-def _cell(v: Any) -> tuple[str, bool]:
-    if v is None:
-        return ("-", False)
-    if isinstance(v, bool):
-        return ("yes" if v else "no", False)
-    if isinstance(v, int | np.integer):
-        return (str(int(v)), True)
-    if isinstance(v, float | np.floating):
-        return (f"{float(v):.6g}" if math.isfinite(v) else "-", math.isfinite(v))
-    return (str(v), False)
-
-
-def _table(caption: str, header: Sequence[str], rows: Sequence[Sequence[Any]],
-           name: str = "") -> Table:
-    return Table(caption, list(header), [[_cell(v) for v in r] for r in rows], name)
-
-
-def _svg_uri(data: bytes) -> str:
-    return "data:image/svg+xml;base64," + base64.b64encode(data).decode("ascii")
-
-
-# Text as SVG text (not glyph outlines): a third smaller, and searchable in the PDF.
-_SVG_RC = {"svg.fonttype": "none", "svg.hashsalt": "eigenupdate"}
-
-
-def _figure_image(fig: Figure, caption: str, alt: str) -> Image:
-    buf = io.BytesIO()
-    with matplotlib.rc_context(_SVG_RC):
-        fig.savefig(buf, format="svg")
-    return Image(_svg_uri(buf.getvalue()), caption, alt)
-
-
-def _plot_image(plot: Callable[..., Any], caption: str, alt: str, *args: Any,
-                **kwargs: Any) -> tuple[Image, Any]:
-    """Run one of :mod:`eigenupdate.plot.plots` into a temporary SVG and inline it."""
-    with tempfile.TemporaryDirectory() as tmp, matplotlib.rc_context(_SVG_RC), scratch():
-        path = Path(tmp) / "figure.svg"
-        out = plot(path, *args, **kwargs)
-        return Image(_svg_uri(path.read_bytes()), caption, alt), out
 
 
 def _sha256(path: PathLike) -> str:
@@ -167,7 +82,7 @@ def _study_section(study: Study) -> Section:
         ("method", f"{study.method}, at most {study.max_iterations} iterations, "
                    f"tolerance {study.tolerance:g}"),
     ]
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Parameters of the initial model (SI units)",
         ["parameter", "initial value", "prior std", "updated"],
         [[p.name, p.value, p.std, p.update] for p in model.parameters], "parameters"))
@@ -177,7 +92,7 @@ def _study_section(study: Study) -> Section:
             rows.append([c.name, "-", None, None])
         for a in c.additions:
             rows.append([c.name, a.coordinate, a.mass or None, a.stiffness or None])
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Test configurations: known masses (kg; kg m^2 on a rotation) and grounded "
         "springs (N/m) added", ["configuration", "coordinate", "added mass", "added stiffness"],
         rows, "configurations"))
@@ -233,19 +148,19 @@ def _identifiability_section(data: ReportData) -> Section | None:
             (f"as the {study.method} estimator sees it",
              f"J weighted by {seen.weighting}: rank {seen.rank}, condition of J "
              f"{seen.condition_J:.3g}, of J^T J {seen.condition_JTJ:.3g}")]
-    sec.blocks.append(_figure_image(
+    sec.blocks.append(figure_image(
         figures.singular_values_figure(r.singular_values),
         "Singular values of J, descending ((rad/s)^2 per unit relative change)",
         "singular values"))
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Weakest combination: right singular vector of the smallest singular value",
         ["parameter", "weight"], [[k, v] for k, v in r.weakest.items()], "weakest"))
     return sec
 
 
 def _frf_label(study: Study, x: FRF) -> str:
-    table = study.model.coordinate_table
-    return f"{table.point_label(x.response)} / {table.point_label(x.reference)}"
+    coords = study.model.coordinate_table
+    return f"{coords.point_label(x.response)} / {coords.point_label(x.reference)}"
 
 
 def _extraction_section(data: ReportData) -> Section | None:
@@ -320,12 +235,12 @@ def _extraction_section(data: ReportData) -> Section | None:
                                r.loss_factor_std, m.fit_quality if m else None, r.check_hz, d,
                                m.model_hz if m else None, "; ".join(flags) or None])
         if table_rows:
-            part.blocks.append(_table(
+            part.blocks.append(table(
                 f"{c.name}: fitted modes",
                 ["mode", "f Hz", "std Hz", "loss factor", "loss factor std", "fit R2",
                  "check f Hz", "diff/std", "model Hz", "remarks"], table_rows, "extraction"))
         if ex is not None and ex.rejected:
-            part.blocks.append(_table(
+            part.blocks.append(table(
                 f"{c.name}: rejected candidates",
                 ["f Hz", "band from Hz", "band to Hz", "reason"],
                 [[r.frequency_hz, r.band_hz[0], r.band_hz[1], r.reason] for r in ex.rejected],
@@ -335,7 +250,7 @@ def _extraction_section(data: ReportData) -> Section | None:
             if not shown:
                 continue
             title = f"{c.name}: {_frf_label(study, x)}"
-            img, _ = _plot_image(
+            img, _ = plot_image(
                 plot_extraction_fit, f"{title}: fitted modes against the measured receptance",
                 f"extraction fit {title}", x.frequency_hz, x.receptance,
                 [m.fits[j] for m in shown], mode_numbers=[m.mode for m in shown], title=title)
@@ -364,36 +279,36 @@ def _update_section(study: Study, res: UpdateResult, origin: str) -> Section:
     for n in names:
         v0, v = initial[n], res.parameters[n]
         rows.append([n, v0, v, None if v0 == 0 else 100.0 * (v - v0) / v0, res.std.get(n)])
-    sec.blocks.append(_table("Parameters: initial, updated, change and posterior std",
+    sec.blocks.append(table("Parameters: initial, updated, change and posterior std",
                              ["parameter", "initial", "updated", "change %", "posterior std"],
                              rows, "parameters-updated"))
     if any(initial[n] != 0 for n in names):
-        sec.blocks.append(_figure_image(
+        sec.blocks.append(figure_image(
             figures.parameter_change_figure(names, initial, res.parameters, res.std),
             "Change of each updated parameter (% of initial) with +-1 posterior std "
             "(parameters starting at 0 are in the table only)", "parameter changes"))
     history = [h.parameters for h in res.history]
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Iterations (0 is the initial model): objective, fraction of the Gauss-Newton step "
         "taken, note", ["iteration", "objective", "step", "note"],
         [[h.iteration, h.objective, h.step, h.kind.value or None] for h in res.history],
         "steps"))
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Parameter values at each iteration",
         ["parameter", *[f"it. {i}" for i in range(len(history))]],
         [[n, *[h[n] for h in history]] for n in names], "history"))
-    sec.blocks.append(_figure_image(
+    sec.blocks.append(figure_image(
         figures.history_figure([h.objective for h in res.history], history, names),
         "Objective and parameters (relative to initial) against iteration", "history"))
     fr = list(zip(res.rows, res.measured_hz.tolist(), res.initial_hz.tolist(),
                   res.updated_hz.tolist(), strict=True))
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Natural frequencies: measured, initial and updated model (Hz), errors in %",
         ["configuration", "mode", "measured", "initial", "updated", "initial error %",
          "updated error %"],
         [[c, k, m, i, u, 100 * (i - m) / m, 100 * (u - m) / m] for (c, k), m, i, u in fr],
         "frequencies"))
-    sec.blocks.append(_figure_image(
+    sec.blocks.append(figure_image(
         figures.frequency_error_figure(
             [f"{c} / {k}" for (c, k), *_ in fr], [m for _, m, _, _ in fr],
             [i for _, _, i, _ in fr], [u for *_, u in fr]),
@@ -408,7 +323,7 @@ def _comparison_section(data: ReportData) -> Section | None:
     res = data.update
     sec = Section("comparison", "Predicted against measured")
     for c in data.comparisons:
-        img, _ = _plot_image(plot_frf_comparison, f"Paper Fig. 7: {c.title}",
+        img, _ = plot_image(plot_frf_comparison, f"Paper Fig. 7: {c.title}",
                              f"FRF comparison {c.response}/{c.excitation}", None,
                              measured=c.measured,
                              initial=(c.frequency_hz, c.initial),
@@ -426,7 +341,7 @@ def _comparison_section(data: ReportData) -> Section | None:
     which = "updated" if res is not None else "initial"
     for sweep in data.sweeps:
         cd = sweep.coordinate.number
-        img, _ = _plot_image(plot_mass_sweep, f"Paper Fig. 4: mass added at coordinate {cd}",
+        img, _ = plot_image(plot_mass_sweep, f"Paper Fig. 4: mass added at coordinate {cd}",
                              f"mass sweep {cd}", sweep, title=f"{which} model")
         sec.blocks.append(img)
     if data.sweeps:
@@ -451,7 +366,7 @@ def _design_section(d: DesignResult, validation: dict | None, initial: dict[str,
            f"prior ({d.draw_seconds:.1f} s), with its Monte Carlo error; "
            f"the linearised figure at the prior mean stands beside it."
            if d.draws else "The predicted accuracy is linearised at the prior mean.")]
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Designed plan: bare minus perturbed frequency of each used mode (Hz), the largest "
         "shift in measurement std, the smallest relative gap of a used mode to its "
         "neighbours, and the fraction of the prior's draws that reorder or crowd a used mode",
@@ -461,7 +376,7 @@ def _design_section(d: DesignResult, validation: dict | None, initial: dict[str,
           c.exchange_risk] for c in (d.candidates[i] for i in d.chosen)],
         "design-plan"))
     plan = d.plans[0]
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Predicted std of each updated parameter for the plans compared",
         ["parameter", "initial", *[p.label for p in d.plans],
          "+- (designed)", "at prior mean (designed)"],
@@ -471,7 +386,7 @@ def _design_section(d: DesignResult, validation: dict | None, initial: dict[str,
         "design-accuracy"))
     val = validation
     if val:
-        sec.blocks.append(_table(
+        sec.blocks.append(table(
             f"Validation: {val['trials']} virtual tests of the designed plan ("
             f"{val['converged']} converged, {val['not_converged']} not converged, "
             f"{val['refused']} refused): predicted against empirical std",
@@ -496,7 +411,7 @@ def _montecarlo_section(r: MonteCarloResult, name: str) -> Section:
     if s["statistics_refused"] is not None:
         sec.paragraphs.append(f"WARNING: no statistics: {s['statistics_refused']}.")
         return sec
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Per parameter: bias and empirical std of the error over the converged trials, the "
         "predicted std (+- its Monte Carlo error), the linearised std and the fraction of "
         "trials within 2 reported std of the truth",
@@ -533,19 +448,19 @@ def _summary_section(key: str, title: str, doc: dict, name: str) -> Section:
                or (isinstance(v, list) and not all(isinstance(i, dict) for i in v))
                or (isinstance(v, list) and not v)]
     if scalars:
-        sec.blocks.append(_table(title, ["key", "value"], scalars, "summary"))
+        sec.blocks.append(table(title, ["key", "value"], scalars, "summary"))
     for k, v in doc.items():
         if isinstance(v, list) and v and all(isinstance(i, dict) for i in v):
             cols = list(dict.fromkeys(c for i in v for c in i))
-            sec.blocks.append(_table(k, cols, [[text(i.get(c)) for c in cols] for i in v],
+            sec.blocks.append(table(k, cols, [[text(i.get(c)) for c in cols] for i in v],
                                      "summary"))
         elif isinstance(v, dict) and v and all(isinstance(i, dict) for i in v.values()):
             cols = list(dict.fromkeys(c for i in v.values() for c in i))
-            sec.blocks.append(_table(k, ["", *cols],
+            sec.blocks.append(table(k, ["", *cols],
                                      [[a, *[text(i.get(c)) for c in cols]] for a, i in v.items()],
                                      "summary"))
         elif isinstance(v, dict):
-            sec.blocks.append(_table(k, ["key", "value"], [[a, text(b)] for a, b in v.items()],
+            sec.blocks.append(table(k, ["key", "value"], [[a, text(b)] for a, b in v.items()],
                                      "summary"))
     return sec
 

@@ -37,6 +37,7 @@ from eigenupdate.measure.survey import TestExtraction, extract_test
 from eigenupdate.measure.synthetic import simulate_measurements, synthetic_frfs
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.coordinates import CoordinateTable
+from eigenupdate.report.data import FrfComparison
 from eigenupdate.solve.jacobian import solve_configurations
 from eigenupdate.solve.response import receptance
 from eigenupdate.solve.sweep import MassSweep, mass_sweep
@@ -190,21 +191,6 @@ def simulate_study_frfs(study: Study, fmax_hz: float, df_hz: float, excitation: 
     return [(c, synthetic_frfs(study.model, c, frequency_hz, excitation, outputs, loss_factor,
                                noise=noise, seed=rng))
             for c in study.configurations]
-
-
-@dataclass(frozen=True)
-class FrfComparison:
-    """Predicted receptance of the initial (and updated) model, and the measured one."""
-
-    configuration: Configuration
-    frequency_hz: np.ndarray
-    initial: np.ndarray
-    updated: np.ndarray | None
-    measured: FRF | None
-    loss_factors: list[float]
-    title: str
-    excitation: int
-    response: int
 
 
 def compare_frf(study: Study, excitation: int, response: int, *,

@@ -1,4 +1,5 @@
-"""What the HTML report shows, as typed results: :func:`eigenupdate.workflow.report_data`
+"""What the HTML report shows, as typed results (and :class:`FrfComparison`, the
+result of :func:`eigenupdate.workflow.compare_frf`): :func:`eigenupdate.workflow.report_data`
 reads or computes them, :func:`eigenupdate.report.html.render_report` only draws them."""
 
 from __future__ import annotations
@@ -6,6 +7,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
+
+import numpy as np
 
 if TYPE_CHECKING:  # types only: this module imports nothing heavy
     from eigenupdate.design.montecarlo import MonteCarloResult
@@ -16,8 +19,8 @@ if TYPE_CHECKING:  # types only: this module imports nothing heavy
     from eigenupdate.io.study import Study
     from eigenupdate.measure.frf import FRF
     from eigenupdate.measure.survey import TestExtraction
+    from eigenupdate.model.configurations import Configuration
     from eigenupdate.solve.sweep import MassSweep
-    from eigenupdate.workflow import FrfComparison
 
 
 @dataclass(frozen=True)
@@ -63,3 +66,18 @@ class ReportData:
     summaries: list[tuple[str, str, dict[str, Any], str]] = field(default_factory=list)
     files: list[tuple[str, Path]] = field(default_factory=list)
     solved: bool = True
+
+
+@dataclass(frozen=True)
+class FrfComparison:
+    """Predicted receptance of the initial (and updated) model, and the measured one."""
+
+    configuration: Configuration
+    frequency_hz: np.ndarray
+    initial: np.ndarray
+    updated: np.ndarray | None
+    measured: FRF | None
+    loss_factors: list[float]
+    title: str
+    excitation: int
+    response: int

@@ -2,6 +2,7 @@
 page in a real browser (headless Chromium)."""
 
 import base64
+import hashlib
 import json
 import os
 import re
@@ -237,6 +238,13 @@ def test_report_of_saved_results_solves_nothing(tmp_path, run_cli, monkeypatch):
     b = parse((tmp_path / "b.html").read_text())
     assert len(named(b, "extraction")) == len(load_study(FRF).configurations)
     assert sum(i["alt"].startswith("extraction fit") for i in b.images) > 0
+    # provenance: the SHA-256 of every input, each FRF file included (hashlib, here)
+    (prov,) = named(b, "provenance")
+    hashes = {r[1] for r in prov["rows"]}
+    study = load_study(FRF)
+    for path in [*study.inputs(measurements=True, frf=True), tmp_path / "x.json"]:
+        assert f"{path.name}  SHA-256 {hashlib.sha256(path.read_bytes()).hexdigest()}" in {
+            h.replace("\u00a0", " ") for h in hashes}, path
 
 
 def _one_line_error(run_cli, *args, fragments=()):

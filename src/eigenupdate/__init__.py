@@ -92,8 +92,8 @@ _WHERE: dict[str, str | tuple[str, str]] = {
     "IdentifiabilityReport": "eigenupdate.identify.identifiability",
     "check": "eigenupdate.identify.identifiability",
     "identifiability": "eigenupdate.identify.identifiability",
-    **dict.fromkeys(["Iterate", "STATUS_MESSAGES", "Step", "UpdateResult", "update"],
-                    "eigenupdate.identify.updating"),
+    **dict.fromkeys(["STATUS_MESSAGES", "Step", "update"], "eigenupdate.identify.updating"),
+    **dict.fromkeys(["Iterate", "UpdateResult"], "eigenupdate.identify.result"),
     # measure
     "ExtractedMode": "eigenupdate.measure.extraction",
     "extract_configuration": "eigenupdate.measure.extraction",

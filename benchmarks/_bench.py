@@ -631,7 +631,7 @@ def bench_b(size_key: str, max_nfev: int | None, reference: bool = False) -> dic
     ours_err = param_errors(ours_values, truth)
     ours_solves = ours_t.calls["eigsh"]
     print(f"(b) ours: update() {t_ours:.1f} s, {res.nit} iterations, converged "
-          f"{res.converged}, {calls[0]} linearisations = {ours_solves} eigsh calls and "
+          f"{res.success}, {calls[0]} linearisations = {ours_solves} eigsh calls and "
           f"{ours_t.calls['factorisation']} factorisations; parameter error vs truth max "
           f"{ours_err['max_rel']:.1e}, rms {ours_err['rms_rel']:.1e}; fast path {res.solver}")
 
@@ -694,7 +694,7 @@ def bench_b(size_key: str, max_nfev: int | None, reference: bool = False) -> dic
         "frame": SIZES[size_key], "n": model.n, "configurations": nconf, "modes": len(modes),
         "parameters": len(model.parameters),
         "initial_error": param_errors(model.values, truth),
-        "ours": {"seconds": t_ours, "iterations": res.nit, "converged": res.converged,
+        "ours": {"seconds": t_ours, "iterations": res.nit, "converged": res.success,
                  "message": res.message, "linearisations": calls[0],
                  "eigsh_calls": ours_solves, "split": ours_t.as_dict(), "error": ours_err,
                  "objective": [h.objective for h in res.history]},
@@ -760,7 +760,7 @@ def bench_whole(size_key: str) -> dict:
     cpu_ratio = c_upd / float(np.median(cpu))
     err = param_errors(np.array([res.parameters[n] for n in model.names]), truth)
     out = {"ratio": t_upd / base, "coordinates": model.n, "iterations": res.nit,
-           "max_rel_error": err["max_rel"], "converged": bool(res.converged),
+           "max_rel_error": err["max_rel"], "converged": bool(res.success),
            "seconds": t_upd, "base_solve_s": bases, "linearisations": calls[0],
            "initial_max_rel_error": initial, "optimizer": res.optimizer,
            "status": res.status, "message": res.message, "pairing": res.pairing,
@@ -770,7 +770,7 @@ def bench_whole(size_key: str) -> dict:
           f"median {base:.2f} s of {np.round(bases, 2).tolist()}; CPU time {c_upd:.1f} s = "
           f"{cpu_ratio:.2f} base solves' CPU time, load {os.getloadavg()[0]:.1f}); "
           f"{res.nit} iterations, "
-          f"{calls[0]} linearisations; converged {res.converged} ({res.message}); "
+          f"{calls[0]} linearisations; converged {res.success} ({res.message}); "
           f"parameter error max {err['max_rel']:.1e}, rms {err['rms_rel']:.1e}; clusters "
           f"{res.pairing['clusters']}")
     return out

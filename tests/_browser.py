@@ -143,6 +143,23 @@ class Browser:
                 requests.append(p["request"]["url"][:80])
         return Page(load, errors, requests, images, tables, shot, pdf)
 
+    def text_outside(self, svg: str, directory: Path) -> list[dict]:
+        """The <text> elements of ``svg`` (inlined in a page, so the browser sets its text
+        as the report's <img> does) whose box reaches outside the SVG's own box by more
+        than half a pixel: text the figure clips."""
+        page = Path(directory) / "figure.html"
+        page.write_text("<!DOCTYPE html><html><body style='margin:0'>" + svg + "</body></html>",
+                        encoding="utf-8")
+        self.call("Page.navigate", url=page.resolve().as_uri())
+        self.wait_for("Page.loadEventFired")
+        return self.evaluate(
+            "(() => { const s = document.querySelector('svg').getBoundingClientRect(); "
+            "return [...document.querySelectorAll('svg text')].map(t => { "
+            "const b = t.getBoundingClientRect(); return {text: t.textContent.trim(), "
+            "left: b.left - s.left, right: s.right - b.right, top: b.top - s.top, "
+            "bottom: s.bottom - b.bottom}; }).filter(r => Math.min(r.left, r.right, r.top, "
+            "r.bottom) < -0.5); })()")
+
     def close(self) -> None:
         try:
             self.ws.close()

@@ -68,8 +68,8 @@ def test_mode_2_exchanged_between_configurations(fig2, run_cli, std, pair):
     if std is None:
         assert "no std_hz" in line
     doc = json.loads(out)
-    assert doc["converged"] is False
-    assert json.loads((fig2 / "r.json").read_text())["converged"] is False
+    assert doc["success"] is False
+    assert json.loads((fig2 / "r.json").read_text())["success"] is False
 
 
 @pytest.mark.parametrize("std", [None, "0.01"])
@@ -159,7 +159,7 @@ def test_no_exchange_between_perturbed_configurations_converges(fig2, run_cli, s
     _write(fig2, _exchange(_rows(), k, a, b), std)
     code, out, err = run_cli("update", fig2 / "study.toml", "--json")
     assert code == 1, err
-    assert json.loads(out)["converged"] is False
+    assert json.loads(out)["success"] is False
 
 
 @pytest.mark.parametrize("std", [None, 0.01])

@@ -145,7 +145,7 @@ def test_design_validate_on_the_command_line(tmp_path, run_cli):
                              "12", "--json")
     assert code == 0, err
     doc = json.loads(out)
-    assert doc["prior_draws"] == 64
+    assert doc["draws"] == 64
     val = doc["validation"]
     assert val["trials"] == 12 and val["converged"] + val["not_converged"] + val["refused"] == 12
     for p in val["parameters"].values():
@@ -156,7 +156,7 @@ def test_design_validate_on_the_command_line(tmp_path, run_cli):
 
 def test_report_renders_the_design_document(tmp_path, run_cli):
     # the HTML report reads `design --json` (with --validate) as a design, not generically
-    from eigenupdate.report.html import render_report
+    from eigenupdate.workflow import report
 
     s = fig2_study(tmp_path, 0.1)
     code, out, err = run_cli("simulate", EXAMPLES / "paper_fig2" / "truth.toml", "-o",
@@ -169,7 +169,7 @@ def test_report_renders_the_design_document(tmp_path, run_cli):
                              "--json")
     assert code == 0, err
     (tmp_path / "design.json").write_text(out)
-    page = render_report(study, design=tmp_path / "design.json")
+    page = report(load_study(study), design=tmp_path / "design.json")
     for name in ("design-plan", "design-accuracy", "design-validation"):
         assert f'data-name="{name}"' in page
     assert "averaged over 64 draws of the truth from the prior" in page

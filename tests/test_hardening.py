@@ -13,13 +13,13 @@ import scipy.sparse as sp
 from conftest import EXAMPLES
 from test_cli import FIG2, assert_bad, write
 
-from eigenupdate import cli
 from eigenupdate.errors import InputError
 from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.io.atomic import make_dir, transaction, write_text
 from eigenupdate.io.measurements import read_measurements
 from eigenupdate.io.study import load_study
 from eigenupdate.model.configurations import Configuration
+from eigenupdate.report import text
 from eigenupdate.solve.eigen import EigenSolution, negative_count, solve_elastic, sturm_check
 
 
@@ -198,15 +198,15 @@ def test_unconverged_update_never_replaces_a_converged_result(fig2, run_cli):
     result = fig2 / "result.json"
     assert run_cli("update", fig2 / "study.toml", "--save", result)[0] == 0
     good = result.read_text()
-    assert json.loads(good)["converged"] is True
+    assert json.loads(good)["success"] is True
     short = write(fig2, FIG2.replace("max_iterations = 20", "max_iterations = 1"), "short.toml")
     code, _, err = run_cli("update", short, "--save", result)
     assert code == 1 and "kept" in err and "--force" in err
     assert result.read_text() == good
     code, _, _ = run_cli("update", short, "--save", result, "--force")
-    assert code == 1 and json.loads(result.read_text())["converged"] is False
+    assert code == 1 and json.loads(result.read_text())["success"] is False
     code, _, _ = run_cli("update", short, "--save", result)  # unconverged over unconverged
-    assert code == 1 and json.loads(result.read_text())["converged"] is False
+    assert code == 1 and json.loads(result.read_text())["success"] is False
 
 
 # ------------------------------------------------------------ silent wrong answers
@@ -364,6 +364,6 @@ def test_a_failed_run_leaves_no_directory_it_made(tmp_path):
 
 
 def test_progress_lines_are_one_printable_line(capsys):
-    cli._progress("[1/2] bad\nname\x1b[31m: 3 FRF(s)")
+    text.progress("[1/2] bad\nname\x1b[31m: 3 FRF(s)")
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "\x1b" not in err and "bad\\nname" in err

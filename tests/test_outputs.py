@@ -178,7 +178,7 @@ def test_closed_or_broken_stdout(fig2, monkeypatch, capsys, stdout):
     lines = err.strip().splitlines()
     assert "standard output" in lines[-1]
     assert all(re.match(r"\[\d+/\d+\] ", line) for line in lines[:-1]), lines
-    assert '"converged": true' in (fig2 / "r.json").read_text()
+    assert '"success": true' in (fig2 / "r.json").read_text()
 
 
 @pytest.mark.parametrize("args,flag", [

@@ -146,7 +146,7 @@ def test_clusters_the_start_made_are_resolved_at_the_fit(optimizer):
                                                       + rng.normal(0.0, 0.01)), 0.01)
             for c, s in zip(configs, sols, strict=True) for k in modes}
     res = update(model, configs, modes, meas, method="bayesian", optimizer=optimizer)
-    assert res.converged
+    assert res.success
     assert np.max(np.abs(res.x / truth - 1)) < 0.01
     kinds = [n["kind"] for n in res.pairing["notes"]]
     assert "cluster resolved" in kinds and res.pairing["equations"] == 16

@@ -237,7 +237,7 @@ def test_update_reports_the_fast_path(monkeypatch):
     meas = {(c.name, k): Measurement(c.name, k, float(s.frequencies_hz[k - 1]))
             for c, s in zip(configs, sols, strict=True) for k in modes}
     res = update(model, configs, modes, meas)
-    assert res.converged
+    assert res.success
     for i in upd:
         assert res.parameters[truth.names[i]] == pytest.approx(truth.values[i], rel=1e-8)
     assert res.solver is not None and res.solver["fallback_lanczos"] == 0

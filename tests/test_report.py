@@ -2,6 +2,7 @@
 page in a real browser (headless Chromium)."""
 
 import base64
+import hashlib
 import json
 import os
 import re
@@ -15,7 +16,7 @@ from conftest import EXAMPLES
 
 from eigenupdate.identify.updating import update
 from eigenupdate.io.study import load_study
-from eigenupdate.report.html import render_report, write_report
+from eigenupdate.workflow import report as workflow_report
 
 FIG2 = EXAMPLES / "paper_fig2" / "study.toml"
 BEAM = EXAMPLES / "paper_beam" / "study.toml"
@@ -59,6 +60,15 @@ class _Tables(HTMLParser):
             self._cell += data
         elif self._where == "caption":
             self.tables[-1]["caption"] += data
+
+
+def render_report(study_path, **kwargs) -> str:
+    return workflow_report(load_study(study_path), **kwargs)
+
+
+def write_report(study_path, *, output, **kwargs) -> Path:
+    Path(output).write_text(render_report(study_path, **kwargs), encoding="utf-8")
+    return Path(output)
 
 
 def parse(page: str) -> _Tables:
@@ -168,6 +178,75 @@ def test_design_and_montecarlo_rendered_generically(tmp_path):
     assert "plan.json" in page and "mc.json" in page
 
 
+def eigenvalues_of_fig2():
+    from eigenupdate.workflow import study_frequencies
+
+    return study_frequencies(load_study(FIG2))
+
+
+def _no_eigen_solver(monkeypatch):
+    """Every eigen-solver the package reaches (dense, sparse, Ritz) raises."""
+    import numpy.linalg
+    import scipy.linalg
+    import scipy.sparse.linalg
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("an eigen-solve in a report of saved results")
+
+    for module, name in ((scipy.linalg, "eigh"), (scipy.linalg, "eig"),
+                         (scipy.sparse.linalg, "eigsh"), (scipy.sparse.linalg, "lobpcg"),
+                         (numpy.linalg, "eigh"), (numpy.linalg, "eig")):
+        monkeypatch.setattr(module, name, refuse)
+
+
+def test_report_of_saved_results_solves_nothing(tmp_path, run_cli, monkeypatch):
+    # every section from the files of update --save, design --json, montecarlo -o and
+    # extract --save: rendered through their classes, with no eigen-solve
+    truth = EXAMPLES / "paper_fig2" / "truth.toml"
+    assert run_cli("update", FIG2, "--save", tmp_path / "r.json")[0] == 0
+    code, out, err = run_cli("design", FIG2, "-o", tmp_path / "plan.toml", "--json")
+    assert code == 0, err
+    (tmp_path / "d.json").write_text(out)
+    code, out, err = run_cli("montecarlo", FIG2, "--trials", "4", "--truth", truth, "--seed",
+                             "1", "--in-process", "-o", tmp_path / "mc")
+    assert code == 0, err
+    csv = tmp_path / "x.csv"
+    assert run_cli("extract", FRF, "-o", csv, "--save", tmp_path / "x.json")[0] == 0
+    _no_eigen_solver(monkeypatch)
+    with pytest.raises(AssertionError, match="an eigen-solve"):  # the guard works
+        eigenvalues_of_fig2()
+    code, out, err = run_cli("report", FIG2, "--result", tmp_path / "r.json", "--design",
+                             tmp_path / "d.json", "--montecarlo", tmp_path / "mc" /
+                             "summary.json", "--saved-only", "-o", tmp_path / "a.html")
+    assert code == 0, err
+    page = (tmp_path / "a.html").read_text()
+    doc = parse(page)
+    for name in ("parameters-updated", "frequencies", "history", "steps", "weakest",
+                 "design-plan", "design-accuracy", "montecarlo"):
+        assert named(doc, name), name
+    assert "read from the saved result" in page and "at the saved update" in page
+    assert not [i for i in doc.images if i["alt"].startswith(("FRF comparison", "mass sweep"))]
+    # the saved numbers are the page's: the Monte Carlo table against its summary.json
+    mc = json.loads((tmp_path / "mc" / "summary.json").read_text())
+    (table,) = named(doc, "montecarlo")
+    for row in table["rows"]:
+        assert float(row[2]) == pytest.approx(mc["parameters"][row[0]]["empirical_std"],
+                                              rel=5e-6)  # 6 digits printed
+    code, out, err = run_cli("report", FRF, "--extraction", tmp_path / "x.json",
+                             "--saved-only", "-o", tmp_path / "b.html")
+    assert code == 0, err
+    b = parse((tmp_path / "b.html").read_text())
+    assert len(named(b, "extraction")) == len(load_study(FRF).configurations)
+    assert sum(i["alt"].startswith("extraction fit") for i in b.images) > 0
+    # provenance: the SHA-256 of every input, each FRF file included (hashlib, here)
+    (prov,) = named(b, "provenance")
+    hashes = {r[1] for r in prov["rows"]}
+    study = load_study(FRF)
+    for path in [*study.inputs(measurements=True, frf=True), tmp_path / "x.json"]:
+        assert f"{path.name}  SHA-256 {hashlib.sha256(path.read_bytes()).hexdigest()}" in {
+            h.replace("\u00a0", " ") for h in hashes}, path
+
+
 def _one_line_error(run_cli, *args, fragments=()):
     code, out, err = run_cli(*args)
     assert code == 2, (out, err)
@@ -227,7 +306,9 @@ def expected_rows(study) -> dict[str, list[int]]:
         "parameters-updated": [upd],
         "history": [upd],
         "frequencies": [n_cfg * n_modes],
-        "provenance": [6],  # version, date, command, study, result, extraction files
+        # version, date, command; every input: study, model, measurement and FRF files,
+        # the saved result and the extraction CSV
+        "provenance": [3 + len(study.inputs(measurements=True, frf=True)) + 2],
     }
 
 
@@ -299,15 +380,26 @@ def _browser_or_skip():
 
 
 @pytest.mark.slow
-def test_reports_in_chromium(frf_report, fig2_report):
+def test_reports_in_chromium(frf_report, fig2_report, tmp_path):
     """The shipped examples' reports (Fig. 2 system; beam from FRFs) as a person would see
     them, in headless Chromium: (a) a screenshot that is not blank and no console errors
     (nor any request outside the file), (b) printed to PDF with a reasonable page count,
-    (c) every image decoded with a width and every table with the expected rows."""
+    (c) every image decoded with a width and every table with the expected rows, (d) the
+    text of every figure inside it."""
     _browser = _browser_or_skip()
     pages = {"frf": frf_report, "fig2": fig2_report}
     with _browser.Browser() as browser:
         seen = {name: browser.open(path) for name, path in pages.items()}
+        # (d) no figure clips its text: every title, label and tick inside the SVG (the
+        # Fig. 7 titles were cut off on both sides, the history's 10^7 at the top)
+        clipped = {}
+        for name, path in pages.items():
+            for img in parse(path.read_text()).images:
+                svg = base64.b64decode(img["src"].split(",", 1)[1]).decode()
+                out = browser.text_outside(svg, tmp_path)
+                if out:
+                    clipped[f"{name}: {img['alt']}"] = out[:2]
+        assert not clipped, clipped
     for name, page in seen.items():
         assert page.errors == [], name
         assert all(u.startswith(("file:", "data:")) for u in page.requests), page.requests

@@ -42,7 +42,7 @@ def test_error_free_data_recovers_random_networks(seed, n):
     plan = check(start, configs, modes)
     assume(plan.identifiable and plan.condition_JTJ < 1e11)
     res = update(start, configs, modes, simulate(truth, configs, modes), max_iterations=50)
-    assert res.converged, res.message
+    assert res.success, res.message
     got = np.array([res.parameters[n_] for n_ in truth.names])
     np.testing.assert_allclose(got, truth.values, rtol=1e-6)
 
@@ -55,7 +55,7 @@ def test_weighted_least_squares_with_noise_has_honest_std():
     rng = np.random.default_rng(1)
     data = simulate(TRUTH, FIG2_CONFIGS, [1, 2, 3, 4], noise_hz=0.005, std_hz=0.005, rng=rng)
     res = update(fig2(), FIG2_CONFIGS, [1, 2, 3, 4], data, method="weighted-least-squares")
-    assert res.converged
+    assert res.success
     z = [(res.parameters[n] - v) / res.std[n] for n, v in zip(TRUTH.names, TRUTH.values,
                                                               strict=True)]
     assert np.max(np.abs(z)) < 4.0  # errors within the posterior std
@@ -73,7 +73,7 @@ def test_bayesian_prior_dominates_unidentifiable_parameter():
     model = type(model)(model.k0, model.m0, params, model.k_terms, model.m_terms)
     data = simulate(TRUTH, configs, [1, 2, 3, 4], std_hz=0.01)
     res = update(model, configs, [1, 2, 3, 4], data, method="bayesian")
-    assert res.converged
+    assert res.success
     assert all(s is not None and s > 0 for s in res.std.values())
     # Posterior variance never exceeds the prior variance.
     for p in params:
@@ -106,11 +106,11 @@ def test_far_start_is_safeguarded_and_recorded():
     assert all(v > 0 for h in res.history for v in h.parameters.values())
     objectives = [h.objective for h in res.history]
     assert all(b <= a for a, b in zip(objectives, objectives[1:], strict=False))
-    assert res.converged
+    assert res.success
     np.testing.assert_allclose([res.parameters[n] for n in TRUTH.names], TRUTH.values, rtol=1e-6)
     # the trust-region default from the same start: bounds instead of bounded steps
     tr = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data, max_iterations=60)
-    assert tr.converged and tr.optimizer == "trust-region", tr.message
+    assert tr.success and tr.optimizer == "trust-region", tr.message
     assert all(v > 0 for h in tr.history for v in h.parameters.values())
     objectives = [h.objective for h in tr.history]
     assert all(b < a for a, b in zip(objectives, objectives[1:], strict=False))
@@ -136,7 +136,7 @@ def test_a_refused_trial_step_is_halved_not_fatal(monkeypatch):
 
     monkeypatch.setattr(updating, "linearise", refusing)
     res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data, optimizer="gauss-newton")
-    assert res.converged and res.history[1].kind == Step.HALVED
+    assert res.success and res.history[1].kind == Step.HALVED
     np.testing.assert_allclose([res.parameters[n] for n in TRUTH.names], TRUTH.values, rtol=1e-6)
 
     calls.clear()
@@ -167,7 +167,7 @@ def test_trust_region_shrinks_on_a_refused_point_and_never_runs_away(monkeypatch
 
     monkeypatch.setattr(updating, "linearise", refusing)
     res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data)
-    assert res.converged and res.history[1].kind == Step.SHRUNK
+    assert res.success and res.history[1].kind == Step.SHRUNK
     np.testing.assert_allclose([res.parameters[n] for n in TRUTH.names], TRUTH.values, rtol=1e-6)
 
     calls.clear()
@@ -182,7 +182,7 @@ def test_trust_region_shrinks_on_a_refused_point_and_never_runs_away(monkeypatch
     res = update(start, FIG2_CONFIGS, [1, 2, 3, 4], data, max_iterations=5)
     # the region shrinks until SciPy stops (its xtol, or its evaluation limit of 4 per
     # allowed iteration + 10): not converged, in SciPy's words and ours
-    assert not res.converged and res.nit == 0 and res.status in (0, 3)
+    assert not res.success and res.nit == 0 and res.status in (0, 3)
     assert "refused: stiffness matrix" in res.message and len(calls) <= 1 + 4 * 5 + 10
 
 
@@ -229,7 +229,7 @@ def test_turning_trial_points_down_early_changes_no_iterate(monkeypatch):
     assert [h.kind for h in early.history] == [h.kind for h in full.history]
     np.testing.assert_allclose([h.objective for h in early.history],
                                [h.objective for h in full.history], rtol=1e-9, atol=1e-20)
-    assert early.nit == full.nit and early.converged
+    assert early.nit == full.nit and early.success
 
 def test_fixed_parameters_are_not_updated():
     from dataclasses import replace
@@ -263,10 +263,22 @@ def test_result_in_optimize_result_shape():
     np.testing.assert_allclose(np.sqrt(np.diag(res.cov)), [res.std[n] for n in res.names])
     assert res.cost == pytest.approx(0.5 * res.history[-1].objective)
     assert [h.iteration for h in res.history] == list(range(res.nit + 1))
+    # SciPy's mapping: res["x"] is res.x; fun is the residual vector whose half square
+    # is cost (least_squares' definition), here (model - measured) lambda / sigma_lambda
+    # with sigma_lambda = 8 pi^2 f sigma_f (no prior rows: the prior weights are 0)
+    assert res["x"] is res.x and "fun" in res and "converged" not in res.keys()
+    assert res.cost == pytest.approx(0.5 * res.fun @ res.fun, rel=1e-12)
+    lam = (2 * np.pi * res.updated_hz) ** 2 - (2 * np.pi * res.measured_hz) ** 2
+    np.testing.assert_allclose(res.fun[:16], lam / (8 * np.pi**2 * res.measured_hz * 0.01),
+                               rtol=1e-6, atol=1e-9 * np.abs(lam).max())
+    np.testing.assert_array_equal(res.fun[16:], 0.0)
     doc = res.to_dict()
-    for key in ("parameters", "std", "converged", "history", "frequencies", "steps", "x",
-                "status", "nfev", "cov"):
+    assert doc["schema"] == "eigenupdate.update/2"
+    for key in ("parameters", "std", "success", "history", "frequencies", "x", "fun",
+                "status", "nit", "nfev", "cov"):
         assert key in doc
+    for old in ("converged", "iterations", "steps"):  # SciPy's names only, once each
+        assert old not in doc
     with pytest.raises(AttributeError):
         res.nit = 0  # frozen
 
@@ -320,7 +332,7 @@ def test_last_step_without_a_solve_is_what_a_solve_gives(seed, n):
     assume(plan.identifiable and plan.condition_JTJ < 1e11)
     data = simulate(truth, configs, modes)
     res = update(start, configs, modes, data, max_iterations=50)
-    assert res.converged, res.message
+    assert res.success, res.message
     assume(res.history[-1].kind is Step.FINAL)
     x = np.array([res.parameters[n_] for n_ in start.names])
     before = np.array([res.history[-2].parameters[n_] for n_ in start.names])

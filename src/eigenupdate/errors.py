@@ -59,6 +59,14 @@ class _Located(Exception):
         self.source = source
         self.field = field
 
+    def located(self, study: str | None) -> str:
+        """The message, prefixed by the ``study`` file when it names no file: errors found
+        deep in the numerics (too few elastic modes, an indefinite mass matrix) come from
+        the study's model all the same; options (``--x``) name themselves."""
+        if self.source is None and study and not (self.field or "").startswith("-"):
+            return f"{shorten(study)}: {self}"
+        return str(self)
+
 
 class InputError(_Located, ValueError):
     """Bad input: the message names the file, the field and what is wrong.

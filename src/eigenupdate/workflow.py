@@ -29,14 +29,15 @@ from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.identify.updating import UpdateResult, update
 from eigenupdate.identify.weights import estimator_weights
 from eigenupdate.io.frf_files import read_frf_files
-from eigenupdate.io.results import read_loss_factors, read_updated_values
-from eigenupdate.io.study import Study
+from eigenupdate.io.results import read_json, read_loss_factors, read_result
+from eigenupdate.io.study import Study, load_study
 from eigenupdate.measure.frf import FRF
 from eigenupdate.measure.measurement import Measurement
 from eigenupdate.measure.survey import TestExtraction, extract_test
 from eigenupdate.measure.synthetic import simulate_measurements, synthetic_frfs
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.coordinates import CoordinateTable
+from eigenupdate.report.data import FrfComparison
 from eigenupdate.solve.jacobian import solve_configurations
 from eigenupdate.solve.response import receptance
 from eigenupdate.solve.sweep import MassSweep, mass_sweep
@@ -45,6 +46,7 @@ if TYPE_CHECKING:  # design and report import Dask, jinja2, matplotlib: only whe
     from eigenupdate.design.montecarlo import MonteCarloResult
     from eigenupdate.design.plan import DesignResult
     from eigenupdate.design.validate import Validation
+    from eigenupdate.report.data import ReportData
 
 
 def _rows(study: Study) -> list[tuple[str, int]]:
@@ -130,10 +132,12 @@ def simulate_study(study: Study, noise_hz: float = 0.0, std_hz: float | None = N
 
 @dataclass(frozen=True)
 class StudyExtraction:
-    """The FRFs read for each configuration and what was extracted from them."""
+    """The FRFs read for each configuration and what was extracted from them; ``label``
+    names an FRF's (node, direction) points by the model's coordinates (None: no model)."""
 
     frfs: dict[str, list[FRF]]
     result: TestExtraction
+    label: Callable[[tuple[int, int]], str] | None = None
 
 
 def extract_study(study: Study, progress: Callable[[str], None] | None = None
@@ -152,7 +156,8 @@ def extract_study(study: Study, progress: Callable[[str], None] | None = None
     res = extract_test(frfs, model=study.model, configurations=study.configurations,
                        used_modes=study.modes, bands_hz=study.bands_hz,
                        exclude_below_hz=study.exclude_below_hz, progress=progress)
-    return StudyExtraction(frfs, res)
+    return StudyExtraction(frfs, res, None if study.model is None
+                           else study.model.coordinate_table.point_label)
 
 
 def extract_files(paths: Sequence[str | Path], kind: str | None = None,
@@ -169,31 +174,23 @@ def extract_files(paths: Sequence[str | Path], kind: str | None = None,
     return StudyExtraction(frfs, extract_test(frfs, progress=progress))
 
 
-def simulate_study_frfs(study: Study, frequency_hz: np.ndarray, excitation: int,
+def simulate_study_frfs(study: Study, fmax_hz: float, df_hz: float, excitation: int,
                         outputs: Sequence[int], loss_factor: float | Sequence[float],
                         noise: float = 0.01,
                         seed: int | None = None) -> list[tuple[Configuration, list[FRF]]]:
-    """Synthetic noisy FRFs of every configuration (``eigenupdate simulate-frf``), one
-    random stream for all of them."""
+    """Synthetic noisy FRFs of every configuration (``eigenupdate simulate-frf``) on
+    ``df_hz``, 2 ``df_hz``, ... ``fmax_hz`` (not 0 Hz: rigid-body modes are infinite
+    there), one random stream for all of them."""
+    if not 0 < df_hz < fmax_hz or fmax_hz / df_hz > 1e7:
+        raise InputError(f"need --df < --fmax and at most 1e7 lines, got --df {df_hz:g}, "
+                         f"--fmax {fmax_hz:g}", field="--fmax")
+    frequency_hz = np.arange(df_hz, fmax_hz + 0.5 * df_hz, df_hz)
     if len(set(outputs)) != len(outputs):
         raise InputError(f"coordinates repeated in {list(outputs)}", field="--outputs")
     rng = np.random.default_rng(seed)
     return [(c, synthetic_frfs(study.model, c, frequency_hz, excitation, outputs, loss_factor,
                                noise=noise, seed=rng))
             for c in study.configurations]
-
-
-@dataclass(frozen=True)
-class FrfComparison:
-    """Predicted receptance of the initial (and updated) model, and the measured one."""
-
-    configuration: Configuration
-    frequency_hz: np.ndarray
-    initial: np.ndarray
-    updated: np.ndarray | None
-    measured: FRF | None
-    loss_factors: list[float]
-    title: str
 
 
 def compare_frf(study: Study, excitation: int, response: int, *,
@@ -226,12 +223,13 @@ def compare_frf(study: Study, excitation: int, response: int, *,
         eta_text = "extracted loss factors " + ", ".join(f"{e:.3g}" for e in eta)
     models = [study.model]
     if updated:
-        models.append(study.model.with_values(read_updated_values(updated, study.model)))
+        models.append(read_result(updated, study.model).model)
     curves = [receptance(m, f, excitation, response, configuration=config,
                          loss_factor=eta if damping else loss_factor) for m in models]
     return FrfComparison(
         config, f, curves[0], curves[1] if updated else None, frf, eta,
-        f"{study.title}\n{config.name}: receptance {response}/{excitation}, {eta_text}")
+        f"{study.title}\n{config.name}: receptance {response}/{excitation}, {eta_text}",
+        excitation, response)
 
 
 def _matching_frf(frfs: list[FRF], table: CoordinateTable, response: int, excitation: int,
@@ -269,13 +267,20 @@ class StudyDesign:
 
 
 def design(study: Study, *, validate: int | None = None, seed: int | None = 0,
-           executor=None) -> StudyDesign:
+           executor=None, scheduler: str | None = None,
+           workers: int | None = None) -> StudyDesign:
     """The added masses the study's ``[design]`` table asks for (``eigenupdate design``),
     then ``validate`` virtual tests of that plan (truth drawn from the prior) if given.
 
-    ``executor`` screens the candidates and runs the trials (default: this process); see
-    :mod:`eigenupdate.design.executor`. The caller closes it.
+    ``executor`` screens the candidates and runs the trials (default: this process; the
+    caller closes it), or else a Dask cluster at ``scheduler`` or of ``workers`` local
+    processes, closed here; see :mod:`eigenupdate.design.executor`.
     """
+    from eigenupdate.design.executor import executor_for
+
+    if executor is None and (scheduler or workers):
+        with executor_for(scheduler, n_workers=workers) as ex:
+            return design(study, validate=validate, seed=seed, executor=ex)
     from eigenupdate.design.plan import design_plan
     from eigenupdate.design.validate import validate_design
 
@@ -306,17 +311,159 @@ def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
 
     if trials < 1:
         raise InputError(f"must be >= 1, got {trials}", field="--trials")
-    setup = study_setup(study, None if truth is None else str(truth))
-    return run(setup, trials, seed, executor, progress)
+    values = None
+    if truth is not None:
+        t = load_study(truth).model
+        values = dict(zip(t.names, t.values.tolist(), strict=True))
+    setup = study_setup(study, values, None if truth is None else str(truth))
+    res = run(setup, trials, seed, executor, progress)
+    if res.counts()[2] == trials:  # nothing ran: the plan or its data are refused
+        raise InputError(res.refusal(), source=str(study.path))
+    return res
+
+
+_DEFAULT_LOSS_FACTOR = 0.01  # as `eigenupdate frf` without --damping
+
+
+def report_data(study: Study, *, result: str | Path | None = None,
+                extraction: str | Path | None = None, extracted: str | Path | None = None,
+                design: str | Path | None = None, montecarlo: str | Path | None = None,
+                solve: bool = True) -> ReportData:
+    """Every number of the study's report: the saved results given (``update --save``,
+    ``extract --save``, an extraction CSV, ``design --json``, ``montecarlo``'s
+    summary.json), read through their classes' ``from_dict``; with ``solve``, what they do
+    not give is computed here: the plan's identifiability, the extraction from the
+    study's FRF files, the update, the receptances of Fig. 7 and the sweeps of Fig. 4.
+    With ``solve`` false nothing is solved (the report of saved results only)."""
+    from eigenupdate.design.montecarlo import MonteCarloResult
+    from eigenupdate.design.plan import DesignResult
+    from eigenupdate.io.report_inputs import read_extracted, read_summary
+    from eigenupdate.report.data import ReportData
+
+    files = [("study", study.path), *[("model", p) for p in study.model_files]]
+    if study.frequencies is not None:
+        files.append(("measurement", study.frequencies))
+    files += [("FRF", p) for c in study.configurations for p in study.frf.get(c.name, [])]
+    files += [(what, Path(p)) for what, p in (
+        ("result", result), ("extraction", extraction), ("extraction CSV", extracted),
+        ("design", design), ("Monte Carlo", montecarlo)) if p is not None]
+    names = [c.name for c in study.configurations]
+    out: dict = {"study": study, "files": files, "solved": solve}
+    if extracted is not None:
+        out.update(extracted=read_extracted(extracted, names),
+                   extracted_name=Path(extracted).name)
+    if extraction is not None:
+        out["extraction"] = TestExtraction.from_dict(read_json(extraction), str(extraction))
+    if study.frf and (extraction is not None or not solve):
+        out["frfs"] = _study_frfs(study)  # read, for the fit plots: nothing is solved
+        for i, ex in enumerate(out["extraction"].configurations if extraction else []):
+            n = len(out["frfs"].get(ex.configuration, []))
+            if any(len(m.fits) != n for m in ex.modes):
+                raise InputError(f"fits of {ex.configuration!r} do not match the study's "
+                                 f"{n} FRF file(s) (an extraction of other files?)",
+                                 source=str(extraction), field=f"configurations[{i}]")
+    elif study.frf:
+        done = extract_study(study)
+        out.update(frfs=done.frfs, extraction=done.result)
+    if result is not None:
+        out.update(update=read_result(result, study.model),
+                   update_origin="read from the saved result")
+    elif solve and study.frequencies is not None and study.modes:
+        study.measurements()  # a bad file stops the report
+        try:
+            out.update(update=update_study(study), update_origin=(
+                "computed by this report (no saved result was given), with the study's "
+                "settings"))
+        except InputError as exc:  # e.g. a rank-deficient plan: the page says why
+            out["update_origin"] = f"The update was not run: {exc}"
+    if solve and study.modes:
+        out["plan"] = check_study(study, "least-squares")  # the plan's own J, as the paper
+        if study.method != "least-squares":
+            out["seen"] = check_study(study)
+    if solve:
+        out.update(_predictions(study, out.get("update"), out.get("frfs", {}),
+                                out.get("extraction"), out.get("extracted")))
+    for key, title, path in (("design", "Test design", design),
+                             ("montecarlo", "Monte Carlo summary", montecarlo)):
+        if path is None:
+            continue
+        doc = read_summary(path)
+        kind = DesignResult if key == "design" else MonteCarloResult
+        if doc.get("schema") == kind.SCHEMA:
+            out[key] = kind.from_dict(doc, str(path))
+            out[f"{key}_name"] = Path(path).name
+            if key == "design" and isinstance(doc.get("validation"), dict):
+                out["validation"] = doc["validation"]
+        else:  # any other JSON object: shown as it is
+            out.setdefault("summaries", []).append((key, title, doc, Path(path).name))
+    return ReportData(**out)
+
+
+def _study_frfs(study: Study) -> dict[str, list[FRF]]:
+    return {c.name: read_frf_files(study.frf[c.name],
+                                   [study.frf_kinds.get(p) for p in study.frf[c.name]])
+            for c in study.configurations if study.frf.get(c.name)}
+
+
+def _predictions(study: Study, res: UpdateResult | None, frfs: dict[str, list[FRF]],
+                 extraction: TestExtraction | None, extracted) -> dict:
+    """Fig. 7 (receptance of the base configuration at every measured FRF, initial and
+    updated model) and Fig. 4 (a sweep of every perturbed coordinate up to twice its
+    largest added mass), of the updated model when there is one."""
+    base = study.configurations[0]
+    eta, eta_text = _base_loss_factors(base.name, extraction, extracted)
+    models = [study.model] + ([study.model.with_values(res.parameters)] if res else [])
+    table = study.model.coordinate_table
+    comparisons, skipped = [], []
+    for x in frfs.get(base.name, []):
+        label = f"{table.point_label(x.response)} / {table.point_label(x.reference)}"
+        try:
+            out, inp = (table.from_uff(p).number for p in (x.response, x.reference))
+        except InputError:
+            skipped.append(label)  # e.g. a CSV FRF, which names no points
+            continue
+        f = x.frequency_hz[x.frequency_hz > 0]
+        curves = [receptance(m, f, inp, out, configuration=base, loss_factor=eta)
+                  for m in models]
+        comparisons.append(FrfComparison(
+            base, f, curves[0], curves[1] if res else None, x,
+            eta if isinstance(eta, list) else [eta],
+            f"{base.name}: receptance {out}/{inp} ({label}), {eta_text}", inp, out))
+    biggest: dict[int, float] = {}
+    for c in study.configurations:
+        for a in c.additions:
+            if a.mass > 0:
+                biggest[a.coordinate] = max(biggest.get(a.coordinate, 0.0), a.mass)
+    values = res.parameters if res is not None else None
+    sweeps = [mass_sweep(study.model, cd, 2.0 * m, max(study.modes or [3]), values=values)
+              for cd, m in sorted(biggest.items())]
+    return {"comparisons": comparisons, "not_compared": skipped, "loss_text": eta_text,
+            "sweeps": sweeps}
+
+
+def _base_loss_factors(base: str, extraction: TestExtraction | None, extracted
+                       ) -> tuple[list[float] | float, str]:
+    """Per-mode loss factors of the base configuration: extracted ones when known."""
+    etas = {r.mode: r.loss_factor for r in extracted or [] if r.configuration == base}
+    if etas.get(1) is None and extraction is not None:
+        etas = {m.mode: m.loss_factor for ex in extraction.configurations
+                if ex.configuration == base for m in ex.modes}
+    out = []
+    while etas.get(len(out) + 1) is not None:
+        out.append(etas[len(out) + 1])
+    if out:
+        return out, "extracted loss factors " + ", ".join(f"{e:.3g}" for e in out)
+    return _DEFAULT_LOSS_FACTOR, f"loss factor {_DEFAULT_LOSS_FACTOR:g} (none extracted)"
 
 
 def report(study: Study, *, result: str | Path | None = None,
-           extracted: str | Path | None = None, design: str | Path | None = None,
-           montecarlo: str | Path | None = None, command: str | None = None) -> str:
-    """The study's self-contained HTML report (``eigenupdate report``) from the saved
-    files of the other commands (without ``result``, the report runs the update); see
-    :func:`eigenupdate.report.html.render_report`."""
+           extraction: str | Path | None = None, extracted: str | Path | None = None,
+           design: str | Path | None = None, montecarlo: str | Path | None = None,
+           solve: bool = True, command: str | None = None) -> str:
+    """The study's self-contained HTML report (``eigenupdate report``): the numbers of
+    :func:`report_data` drawn by :func:`eigenupdate.report.html.render_report`."""
     from eigenupdate.report.html import render_report
 
-    return render_report(study.path, result=result, extracted=extracted, design=design,
-                         montecarlo=montecarlo, command=command)
+    return render_report(report_data(study, result=result, extraction=extraction,
+                                     extracted=extracted, design=design,
+                                     montecarlo=montecarlo, solve=solve), command=command)

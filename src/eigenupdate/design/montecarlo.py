@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -25,6 +26,7 @@ from eigenupdate.identify.weights import prior_weights
 from eigenupdate.measure.measurement import Measurement, eigenvalue_std
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.schema import finite_or_none, reader
 from eigenupdate.solve.jacobian import linearise, solve_configurations
 
 
@@ -69,7 +71,7 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
     names = [model.names[j] for j in upd]
     out.update(estimate=np.array([res.parameters[n] for n in names]),
                std=np.array([np.nan if res.std[n] is None else res.std[n] for n in names]),
-               converged=res.converged, nit=res.nit, message=res.message)
+               converged=res.success, nit=res.nit, message=res.message)
     return out
 
 
@@ -99,6 +101,50 @@ class MonteCarloResult:
     linear_std: np.ndarray
     entropy: int
     prior: PriorPrediction | None = None
+
+    SCHEMA: ClassVar[str] = "eigenupdate.montecarlo/1"
+
+    def to_dict(self) -> dict:
+        """JSON-ready document: the :meth:`summary` (its keys at the top, for readers of
+        the figures) and what :meth:`from_dict` needs to rebuild the result (trials with
+        truth, estimate and reported std; NaN is null)."""
+        def values(a: np.ndarray) -> list[float | None]:
+            return [finite_or_none(v) for v in np.asarray(a, dtype=float).tolist()]
+
+        return {
+            "schema": self.SCHEMA, **self.summary(), "names": self.names,
+            "trial_results": [{**t, **{k: values(t[k]) for k in ("truth", "estimate", "std")},
+                               "converged": bool(t["converged"]),
+                               "refused": bool(t["refused"]), "nit": int(t["nit"])}
+                              for t in self.trials],
+            "linear_std": values(self.linear_std), "entropy": str(self.entropy),
+            "prior": None if self.prior is None else {
+                "std": values(self.prior.std), "std_error": values(self.prior.std_error),
+                "gross_risk": self.prior.gross_risk, "draws": self.prior.draws,
+                "seconds": self.prior.seconds},
+        }
+
+    @classmethod
+    def from_dict(cls, doc: dict, source: str | None = None) -> MonteCarloResult:
+        """The result :meth:`to_dict` wrote; InputError naming the field otherwise."""
+        r = reader(doc, cls.SCHEMA, source)
+        names = [str(n) for n in r.raw("names", list)]
+        trials = []
+        for t in r.items("trial_results"):
+            arrays = {k: t.array(k, nulls=True) for k in ("truth", "estimate", "std")}
+            if any(a.size != len(names) for a in arrays.values()):
+                raise t.fail("truth", f"truth, estimate and std need {len(names)} values")
+            trials.append({**arrays, "converged": t.bool("converged"),
+                           "refused": t.bool("refused"), "nit": t.int("nit"),
+                           "message": t.str("message")})
+        p = r.child("prior", optional=True)
+        prior = None if p is None else PriorPrediction(
+            p.array("std"), p.array("std_error"), p.number("gross_risk"), p.int("draws"),
+            p.number("seconds"))
+        entropy = r.str("entropy")
+        if not entropy.isdigit():
+            raise r.fail("entropy", f"{entropy!r} is not a seed's entropy (digits)")
+        return cls(names, trials, r.array("linear_std"), int(entropy), prior)
 
     @property
     def predicted_std(self) -> np.ndarray:
@@ -244,23 +290,20 @@ PRIOR_DRAWS = 64
 (the design's default)."""
 
 
-def study_setup(study, truth: str | None = None) -> TrialSetup:
-    """The trial setup of a study: its plan, modes, method, noise, and optional truth study
-    (a study file whose model gives every parameter's true value, by name)."""
+def study_setup(study, truth: dict[str, float] | None = None,
+                truth_source: str | None = None) -> TrialSetup:
+    """The trial setup of a study: its plan, modes, method, noise, and optional true value
+    of every parameter by name (read from ``truth_source``, for the messages)."""
     modes = tuple(study.require_modes())
     measured = study.measurements() if study.frequencies is not None else None
     std = noise_std(study.model, study.configurations, modes, measured, study.design,
                     str(study.path))
     values = None
     if truth is not None:
-        from eigenupdate.io.study import load_study
-
-        t = load_study(truth)
-        given = dict(zip(t.model.names, t.model.values.tolist(), strict=True))
-        missing = [n for n in study.model.names if n not in given]
+        missing = [n for n in study.model.names if n not in truth]
         if missing:
-            raise InputError(f"no true value for parameter(s) {missing}", source=truth,
+            raise InputError(f"no true value for parameter(s) {missing}", source=truth_source,
                              field="model")
-        values = np.array([given[n] for n in study.model.names])
+        values = np.array([truth[n] for n in study.model.names])
     return TrialSetup(study.model, tuple(study.configurations), modes, std, study.method,
                       study.max_iterations, study.tolerance, values, study.optimizer)

@@ -6,8 +6,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
 from functools import partial
+from typing import ClassVar
 
 import numpy as np
 
@@ -23,6 +24,7 @@ from eigenupdate.identify.weights import prior_weights
 from eigenupdate.measure.measurement import eigenvalue_std
 from eigenupdate.model.configurations import Addition, Configuration
 from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.schema import finite_or_none, reader
 from eigenupdate.solve.jacobian import solve_configurations
 
 
@@ -101,9 +103,69 @@ class DesignResult:
     draws: int = 0
     draw_seconds: float = 0.0
 
+    SCHEMA: ClassVar[str] = "eigenupdate.design/1"
+
     @property
     def configurations(self) -> list[Configuration]:
         return [self.candidates[i].configuration for i in self.chosen]
+
+    def to_dict(self) -> dict:
+        """JSON-ready document (``eigenupdate design --json``); read back by
+        :meth:`from_dict`. An infinite shift or gap (no noise, one mode) is null."""
+        return {
+            "schema": self.SCHEMA, "names": self.names, "modes": self.modes,
+            "method": self.method,
+            "criterion": self.criterion if isinstance(self.criterion, str)
+            else list(self.criterion),
+            "candidates": [{
+                "name": c.configuration.name,
+                "additions": [asdict(a) for a in c.configuration.additions],
+                "shifts_hz": c.shifts_hz, "shift_in_std": finite_or_none(c.shift_in_std),
+                "relative_gap": finite_or_none(c.relative_gap), "order_kept": c.order_kept,
+                "admissible": c.admissible, "exchange_risk": c.exchange_risk,
+            } for c in self.candidates],
+            "chosen": self.chosen, "swaps": self.swaps,
+            "plans": [asdict(p) for p in self.plans],
+            "draws": self.draws, "draw_seconds": self.draw_seconds,
+        }
+
+    @classmethod
+    def from_dict(cls, doc: dict, source: str | None = None) -> DesignResult:
+        """The design :meth:`to_dict` wrote; InputError naming the field otherwise."""
+        r = reader(doc, cls.SCHEMA, source)
+        names = [str(n) for n in r.raw("names", list)]
+        crit = r.raw("criterion", (str, list))
+        candidates = []
+        for c in r.items("candidates"):
+            try:
+                adds = tuple(Addition(a.int("coordinate"), a.number("mass", minimum=0.0),
+                                      a.number("stiffness", minimum=0.0))
+                             for a in c.items("additions"))
+            except InputError as exc:
+                raise c.fail("additions", str(exc)) from None
+            candidates.append(CandidateReport(
+                Configuration(c.str("name"), adds), c.array("shifts_hz").tolist(),
+                _inf(c.number("shift_in_std", optional=True)),
+                _inf(c.number("relative_gap", optional=True)), c.bool("order_kept"),
+                c.bool("admissible"), c.number("exchange_risk", optional=True)))
+        chosen = [int(i) for i in r.array("chosen")]
+        if any(not 0 <= i < len(candidates) for i in chosen):
+            raise r.fail("chosen", "must index 'candidates'")
+        plans = []
+        for p in r.items("plans"):
+            per = {k: p.mapping(k, lambda m, n: m.number(n)) for k in
+                   ("std", "linear_std", "std_error")}
+            plans.append(PlanSummary(p.str("label"), [str(x) for x in p.raw(
+                "configurations", list)], p.number("criterion"), per["std"],
+                per["linear_std"], per["std_error"], p.number("gross_risk", optional=True)))
+        return cls(names, [int(k) for k in r.array("modes")], r.str("method"),
+                   crit if isinstance(crit, str) else tuple(str(x) for x in crit),
+                   candidates, chosen, r.int("swaps"), plans, r.int("draws"),
+                   r.number("draw_seconds", minimum=0.0))
+
+
+def _inf(v: float | None) -> float:
+    return math.inf if v is None else v
 
 
 def candidate_configurations(spec: DesignSpec) -> list[Configuration]:

@@ -28,6 +28,7 @@ import numpy as np
 
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.schema import finite_or_none, reader
 from eigenupdate.solve.jacobian import linearise
 
 
@@ -64,19 +65,36 @@ class IdentifiabilityReport:
     def identifiable(self) -> bool:
         return self.rank == len(self.parameters)
 
+    SCHEMA = "eigenupdate.check/1"
+
     def to_dict(self) -> dict:
-        """JSON-ready dictionary (``eigenupdate check --json``)."""
+        """JSON-ready document (``eigenupdate check --json``); an infinite condition
+        (a singular J) is null."""
         return {
+            "schema": self.SCHEMA,
             "parameters": self.parameters,
             "equations": self.equations,
             "rank": self.rank,
             "identifiable": self.identifiable,
-            "condition_J": self.condition_J,
-            "condition_JTJ": self.condition_JTJ,
+            "condition_J": finite_or_none(self.condition_J),
+            "condition_JTJ": finite_or_none(self.condition_JTJ),
             "singular_values": self.singular_values,
             "weakest": self.weakest,
             "weighting": self.weighting,
         }
+
+    @classmethod
+    def from_dict(cls, doc: dict, source: str | None = None) -> IdentifiabilityReport:
+        """The report :meth:`to_dict` wrote (without ``cov``, which it does not write)."""
+        r = reader(doc, cls.SCHEMA, source)
+        names = [str(n) for n in r.raw("parameters", list)]
+        cond = [r.number(k, optional=True, minimum=1.0) for k in ("condition_J", "condition_JTJ")]
+        weakest = r.mapping("weakest", lambda w, k: w.number(k))
+        if set(weakest) - set(names):
+            raise r.fail("weakest", "names parameters not in 'parameters'")
+        return cls(names, r.int("equations"), r.int("rank"),
+                   *[np.inf if c is None else c for c in cond],
+                   r.array("singular_values").tolist(), weakest, r.str("weighting"))
 
 
 def identifiability(

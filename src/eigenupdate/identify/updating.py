@@ -57,7 +57,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -73,6 +72,7 @@ from eigenupdate.identify.optimizers import (
 )
 from eigenupdate.identify.pairing import Pairing, PairingNote
 from eigenupdate.identify.plausibility import check_measured_frequencies
+from eigenupdate.identify.result import Iterate, UpdateResult
 from eigenupdate.identify.weights import OPTIMIZERS, estimator_weights
 from eigenupdate.measure.measurement import Measurement, select, to_eigenvalue
 from eigenupdate.model.configurations import Configuration
@@ -97,119 +97,6 @@ STATUS_MESSAGES = {
 for 1, 2 and 4). The ``trust-region`` optimiser reports SciPy's ``least_squares`` status
 and message (-2: stopped by our convergence test or iteration limit, named in the
 message; 0: evaluation limit; 1-4: SciPy's own convergence tests)."""
-
-
-@dataclass(frozen=True)
-class Iterate:
-    """One entry of the history: the model after ``iteration`` iterations.
-
-    ``parameters`` holds every parameter (updated and fixed) by name; ``objective`` is
-    the weighted sum of squares (plus the prior term); ``step`` the fraction of the
-    Gauss-Newton step taken; ``kind`` how it was taken.
-    """
-
-    iteration: int
-    parameters: dict[str, float]
-    objective: float
-    step: float
-    kind: Step
-
-    def to_dict(self) -> dict:
-        return {"iteration": self.iteration, "parameters": self.parameters,
-                "objective": self.objective, "step": self.step, "note": self.kind.value}
-
-
-@dataclass(frozen=True)
-class UpdateResult:
-    """Outcome of :func:`update`, in the shape of SciPy's ``OptimizeResult``.
-
-    Attributes
-    ----------
-    x : final physical values of the updated parameters, in the order of ``names``.
-    names : names of the updated parameters.
-    success : True if the iteration converged; ``converged`` is the same.
-    status : integer code, see :data:`STATUS_MESSAGES`.
-    message : what happened, with the numbers of the convergence test.
-    nit : iterations taken; ``nfev``: model linearisations (eigen-solutions + J).
-    cost : half the final objective, as ``scipy.optimize.least_squares``.
-    jac : d lambda / d s at the solution, physical units (equations x updated parameters).
-    cov : posterior covariance of ``x`` (physical units), None where undefined.
-    std : posterior standard deviation of each updated parameter by name, None where
-        undefined (rank-deficient A; no residual degrees of freedom).
-    method : the estimator.
-    parameters : final value of every parameter (updated and fixed), by name.
-    history : one :class:`Iterate` per iterate; ``history[0]`` is the initial model.
-    rows : (configuration, mode) of each equation.
-    measured_hz, initial_hz, updated_hz : frequencies of each row.
-    identifiability : the SVD report at the solution (what ``check`` computes there).
-    model : the updated model.
-    solver : sparse models: what the perturbed-configuration fast path did over all
-        linearisations (:meth:`eigenupdate.solve.perturbed.CertificateReport.as_dict`
-        plus ``linearisations``); None on the dense path.
-    optimizer : ``trust-region`` or ``gauss-newton``.
-    pairing : equations, clusters and re-pairings (:meth:`Pairing.to_dict`).
-    """
-
-    x: np.ndarray
-    names: list[str]
-    success: bool
-    status: int
-    message: str
-    nit: int
-    nfev: int
-    cost: float
-    jac: np.ndarray = field(repr=False)
-    cov: np.ndarray | None = field(repr=False)
-    std: dict[str, float | None]
-    method: str
-    parameters: dict[str, float]
-    history: tuple[Iterate, ...] = field(repr=False)
-    rows: list[tuple[str, int]] = field(repr=False)
-    measured_hz: np.ndarray = field(repr=False)
-    initial_hz: np.ndarray = field(repr=False)
-    updated_hz: np.ndarray = field(repr=False)
-    identifiability: IdentifiabilityReport = field(repr=False)
-    model: ParametricModel = field(repr=False)
-    solver: dict | None = field(default=None, repr=False)
-    optimizer: str = "trust-region"
-    pairing: dict | None = field(default=None, repr=False)
-
-    @property
-    def converged(self) -> bool:
-        return self.success
-
-    def to_dict(self) -> dict:
-        """JSON-ready dictionary (``eigenupdate update --json`` and ``--save``)."""
-        return {
-            "method": self.method,
-            "optimizer": self.optimizer,
-            "converged": self.success,
-            "success": self.success,
-            "status": self.status,
-            "message": self.message,
-            "iterations": self.nit,
-            "nit": self.nit,
-            "nfev": self.nfev,
-            "cost": self.cost,
-            "names": self.names,
-            "x": self.x.tolist(),
-            "parameters": self.parameters,
-            "std": self.std,
-            "cov": None if self.cov is None else self.cov.tolist(),
-            "rank": self.identifiability.rank,
-            "condition_J": self.identifiability.condition_J,
-            "history": [h.parameters for h in self.history],
-            "steps": [{k: v for k, v in h.to_dict().items() if k in ("objective", "step", "note")}
-                      for h in self.history],
-            "frequencies": [
-                {"configuration": c, "mode": k, "measured_hz": float(m), "initial_hz": float(i),
-                 "updated_hz": float(u)}
-                for (c, k), m, i, u in zip(self.rows, self.measured_hz, self.initial_hz,
-                                           self.updated_hz, strict=True)
-            ],
-            **({"solver": self.solver} if self.solver is not None else {}),
-            **({"pairing": self.pairing} if self.pairing is not None else {}),
-        }
 
 
 def update(
@@ -453,6 +340,7 @@ def update(
         nit=nit,
         nfev=nfev,
         cost=0.5 * point.obj,
+        fun=point.f.copy(),
         jac=J_paired.copy(),
         cov=cov,
         std={n: (None if not np.isfinite(s) else float(s)) for n, s in zip(names, std,

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from pathlib import Path
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.frf_csv import read_frf_csv
 from eigenupdate.io.uff import read_frfs
 from eigenupdate.io.uff._pyuff import PathLike
 from eigenupdate.measure.frf import FRF
+from eigenupdate.model.configurations import Configuration
 
 
 def read_frf_files(
@@ -28,3 +30,21 @@ def read_frf_files(
         else:
             out += read_frfs(p, default_kind=kind)
     return out
+
+
+def write_frf_sets(directory: PathLike, sets: Sequence[tuple[Configuration, list[FRF]]],
+                   binary: bool = False) -> list[str]:
+    """Each configuration's FRFs as ``directory/<name>.uff`` (UFF 58, ``binary``: 58b);
+    returns the study's ``[measurement.frf]`` table naming them."""
+    from eigenupdate.io.atomic import make_dir
+    from eigenupdate.io.extraction import safe_name
+    from eigenupdate.io.uff import write_frfs
+
+    out = Path(directory)
+    make_dir(out)
+    lines = ["[measurement.frf]"]
+    for c, frfs in sets:
+        name = f"{safe_name(c.name)}.uff"
+        write_frfs(out / name, frfs, binary=binary)
+        lines.append(f'"{c.name}" = "{out.name}/{name}"')
+    return lines

@@ -11,6 +11,7 @@ reported by its own name before the work starts, never by the temporary file's.
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import stat
@@ -128,3 +129,39 @@ def check_not_inputs(outputs: Mapping[str, PathLike | None],
         seen[key] = f"also the output of {flag}"
         # a new file is recognised by name only: two outputs with one new name
         seen.setdefault(os.path.normcase(os.path.realpath(path)), f"also the output of {flag}")
+
+
+def check_files_in(directory: PathLike, names: Iterable[str], flag: str,
+                   inputs: Iterable[PathLike]) -> None:
+    """The files a run writes into an output directory: regular files, none an input."""
+    paths = {f"{flag} {n}": Path(directory) / n for n in names}
+    if Path(directory).is_dir():
+        for f, p in paths.items():
+            check_file(p, f)
+    check_not_inputs(paths, inputs)
+
+
+def write_stdout(text: str, out) -> str | None:
+    """Write a command's held standard output to ``out`` (``sys.stdout`` as it was);
+    None if written, else why not (closed, broken pipe), after pointing the descriptor at
+    /dev/null so that the interpreter's own flush at exit raises nothing more."""
+    if not text:
+        return None
+    try:
+        if out is None:  # started with stdout closed
+            raise BrokenPipeError(errno.EBADF, "standard output is closed")
+        out.write(text)
+        out.flush()
+    except (OSError, ValueError) as exc:
+        with contextlib.suppress(OSError, ValueError, AttributeError):  # none at exit
+            os.dup2(os.open(os.devnull, os.O_WRONLY), out.fileno())
+        return exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+    return None
+
+
+def check_outputs(outputs: Mapping[str, PathLike | None], inputs: Iterable[PathLike]) -> None:
+    """Refuse, before any work, output files (by flag) that cannot be written or are
+    among the run's ``inputs``."""
+    for flag, path in outputs.items():
+        check_file(path, flag)
+    check_not_inputs(outputs, inputs)

@@ -1,55 +1,39 @@
-"""Reading back what earlier commands wrote: the parameters of ``update --save`` (JSON)
-and the loss factors of ``extract --uff55`` (universal file, dataset 55)."""
+"""Reading back what earlier commands wrote: their JSON results (``update --save``,
+``design --json``, ``montecarlo -o``, ``extract --json``), each through its class's
+``from_dict``, and the loss factors of ``extract --uff55`` (universal file, dataset 55)."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
-
-import numpy as np
+from typing import Any
 
 from eigenupdate.budget import require_nesting
 from eigenupdate.errors import InputError
+from eigenupdate.identify.updating import UpdateResult
 from eigenupdate.io.uff import read_modes
 from eigenupdate.model.parametric import ParametricModel
 
 
-def read_updated_values(path: str | Path, model: ParametricModel) -> dict[str, float]:
-    """Every parameter value of a saved update result, checked against ``model``.
-
-    Raises InputError when the file is not such a result, belongs to another model
-    (unknown or missing parameters) or holds a value that is not physical.
-    """
+def read_json(path: str | Path) -> Any:
+    """A JSON file's document; InputError naming the file when it cannot be read."""
     src = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        text = Path(path).read_text(encoding="utf-8-sig")
         require_nesting(text, src)
-        doc = json.loads(text)
-        values = doc["parameters"]
-        if not isinstance(values, dict):
-            raise TypeError
+        return json.loads(text)
     except InputError:  # too deeply nested
         raise
     except OSError as exc:
-        raise InputError(f"cannot read result: {exc.strerror or exc}", source=src) from None
-    except (ValueError, KeyError, TypeError):
-        raise InputError("not a result of 'eigenupdate update --save' (no parameters table)",
-                         source=src, field="parameters") from None
-    unknown = set(values) - set(model.names)
-    if unknown:
-        raise InputError(f"parameters {sorted(unknown)} are not in the study's model",
-                         source=src, field="parameters")
-    missing = [n for n in model.names if n not in values]
-    if missing:
-        raise InputError(f"no value for {missing} (a result of another study?)",
-                         source=src, field="parameters")
-    for p in model.parameters:
-        v = values[p.name]
-        ok = isinstance(v, int | float) and not isinstance(v, bool) and np.isfinite(v)
-        if not ok or v < 0 or (v == 0 and p.value > 0):
-            raise InputError(f"{v!r} is not a physical value (initial {p.value:g})",
-                             source=src, field=f"parameters.{p.name}")
-    return values
+        raise InputError(f"cannot read: {exc.strerror or exc}", source=src) from None
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise InputError(f"not a JSON file: {exc}", source=src) from None
+
+
+def read_result(path: str | Path, model: ParametricModel | None = None) -> UpdateResult:
+    """The result of ``eigenupdate update --save``, checked against the study's ``model``
+    when given (see :meth:`UpdateResult.from_dict`)."""
+    return UpdateResult.from_dict(read_json(path), str(path), model)
 
 
 def read_loss_factors(path: str | Path, configuration: str) -> list[float]:
@@ -60,3 +44,15 @@ def read_loss_factors(path: str | Path, configuration: str) -> list[float]:
         raise InputError(f"no loss factors of modes 1, 2, ... for configuration "
                          f"{configuration!r}", source=str(path))
     return [eta for _, eta in modes]
+
+
+def may_replace(path: str | Path) -> bool:
+    """True if ``path`` does not exist or holds a result saved with success false: only
+    those may be replaced by an unconverged result (without ``--force``)."""
+    try:
+        doc = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        return True
+    except (OSError, ValueError, RecursionError):
+        return False
+    return isinstance(doc, dict) and doc.get("success") is False

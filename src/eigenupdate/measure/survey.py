@@ -8,20 +8,24 @@ FRFs already read (io/), so a notebook user calls it the same way.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import asdict, dataclass, replace
+from typing import ClassVar
 
 from eigenupdate.measure.extraction import (
     ConfigurationExtraction,
     ExtractedMode,
+    Rejected,
     extract_resonances,
     missing_used_modes,
 )
 from eigenupdate.measure.frf import FRF
+from eigenupdate.measure.modal_fit import ModalFit
 from eigenupdate.measure.numbering import interlacing_bounds, number_resonances
 from eigenupdate.model.configurations import BASE, Configuration
 from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.schema import Reader, reader
 
-__all__ = ["TestExtraction", "extract_test", "extraction_doc", "extraction_text"]
+__all__ = ["TestExtraction", "extract_test"]
 
 
 @dataclass(frozen=True)
@@ -36,9 +40,29 @@ class TestExtraction:
     used_modes: list[int]
     problems: list[str]
 
+    SCHEMA: ClassVar[str] = "eigenupdate.extraction/1"
+
     @property
     def modes(self) -> list[ExtractedMode]:
         return [m for c in self.configurations for m in c.modes]
+
+    def to_dict(self) -> dict:
+        """JSON-ready document (``eigenupdate extract --json``), fits included; read back
+        by :meth:`from_dict`."""
+        return {"schema": self.SCHEMA, "numbered_by": self.numbered_by,
+                "used_modes": self.used_modes, "problems": self.problems,
+                "configurations": [_configuration_doc(ex) for ex in self.configurations]}
+
+    @classmethod
+    def from_dict(cls, doc: dict, source: str | None = None) -> TestExtraction:
+        """The extraction :meth:`to_dict` wrote; InputError naming the field otherwise."""
+        r = reader(doc, cls.SCHEMA, source)
+        numbered = r.str("numbered_by")
+        if numbered not in ("model", "order"):
+            raise r.fail("numbered_by", f"{numbered!r} is not 'model' or 'order'")
+        return cls([_configuration(c) for c in r.items("configurations")], numbered,
+                   [int(k) for k in r.array("used_modes")],
+                   [str(p) for p in r.raw("problems", list)])
 
 
 def extract_test(
@@ -139,57 +163,71 @@ def _number_by_model(out: list[ConfigurationExtraction], model: ParametricModel,
     return [ex for _, ex in sorted(numbered, key=lambda t: t[0])]
 
 
-def extraction_doc(result: TestExtraction) -> dict:
-    """The table as a JSON-ready document."""
-    def mode(m: ExtractedMode) -> dict:
-        return {"mode": m.mode, "frequency_hz": m.frequency_hz, "std_hz": m.std_hz,
-                "loss_factor": m.loss_factor, "loss_factor_std": m.loss_factor_std,
-                "fit_quality": m.fit_quality, "check_frequency_hz": m.check_hz,
-                "check_difference_std": m.disagreement, "under_resolved": m.under_resolved,
-                "model_hz": m.model_hz, "band_hz": list(m.band_hz)}
-
-    return {
-        "numbered_by": result.numbered_by,
-        "used_modes": result.used_modes,
-        "problems": result.problems,
-        "configurations": [{
-            "name": ex.configuration,
-            "line_spacing_hz": ex.line_spacing_hz,
-            "notes": ex.notes,
-            "modes": [mode(m) for m in ex.modes],
-            "rejected": [{"frequency_hz": r.frequency_hz, "band_hz": list(r.band_hz),
-                          "reason": r.reason} for r in ex.rejected],
-            "unexpected": [{k: v for k, v in mode(m).items() if k != "mode"}
-                           for m in ex.unexpected],
-            "missing": [{"mode": k, "model_hz": f} for k, f in ex.missing],
-        } for ex in result.configurations],
-    }
+# ------------------------------------------------ the JSON of TestExtraction, field by field
 
 
-def extraction_text(result: TestExtraction) -> str:
-    """Per configuration: accepted modes, rejected candidates, missing/unexpected modes."""
-    from eigenupdate.report.text import table
+def _fit_doc(f: ModalFit | None) -> dict | None:
+    if f is None:
+        return None
+    c = complex(f.modal_constant)
+    return {**asdict(f), "modal_constant": [c.real, c.imag], "band_hz": list(f.band_hz)}
 
-    blocks = []
-    for ex in result.configurations:
-        lines = [f"{ex.configuration} ({ex.line_spacing_hz:.4g} Hz lines; "
-                 + "; ".join(ex.notes) + ")"]
-        if not ex.modes:
-            lines.append("  no validated resonance")
-        else:
-            lines.append(table(
-                ["mode", "f Hz", "std Hz", "loss factor", "std", "fit R2", "check diff/std",
-                 "model Hz", "note"],
-                [[m.mode, m.frequency_hz, m.std_hz, m.loss_factor, m.loss_factor_std,
-                  m.fit_quality, m.disagreement, m.model_hz,
-                  "under-resolved" if m.under_resolved else ""] for m in ex.modes]))
-        for r in ex.rejected:
-            lines.append(f"  rejected {r.frequency_hz:.6g} Hz (band {r.band_hz[0]:.5g}-"
-                         f"{r.band_hz[1]:.5g} Hz): {r.reason}")
-        for k, f in ex.missing:
-            lines.append(f"  missing: model mode {k} ({f:.6g} Hz) expected, not found")
-        for m in ex.unexpected:
-            lines.append(f"  unexpected: {m.frequency_hz:.6g} Hz matches no model mode")
-        blocks.append("\n".join(lines))
-    return "\n\n".join(blocks)
 
+def _fit(r: Reader) -> ModalFit:
+    band, const = r.array("band_hz"), r.array("modal_constant")
+    if band.size != 2 or const.size != 2:
+        raise r.fail("band_hz" if band.size != 2 else "modal_constant",
+                     "must be two numbers")
+    return ModalFit(r.number("frequency_hz", minimum=0.0), r.number("loss_factor"),
+                    complex(*const), r.number("frequency_std_hz", minimum=0.0),
+                    r.number("loss_factor_std", minimum=0.0), (band[0], band[1]),
+                    r.str("method"))
+
+
+def _mode_doc(m: ExtractedMode) -> dict:
+    return {**{k: v for k, v in asdict(m).items() if k not in ("fits", "band_hz")},
+            "band_hz": list(m.band_hz), "fits": [_fit_doc(f) for f in m.fits]}
+
+
+def _mode(r: Reader) -> ExtractedMode:
+    band = r.array("band_hz")
+    if band.size != 2:
+        raise r.fail("band_hz", "must be two numbers")
+    fits = r.raw("fits", list)
+    opt = {k: r.number(k, optional=True) for k in ("check_hz", "check_std_hz", "fit_quality",
+                                                    "model_hz")}
+    return ExtractedMode(
+        r.str("configuration"), r.int("mode"), r.number("frequency_hz", minimum=0.0),
+        r.number("std_hz", minimum=0.0), r.number("loss_factor"),
+        r.number("loss_factor_std", minimum=0.0), (band[0], band[1]),
+        tuple(None if f is None else _fit(Reader(f, r.source, f"{r.field}.fits[{i}]"))
+              for i, f in enumerate(fits)),
+        under_resolved=r.bool("under_resolved"), **opt)
+
+
+def _configuration_doc(ex: ConfigurationExtraction) -> dict:
+    return {"name": ex.configuration, "line_spacing_hz": ex.line_spacing_hz,
+            "frequency_range_hz": list(ex.frequency_range_hz), "notes": ex.notes,
+            "modes": [_mode_doc(m) for m in ex.modes],
+            "rejected": [{**asdict(x), "band_hz": list(x.band_hz)} for x in ex.rejected],
+            "unexpected": [_mode_doc(m) for m in ex.unexpected],
+            "missing": [{"mode": k, "model_hz": f} for k, f in ex.missing]}
+
+
+def _configuration(r: Reader) -> ConfigurationExtraction:
+    span = r.array("frequency_range_hz")
+    if span.size != 2:
+        raise r.fail("frequency_range_hz", "must be two numbers")
+    rejected = []
+    for x in r.items("rejected"):
+        band = x.array("band_hz")
+        if band.size != 2:
+            raise x.fail("band_hz", "must be two numbers")
+        rejected.append(Rejected(x.str("configuration"), x.number("frequency_hz"),
+                                 (band[0], band[1]), x.str("reason"), x.bool("narrow")))
+    return ConfigurationExtraction(
+        r.str("name"), [_mode(m) for m in r.items("modes")], rejected,
+        r.number("line_spacing_hz", minimum=0.0), (span[0], span[1]),
+        [_mode(m) for m in r.items("unexpected")],
+        [(m.int("mode"), m.number("model_hz")) for m in r.items("missing")],
+        [str(n) for n in r.raw("notes", list)])

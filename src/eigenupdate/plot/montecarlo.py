@@ -9,14 +9,14 @@ from pathlib import Path
 
 import numpy as np
 
-from eigenupdate.plot.plots import _new_figure, _save
+from eigenupdate.plot.plots import _save, new_figure
 
 
 def plot_std_comparison(path: str | os.PathLike[str], names: Sequence[str],
                         empirical: np.ndarray, predicted: np.ndarray, title: str = "") -> Path:
     """Empirical std of the error against the predicted (linearised) std, per parameter,
     both relative to the predicted one (1 = agreement)."""
-    fig = _new_figure(max(6.0, 0.35 * len(names) + 2), 3.6)
+    fig = new_figure(max(6.0, 0.35 * len(names) + 2), 3.6)
     ax = fig.add_subplot()
     x = np.arange(len(names))
     ratio = np.asarray(empirical) / np.asarray(predicted)
@@ -35,7 +35,7 @@ def plot_std_comparison(path: str | os.PathLike[str], names: Sequence[str],
 
 def plot_zscores(path: str | os.PathLike[str], z: np.ndarray, title: str = "") -> Path:
     """Histogram of all z-scores (every parameter, every converged trial) with N(0, 1)."""
-    fig = _new_figure(6.0, 3.6)
+    fig = new_figure(6.0, 3.6)
     ax = fig.add_subplot()
     z = np.asarray(z, dtype=float).ravel()
     z = z[np.isfinite(z)]

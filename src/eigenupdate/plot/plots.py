@@ -16,6 +16,7 @@ the same directory and renamed over ``path``, so a reader never sees half a figu
 from __future__ import annotations
 
 import os
+import textwrap
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -23,6 +24,7 @@ from typing import Any
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+from matplotlib.layout_engine import ConstrainedLayoutEngine
 from numpy.typing import ArrayLike
 
 from eigenupdate.errors import InputError
@@ -64,10 +66,27 @@ def _format(path: str | os.PathLike[str]) -> str:
     return ext[1:]
 
 
-def _new_figure(width: float, height: float) -> Figure:
-    fig = Figure(figsize=(width, height), layout="constrained")
+# Pads of the constrained layout (inches): the HTML report writes SVG text as text, which
+# a browser sets in its own font and measures by line boxes, larger than matplotlib's
+# glyph boxes (a log axis's 10^11 reached 3.5 px above the figure with 0.1 in); 0.15 in
+# keeps every text inside (matplotlib's default is 3/72 in).
+PAD_IN = 0.15
+
+
+def new_figure(width: float, height: float) -> Figure:
+    fig = Figure(figsize=(width, height), layout=ConstrainedLayoutEngine(
+        w_pad=PAD_IN, h_pad=PAD_IN))
     FigureCanvasAgg(fig)  # explicit non-GUI canvas: no pyplot, no backend switch
     return fig
+
+
+def fit_title(text: str, fig: Figure, size_pt: float) -> str:
+    """``text`` wrapped, at its own line breaks and between words, to lines that fit the
+    figure's width: a title wider than the figure is cut off on both sides, as constrained
+    layout does not shrink it. A character is taken as 0.6 em, wider than the average of
+    sans-serif fonts (DejaVu Sans: 0.55 em), so the estimate errs on the short side."""
+    chars = max(20, int(fig.get_figwidth() * 72 / (0.6 * size_pt)))
+    return "\n".join(textwrap.fill(line, chars) for line in text.splitlines())
 
 
 def _save(fig: Figure, path: str | os.PathLike[str]) -> Path:
@@ -170,7 +189,7 @@ def plot_frf_comparison(
     if not curves:
         raise InputError("nothing to plot: give measured, initial and/or updated", field="plot")
 
-    fig = _new_figure(8.0, 6.0 if phase else 4.5)
+    fig = new_figure(8.0, 6.0 if phase else 4.5)
     if phase:
         ax_mag, ax_ph = fig.subplots(2, 1, sharex=True, height_ratios=[2.4, 1.0])
     else:
@@ -193,7 +212,7 @@ def plot_frf_comparison(
         ax_mag.set_ylim(max(min(bottoms) / 2.0, top * 1e-6), top)
     ax_mag.set_xlim(0.0, f_max)
     ax_mag.set_ylabel("receptance |H| (m/N)")
-    ax_mag.set_title(title)
+    ax_mag.set_title(fit_title(title, fig, ax_mag.title.get_fontsize()))
     ax_mag.grid(True, which="major", alpha=0.4)
     ax_mag.grid(True, which="minor", alpha=0.15)
     ax_mag.legend(loc="best", fontsize="small")
@@ -273,7 +292,7 @@ def plot_mass_sweep(path: str | os.PathLike[str], sweep: MassSweep, *,
         x = sweep.added_mass
         xlabel = f"{what} ({unit}; coordinate {coordinate} has no mass of its own)"
 
-    fig = _new_figure(10.0, 4.2)
+    fig = new_figure(10.0, 4.2)
     ax_f, ax_r = fig.subplots(1, 2)
     for r in range(sweep.frequencies_hz.shape[1]):
         label = f"mode {r + 1} ({sweep.frequencies_hz[0, r]:.1f} Hz)"
@@ -297,7 +316,8 @@ def plot_mass_sweep(path: str | os.PathLike[str], sweep: MassSweep, *,
     ax_r.legend(loc="best", fontsize="small")
     config = f" ({sweep.configuration})" if sweep.configuration is not None else ""
     heading = f"Effect of {what} at {sweep.coordinate.label}{config}"
-    fig.suptitle(f"{title}: {heading}" if title else heading)
+    text = f"{title}: {heading}" if title else heading
+    fig.suptitle(fit_title(text, fig, 12.0))  # figure.titlesize "large"
     _save(fig, path)
     return sweep
 
@@ -395,7 +415,7 @@ def plot_extraction_fit(
     if len(numbers) != len(fits):
         raise InputError(f"{len(numbers)} mode numbers for {len(fits)} fits",
                          field="mode_numbers")
-    fig = _new_figure(10.0, 3.3 * len(fits) + 0.6)
+    fig = new_figure(10.0, 3.3 * len(fits) + 0.6)
     axes = np.atleast_2d(fig.subplots(len(fits), 2, width_ratios=[1.6, 1.0], squeeze=False))
     for r, (fit, (ax_m, ax_n)) in enumerate(zip(fits, axes, strict=True)):
         lo, hi = (float(v) for v in fit.band_hz)
@@ -446,5 +466,5 @@ def plot_extraction_fit(
         ax_n.ticklabel_format(style="sci", scilimits=(-3, 3))
         ax_n.grid(True, alpha=0.3)
         ax_n.legend(loc="best", fontsize="small")
-    fig.suptitle(title)
+    fig.suptitle(fit_title(title, fig, 12.0))  # rcParams' figure.titlesize: "large"
     return _save(fig, path)

@@ -11,14 +11,13 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+
+from eigenupdate.plot.plots import new_figure
 
 
 def _figure(width: float, height: float) -> Figure:
-    fig = Figure(figsize=(width, height), layout="constrained")
-    FigureCanvasAgg(fig)
-    return fig
+    return new_figure(width, height)  # the pads that keep browser-set text inside
 
 
 def singular_values_figure(singular_values: Sequence[float]) -> Figure:
@@ -96,6 +95,9 @@ def history_figure(
         ax_o.plot(np.arange(obj.size), obj, "o-", ms=4)
     ax_o.set_xlabel("iteration")
     ax_o.set_ylabel("objective")
+    # panel titles also give the top tick label of the log axis room above it
+    ax_o.set_title("objective (log scale)", fontsize="medium")
+    ax_p.set_title("updated parameters", fontsize="medium")
     ax_o.grid(True, which="both", alpha=0.3)
     for n in names:
         v0 = history[0][n]

@@ -1,149 +1,56 @@
 """One self-contained HTML report of a study: what was tested, what was updated and how
 well the updated model predicts.
 
-:func:`write_report` gathers the numbers with the library's own functions (the
-identifiability check, the FRF extraction, the update, the receptance, the mass sweep),
-draws the figures with matplotlib as SVG and renders ``templates/report.html.j2`` with
-Jinja2. Figures are base64 ``data:`` URIs and the stylesheet is inlined, so the page
-needs no network, no script and no font file: it can be mailed or opened from a share,
-and printed to PDF (sections start on a new page, figures and table rows are not split).
+:func:`render_report` draws the results :func:`eigenupdate.workflow.report_data` read or
+computed (:class:`~eigenupdate.report.data.ReportData`) with matplotlib as SVG and renders
+``templates/report.html.j2`` with Jinja2; it computes nothing itself. Figures are base64
+``data:`` URIs and the stylesheet is inlined, so the page needs no network, no script and
+no font file: it can be mailed or opened from a share, and printed to PDF (sections start
+on a new page, figures and table rows are not split).
 
 Sections appear when their data exist:
 
-* the study and the identifiability of its plan - always;
-* the FRF extraction - when the study names FRF files (the fits are recomputed with
-  :func:`eigenupdate.workflow.extract_study`, as ``extract`` does) or
-  an extraction CSV is given (its table is then shown as the numbers the update used);
-* the update - from a saved result (``update --save``); without one, the report runs
-  the update itself with the study's settings and says so, if the study has a
-  measurement file;
+* the study and the identifiability of its plan - always (the plan at the initial model
+  when the report solved, else the saved update's check at its solution);
+* the FRF extraction - from the study's FRF files or a saved extraction, and an
+  extraction CSV (its table is then shown as the numbers the update used);
+* the update - from a saved result or run by the workflow;
 * the FRF comparison (paper Fig. 7) of the base configuration at every measured
   response point, and the mass sweep (Fig. 4) of every perturbed coordinate;
-* the test design and Monte Carlo summaries - any JSON object, rendered generically;
-* provenance - package version, SHA-256 of the study and input files, date, command.
+* the test design and the Monte Carlo virtual tests (their JSON), or any other JSON
+  object, rendered generically;
+* provenance - package version, SHA-256 of every input file, date, command.
 """
 
 from __future__ import annotations
 
-import base64
 import hashlib
-import io
 import math
 import os
 import shlex
 import sys
-import tempfile
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
 import jinja2
-import matplotlib
-import numpy as np
-from matplotlib.figure import Figure
 
-from eigenupdate import workflow
-from eigenupdate.errors import InputError
+from eigenupdate.design.montecarlo import MonteCarloResult
+from eigenupdate.design.plan import DesignResult
 from eigenupdate.identify.identifiability import IdentifiabilityReport
-from eigenupdate.io.atomic import scratch, write_text
-from eigenupdate.io.report_inputs import (
-    ExtractedRow,
-    read_extracted,
-    read_result,
-    read_summary,
-)
-from eigenupdate.io.study import Study, load_study
+from eigenupdate.identify.updating import UpdateResult
+from eigenupdate.io.report_inputs import ExtractedRow
+from eigenupdate.io.study import Study
 from eigenupdate.measure.extraction import DISAGREEMENT_WARNING
 from eigenupdate.measure.frf import FRF
 from eigenupdate.plot.plots import plot_extraction_fit, plot_frf_comparison, plot_mass_sweep
 from eigenupdate.report import figures
-from eigenupdate.solve.response import receptance
-from eigenupdate.solve.sweep import mass_sweep
-from eigenupdate.workflow import StudyExtraction
+from eigenupdate.report.data import ReportData
+from eigenupdate.report.page import Section, figure_image, plot_image, table
 
 PathLike = str | os.PathLike
 TEMPLATES = Path(__file__).with_name("templates")
-_DEFAULT_LOSS_FACTOR = 0.01  # as `eigenupdate frf` without --damping
-
-
-# ------------------------------------------------------------------ page structure
-
-
-@dataclass
-class Table:
-    """A real HTML table: header cells and rows of (text, is_number) cells."""
-
-    caption: str
-    header: list[str]
-    rows: list[list[tuple[str, bool]]]
-    name: str = ""  # data-name attribute, for tests and styling
-    kind: str = "table"
-
-
-@dataclass
-class Image:
-    """A figure as a ``data:`` URI."""
-
-    uri: str
-    caption: str
-    alt: str
-    kind: str = "image"
-
-
-@dataclass
-class Section:
-    """One section of the page: paragraphs, key facts, then tables and figures in order."""
-
-    id: str
-    title: str
-    paragraphs: list[str] = field(default_factory=list)
-    facts: list[tuple[str, str]] = field(default_factory=list)
-    blocks: list[Table | Image] = field(default_factory=list)
-    parts: list[Section] = field(default_factory=list)  # sub-sections (one per configuration)
-
-
-def _cell(v: Any) -> tuple[str, bool]:
-    if v is None:
-        return ("-", False)
-    if isinstance(v, bool):
-        return ("yes" if v else "no", False)
-    if isinstance(v, int | np.integer):
-        return (str(int(v)), True)
-    if isinstance(v, float | np.floating):
-        return (f"{float(v):.6g}" if math.isfinite(v) else "-", math.isfinite(v))
-    return (str(v), False)
-
-
-def _table(caption: str, header: Sequence[str], rows: Sequence[Sequence[Any]],
-           name: str = "") -> Table:
-    return Table(caption, list(header), [[_cell(v) for v in r] for r in rows], name)
-
-
-def _svg_uri(data: bytes) -> str:
-    return "data:image/svg+xml;base64," + base64.b64encode(data).decode("ascii")
-
-
-# Text as SVG text (not glyph outlines): a third smaller, and searchable in the PDF.
-_SVG_RC = {"svg.fonttype": "none", "svg.hashsalt": "eigenupdate"}
-
-
-def _figure_image(fig: Figure, caption: str, alt: str) -> Image:
-    buf = io.BytesIO()
-    with matplotlib.rc_context(_SVG_RC):
-        fig.savefig(buf, format="svg")
-    return Image(_svg_uri(buf.getvalue()), caption, alt)
-
-
-def _plot_image(plot: Callable[..., Any], caption: str, alt: str, *args: Any,
-                **kwargs: Any) -> tuple[Image, Any]:
-    """Run one of :mod:`eigenupdate.plot.plots` into a temporary SVG and inline it."""
-    with tempfile.TemporaryDirectory() as tmp, matplotlib.rc_context(_SVG_RC), scratch():
-        path = Path(tmp) / "figure.svg"
-        out = plot(path, *args, **kwargs)
-        return Image(_svg_uri(path.read_bytes()), caption, alt), out
 
 
 def _sha256(path: PathLike) -> str:
@@ -175,7 +82,7 @@ def _study_section(study: Study) -> Section:
         ("method", f"{study.method}, at most {study.max_iterations} iterations, "
                    f"tolerance {study.tolerance:g}"),
     ]
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Parameters of the initial model (SI units)",
         ["parameter", "initial value", "prior std", "updated"],
         [[p.name, p.value, p.std, p.update] for p in model.parameters], "parameters"))
@@ -185,7 +92,7 @@ def _study_section(study: Study) -> Section:
             rows.append([c.name, "-", None, None])
         for a in c.additions:
             rows.append([c.name, a.coordinate, a.mass or None, a.stiffness or None])
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Test configurations: known masses (kg; kg m^2 on a rotation) and grounded "
         "springs (N/m) added", ["configuration", "coordinate", "added mass", "added stiffness"],
         rows, "configurations"))
@@ -208,21 +115,24 @@ def _weakest_in_words(r: IdentifiabilityReport) -> str:
             f"changes the eigenvalues least.")
 
 
-def _identifiability_section(study: Study) -> Section | None:
-    if not study.modes:
+def _identifiability_section(data: ReportData) -> Section | None:
+    r = data.plan or (data.update.identifiability if data.update is not None else None)
+    if r is None:
         return None
-    r = workflow.check_study(study, "least-squares")  # the plan's own J, as the paper
-    seen = workflow.check_study(study) if study.method != "least-squares" else None
+    study = data.study
     p = len(r.parameters)
     sec = Section("identifiability", "Identifiability of the test plan")
     verdict = ("every updated parameter is identifiable (J^T J has full rank)"
                if r.identifiable else
                f"NOT identifiable: rank {r.rank} < {p} parameters; only the prior std of "
                "the Bayesian estimator can make up for it, other methods refuse the update")
+    where = ("at the initial model" if data.plan is not None else
+             f"at the saved update's solution, weighted as the {data.update.method} "
+             f"estimator weights it ({r.weighting})")
     sec.paragraphs = [
         f"{r.equations} equations (configurations x modes) for {p} updated parameters: "
         f"{verdict}. J is the sensitivity of the eigenvalues to the parameters normalised by "
-        "their initial values, at the initial model.",
+        f"their initial values, {where}.",
         _weakest_in_words(r),
     ]
     sec.facts = [
@@ -232,42 +142,40 @@ def _identifiability_section(study: Study) -> Section | None:
         ("condition of J", f"{r.condition_J:.3g}"),
         ("condition of J^T J", f"{r.condition_JTJ:.3g}"),
     ]
+    seen = data.seen
     if seen is not None:
         sec.facts += [
             (f"as the {study.method} estimator sees it",
              f"J weighted by {seen.weighting}: rank {seen.rank}, condition of J "
              f"{seen.condition_J:.3g}, of J^T J {seen.condition_JTJ:.3g}")]
-    sec.blocks.append(_figure_image(
+    sec.blocks.append(figure_image(
         figures.singular_values_figure(r.singular_values),
         "Singular values of J, descending ((rad/s)^2 per unit relative change)",
         "singular values"))
-    sec.blocks.append(_table(
+    sec.blocks.append(table(
         "Weakest combination: right singular vector of the smallest singular value",
         ["parameter", "weight"], [[k, v] for k, v in r.weakest.items()], "weakest"))
     return sec
 
 
 def _frf_label(study: Study, x: FRF) -> str:
-    table = study.model.coordinate_table
-    return f"{table.point_label(x.response)} / {table.point_label(x.reference)}"
+    coords = study.model.coordinate_table
+    return f"{coords.point_label(x.response)} / {coords.point_label(x.reference)}"
 
 
-def _extraction_section(
-    study: Study,
-    fitted: StudyExtraction | None,
-    extracted: list[ExtractedRow] | None,
-    extracted_name: str | None,
-) -> Section | None:
+def _extraction_section(data: ReportData) -> Section | None:
+    study, fitted, extracted = data.study, data.extraction, data.extracted
+    extracted_name = data.extracted_name
     if fitted is None and extracted is None:
         return None
     sec = Section("extraction", "Measured FRFs and modal extraction")
     intro = []
     if fitted is not None:
-        intro.append("Fitted here from the study's FRF files with the method of 'eigenupdate "
+        intro.append("Fitted from the study's FRF files with the method of 'eigenupdate "
                      "extract': Dobson's inverse-receptance line fit (hysteretic damping) in "
                      "each resonance band, the FRFs of a configuration combined by inverse "
                      "variance, a rational-fraction fit as an independent cross-check, "
-                     f"modes numbered by {fitted.result.numbered_by}.")
+                     f"modes numbered by {fitted.numbered_by}.")
     if extracted is not None:
         intro.append(f"The mode tables show {extracted_name}, the extraction the update read.")
     intro.append(f"'diff/std' is the Dobson - rational-fraction difference in combined "
@@ -277,18 +185,18 @@ def _extraction_section(
                  "node). Rejected candidates are resonances that are not modes, with the "
                  "reason.")
     sec.paragraphs = [" ".join(intro)]
-    if fitted is not None and fitted.result.problems:
-        sec.paragraphs.append("WARNING: " + "; ".join(fitted.result.problems) + ".")
+    if fitted is not None and fitted.problems:
+        sec.paragraphs.append("WARNING: " + "; ".join(fitted.problems) + ".")
     used = set(study.modes)
     by_cfg: dict[str, list[ExtractedRow]] = {}
     for row in extracted or []:
         by_cfg.setdefault(row.configuration, []).append(row)
-    results = {ex.configuration: ex for ex in fitted.result.configurations} if fitted else {}
+    results = {ex.configuration: ex for ex in fitted.configurations} if fitted else {}
     notes = []
     for c in study.configurations:
         part = Section(f"extraction-{len(sec.parts) + 1}", c.name)
         ex = results.get(c.name)
-        frfs = fitted.frfs.get(c.name, []) if fitted else []
+        frfs = data.frfs.get(c.name, []) if fitted else []
         modes = ex.modes if ex else []
         fits = {m.mode: m for m in modes}
         if ex is not None:
@@ -327,12 +235,12 @@ def _extraction_section(
                                r.loss_factor_std, m.fit_quality if m else None, r.check_hz, d,
                                m.model_hz if m else None, "; ".join(flags) or None])
         if table_rows:
-            part.blocks.append(_table(
+            part.blocks.append(table(
                 f"{c.name}: fitted modes",
                 ["mode", "f Hz", "std Hz", "loss factor", "loss factor std", "fit R2",
                  "check f Hz", "diff/std", "model Hz", "remarks"], table_rows, "extraction"))
         if ex is not None and ex.rejected:
-            part.blocks.append(_table(
+            part.blocks.append(table(
                 f"{c.name}: rejected candidates",
                 ["f Hz", "band from Hz", "band to Hz", "reason"],
                 [[r.frequency_hz, r.band_hz[0], r.band_hz[1], r.reason] for r in ex.rejected],
@@ -342,7 +250,7 @@ def _extraction_section(
             if not shown:
                 continue
             title = f"{c.name}: {_frf_label(study, x)}"
-            img, _ = _plot_image(
+            img, _ = plot_image(
                 plot_extraction_fit, f"{title}: fitted modes against the measured receptance",
                 f"extraction fit {title}", x.frequency_hz, x.receptance,
                 [m.fits[j] for m in shown], mode_numbers=[m.mode for m in shown], title=title)
@@ -355,187 +263,130 @@ def _extraction_section(
     return sec
 
 
-def _update_doc(study: Study, result: dict | None) -> tuple[dict | None, str]:
-    """The update as the saved-result document, and where it comes from."""
-    if result is not None:
-        return result, "read from the saved result"
-    if study.frequencies is None or not study.modes:
-        return None, ""
-    study.measurements()  # a bad file stops the report
-    try:
-        res = workflow.update_study(study)
-    except InputError as exc:  # e.g. a rank-deficient plan: the page says why
-        return None, f"The update was not run: {exc}"
-    return res.to_dict(), ("computed by this report (no saved result was given), with the "
-                             "study's settings")
-
-
-def _update_section(study: Study, doc: dict, origin: str) -> Section:
+def _update_section(study: Study, res: UpdateResult, origin: str) -> Section:
     model = study.model
     initial = dict(zip(model.names, model.values.tolist(), strict=True))
-    names = [n for n in model.names if n in doc["std"]]
+    names = [n for n in model.names if n in res.std]
     sec = Section("update", "The update")
-    status = "converged" if doc["converged"] else "DID NOT CONVERGE"
+    status = "converged" if res.success else "DID NOT CONVERGE"
     sec.paragraphs = [
-        f"{doc['method']}, {status} after {doc['iterations']} iteration(s) "
-        f"({doc['message'].removeprefix('converged: ')}); {origin}.",
+        f"{res.method}, {status} after {res.nit} iteration(s) "
+        f"({res.message.removeprefix('converged: ')}); {origin}.",
         "Change % is relative to the initial value; the posterior std is that of the "
         "estimator (a parameter without a defined std shows '-').",
     ]
     rows = []
     for n in names:
-        v0, v = initial[n], doc["parameters"][n]
-        rows.append([n, v0, v, None if v0 == 0 else 100.0 * (v - v0) / v0, doc["std"].get(n)])
-    sec.blocks.append(_table("Parameters: initial, updated, change and posterior std",
+        v0, v = initial[n], res.parameters[n]
+        rows.append([n, v0, v, None if v0 == 0 else 100.0 * (v - v0) / v0, res.std.get(n)])
+    sec.blocks.append(table("Parameters: initial, updated, change and posterior std",
                              ["parameter", "initial", "updated", "change %", "posterior std"],
                              rows, "parameters-updated"))
     if any(initial[n] != 0 for n in names):
-        sec.blocks.append(_figure_image(
-            figures.parameter_change_figure(names, initial, doc["parameters"], doc["std"]),
+        sec.blocks.append(figure_image(
+            figures.parameter_change_figure(names, initial, res.parameters, res.std),
             "Change of each updated parameter (% of initial) with +-1 posterior std "
             "(parameters starting at 0 are in the table only)", "parameter changes"))
-    steps = doc.get("steps") or [{} for _ in doc["history"]]
-    sec.blocks.append(_table(
+    history = [h.parameters for h in res.history]
+    sec.blocks.append(table(
         "Iterations (0 is the initial model): objective, fraction of the Gauss-Newton step "
         "taken, note", ["iteration", "objective", "step", "note"],
-        [[i, s.get("objective"), s.get("step"), s.get("note") or None]
-         for i, s in enumerate(steps)], "steps"))
-    sec.blocks.append(_table(
+        [[h.iteration, h.objective, h.step, h.kind.value or None] for h in res.history],
+        "steps"))
+    sec.blocks.append(table(
         "Parameter values at each iteration",
-        ["parameter", *[f"it. {i}" for i in range(len(doc["history"]))]],
-        [[n, *[h[n] for h in doc["history"]]] for n in names], "history"))
-    sec.blocks.append(_figure_image(
-        figures.history_figure([s.get("objective") for s in steps], doc["history"], names),
+        ["parameter", *[f"it. {i}" for i in range(len(history))]],
+        [[n, *[h[n] for h in history]] for n in names], "history"))
+    sec.blocks.append(figure_image(
+        figures.history_figure([h.objective for h in res.history], history, names),
         "Objective and parameters (relative to initial) against iteration", "history"))
-    fr = doc["frequencies"]
-    sec.blocks.append(_table(
+    fr = list(zip(res.rows, res.measured_hz.tolist(), res.initial_hz.tolist(),
+                  res.updated_hz.tolist(), strict=True))
+    sec.blocks.append(table(
         "Natural frequencies: measured, initial and updated model (Hz), errors in %",
         ["configuration", "mode", "measured", "initial", "updated", "initial error %",
          "updated error %"],
-        [[r["configuration"], r["mode"], r["measured_hz"], r["initial_hz"], r["updated_hz"],
-          100 * (r["initial_hz"] - r["measured_hz"]) / r["measured_hz"],
-          100 * (r["updated_hz"] - r["measured_hz"]) / r["measured_hz"]] for r in fr],
+        [[c, k, m, i, u, 100 * (i - m) / m, 100 * (u - m) / m] for (c, k), m, i, u in fr],
         "frequencies"))
-    sec.blocks.append(_figure_image(
+    sec.blocks.append(figure_image(
         figures.frequency_error_figure(
-            [f"{r['configuration']} / {r['mode']}" for r in fr],
-            [r["measured_hz"] for r in fr], [r["initial_hz"] for r in fr],
-            [r["updated_hz"] for r in fr]),
+            [f"{c} / {k}" for (c, k), *_ in fr], [m for _, m, _, _ in fr],
+            [i for _, _, i, _ in fr], [u for *_, u in fr]),
         "Model minus measured frequency in % of measured: initial model, updated model "
         "(each panel on its own scale)", "frequency errors"))
     return sec
 
 
-def _loss_factors(study: Study, fitted, extracted) -> tuple[list[float] | float, str]:
-    """Per-mode loss factors of the base configuration: extracted ones when known."""
-    base = study.configurations[0].name
-    etas = {r.mode: r.loss_factor for r in extracted or [] if r.configuration == base}
-    if etas.get(1) is None and fitted:
-        for ex in fitted.result.configurations:
-            if ex.configuration == base:
-                etas = {m.mode: m.loss_factor for m in ex.modes}
-    k = 1
-    out = []
-    while etas.get(k) is not None:
-        out.append(etas[k])
-        k += 1
-    if out:
-        return out, "extracted loss factors " + ", ".join(f"{e:.3g}" for e in out)
-    return _DEFAULT_LOSS_FACTOR, f"loss factor {_DEFAULT_LOSS_FACTOR:g} (none extracted)"
-
-
-def _comparison_section(study: Study, doc: dict | None, fitted, extracted) -> Section:
+def _comparison_section(data: ReportData) -> Section | None:
+    if not data.solved:
+        return None
+    res = data.update
     sec = Section("comparison", "Predicted against measured")
-    base = study.configurations[0]
-    models = {"initial": study.model}
-    if doc is not None:
-        models["updated"] = study.model.with_values(doc["parameters"])
-    eta, eta_text = _loss_factors(study, fitted, extracted)
-    skipped = []
-    frfs = fitted.frfs.get(base.name, []) if fitted else []
-    for x in frfs:
-        try:
-            out = study.model.coordinate_table.from_uff(x.response).number
-            inp = study.model.coordinate_table.from_uff(x.reference).number
-        except InputError:
-            skipped.append(_frf_label(study, x))  # e.g. a CSV FRF, which names no points
-            continue
-        f = x.frequency_hz[x.frequency_hz > 0]
-        curves = {label: (f, receptance(m, f, inp, out, configuration=base, loss_factor=eta))
-                  for label, m in models.items()}
-        title = f"{base.name}: receptance {out}/{inp} ({_frf_label(study, x)}), {eta_text}"
-        img, _ = _plot_image(plot_frf_comparison, f"Paper Fig. 7: {title}",
-                             f"FRF comparison {out}/{inp}", None, measured=x,
-                             initial=curves["initial"], updated=curves.get("updated"),
-                             title=title)
+    for c in data.comparisons:
+        img, _ = plot_image(plot_frf_comparison, f"Paper Fig. 7: {c.title}",
+                             f"FRF comparison {c.response}/{c.excitation}", None,
+                             measured=c.measured,
+                             initial=(c.frequency_hz, c.initial),
+                             updated=None if c.updated is None else (c.frequency_hz,
+                                                                    c.updated),
+                             title=c.title)
         sec.blocks.append(img)
     intro = ["Receptance of the base configuration at every measured response point: "
-             "measured, initial model" + (" and updated model" if doc else "") + "."]
-    if skipped:
-        intro.append(f"Not compared (no model coordinate in the file): {', '.join(skipped)}.")
-    if not frfs:
+             "measured, initial model" + (" and updated model" if res else "") + "."]
+    if data.not_compared:
+        intro.append("Not compared (no model coordinate in the file): "
+                     f"{', '.join(data.not_compared)}.")
+    if not data.comparisons and not data.not_compared:
         intro = ["No measured FRFs in the study: no receptance comparison."]
-    sweep_values = doc["parameters"] if doc is not None else None
-    coords = sorted({(a.coordinate, a.mass) for c in study.configurations for a in c.additions
-                     if a.mass > 0})
-    biggest: dict[int, float] = {}
-    for cd, m in coords:
-        biggest[cd] = max(biggest.get(cd, 0.0), m)
-    n_modes = max(study.modes or [3])
-    for cd, m in biggest.items():
-        sweep = mass_sweep(study.model, cd, 2.0 * m, n_modes, values=sweep_values)
-        img, _ = _plot_image(plot_mass_sweep, f"Paper Fig. 4: mass added at coordinate {cd}",
-                             f"mass sweep {cd}", sweep,
-                             title="updated model" if sweep_values else "initial model")
+    which = "updated" if res is not None else "initial"
+    for sweep in data.sweeps:
+        cd = sweep.coordinate.number
+        img, _ = plot_image(plot_mass_sweep, f"Paper Fig. 4: mass added at coordinate {cd}",
+                             f"mass sweep {cd}", sweep, title=f"{which} model")
         sec.blocks.append(img)
-    if biggest:
-        intro.append("Mass sweeps (paper Fig. 4): natural frequencies of the "
-                     + ("updated" if sweep_values else "initial")
-                     + " model against the mass added at each perturbed coordinate, up to "
-                     "twice the largest mass added there in the test.")
+    if data.sweeps:
+        intro.append(f"Mass sweeps (paper Fig. 4): natural frequencies of the {which} model "
+                     "against the mass added at each perturbed coordinate, up to twice the "
+                     "largest mass added there in the test.")
     sec.paragraphs = [" ".join(intro)]
     return sec
 
 
-def _design_section(doc: dict, name: str) -> Section:
-    """The document of ``eigenupdate design --json`` (optionally with ``--validate``): the
+def _design_section(d: DesignResult, validation: dict | None, initial: dict[str, float],
+                    name: str) -> Section:
+    """A test design (``eigenupdate design --json``, optionally with ``--validate``): the
     plan with its shifts and mode gaps, the predicted accuracy per parameter (over the
     prior, with its Monte Carlo error, and at the prior mean), and the validation."""
     sec = Section("design", "Test design")
-    draws = doc.get("prior_draws", 0)
+    crit = d.criterion if isinstance(d.criterion, str) else list(d.criterion)
     sec.paragraphs = [
-        f"From {name}: {len(doc['chosen'])} configuration(s) chosen by criterion "
-        f"{doc['criterion']} for the {doc['method']} estimator, modes "
-        f"{', '.join(map(str, doc['modes']))}. "
-        + (f"The predicted accuracy is averaged over {draws} draws of the truth from the "
-           f"prior ({doc.get('prior_draw_seconds', 0):.1f} s), with its Monte Carlo error; "
+        f"From {name}: {len(d.chosen)} configuration(s) chosen by criterion "
+        f"{crit} for the {d.method} estimator, modes {', '.join(map(str, d.modes))}. "
+        + (f"The predicted accuracy is averaged over {d.draws} draws of the truth from the "
+           f"prior ({d.draw_seconds:.1f} s), with its Monte Carlo error; "
            f"the linearised figure at the prior mean stands beside it."
-           if draws else "The predicted accuracy is linearised at the prior mean.")]
-    modes = [str(k) for k in doc["modes"]]
-    sec.blocks.append(_table(
+           if d.draws else "The predicted accuracy is linearised at the prior mean.")]
+    sec.blocks.append(table(
         "Designed plan: bare minus perturbed frequency of each used mode (Hz), the largest "
         "shift in measurement std, the smallest relative gap of a used mode to its "
         "neighbours, and the fraction of the prior's draws that reorder or crowd a used mode",
-        ["configuration", *[f"shift {k}" for k in modes], "shift / std", "min gap",
+        ["configuration", *[f"shift {k}" for k in d.modes], "shift / std", "min gap",
          "order kept", "exchange risk"],
-        [[c["name"], *[c["shifts_hz"][k] for k in modes], c["shift_in_std"],
-          c["relative_gap"], c["order_kept"], c.get("exchange_risk")] for c in doc["chosen"]],
+        [[c.configuration.name, *c.shifts_hz, c.shift_in_std, c.relative_gap, c.order_kept,
+          c.exchange_risk] for c in (d.candidates[i] for i in d.chosen)],
         "design-plan"))
-    plan = doc["plans"][0]
-    names = list(plan["std"])
-    sec.blocks.append(_table(
+    plan = d.plans[0]
+    sec.blocks.append(table(
         "Predicted std of each updated parameter for the plans compared",
-        ["parameter", "initial", *[f"{p['label']}" for p in doc["plans"]],
+        ["parameter", "initial", *[p.label for p in d.plans],
          "+- (designed)", "at prior mean (designed)"],
-        [[n, doc["initial"].get(n), *[p["std"][n] for p in doc["plans"]],
-          plan.get("std_error", {}).get(n), plan.get("linear_std", {}).get(n)]
-         for n in names]
-        + [["chance of a gross error", None, *[p.get("gross_risk") for p in doc["plans"]],
-            None, None]],
+        [[n, initial.get(n), *[p.std[n] for p in d.plans], plan.std_error.get(n),
+          plan.linear_std.get(n)] for n in plan.std]
+        + [["chance of a gross error", None, *[p.gross_risk for p in d.plans], None, None]],
         "design-accuracy"))
-    val = doc.get("validation")
+    val = validation
     if val:
-        sec.blocks.append(_table(
+        sec.blocks.append(table(
             f"Validation: {val['trials']} virtual tests of the designed plan ("
             f"{val['converged']} converged, {val['not_converged']} not converged, "
             f"{val['refused']} refused): predicted against empirical std",
@@ -549,8 +400,27 @@ def _design_section(doc: dict, name: str) -> Section:
     return sec
 
 
-def _is_design(doc: dict) -> bool:
-    return isinstance(doc, dict) and {"chosen", "plans", "modes", "method"} <= set(doc)
+def _montecarlo_section(r: MonteCarloResult, name: str) -> Section:
+    """Virtual tests (``eigenupdate montecarlo``): counts, and per parameter the bias,
+    empirical against predicted std and the coverage of the reported std."""
+    s = r.summary()
+    sec = Section("montecarlo", "Monte Carlo virtual tests")
+    sec.paragraphs = [f"From {name}: {s['trials']} virtual tests, {s['converged']} converged, "
+                      f"{s['not_converged']} not converged, {s['refused']} refused; seed "
+                      f"entropy {s['seed_entropy']}."]
+    if s["statistics_refused"] is not None:
+        sec.paragraphs.append(f"WARNING: no statistics: {s['statistics_refused']}.")
+        return sec
+    sec.blocks.append(table(
+        "Per parameter: bias and empirical std of the error over the converged trials, the "
+        "predicted std (+- its Monte Carlo error), the linearised std and the fraction of "
+        "trials within 2 reported std of the truth",
+        ["parameter", "bias", "empirical std", "predicted std", "+-", "emp / pred",
+         "linear std", "coverage 2 std"],
+        [[n, p["bias"], p["empirical_std"], p["predicted_std"], p["predicted_std_error"],
+          p["ratio_empirical_to_predicted"], p["linear_std"], p["coverage_2std"]]
+         for n, p in s["parameters"].items()], "montecarlo"))
+    return sec
 
 
 def _summary_section(key: str, title: str, doc: dict, name: str) -> Section:
@@ -578,19 +448,19 @@ def _summary_section(key: str, title: str, doc: dict, name: str) -> Section:
                or (isinstance(v, list) and not all(isinstance(i, dict) for i in v))
                or (isinstance(v, list) and not v)]
     if scalars:
-        sec.blocks.append(_table(title, ["key", "value"], scalars, "summary"))
+        sec.blocks.append(table(title, ["key", "value"], scalars, "summary"))
     for k, v in doc.items():
         if isinstance(v, list) and v and all(isinstance(i, dict) for i in v):
             cols = list(dict.fromkeys(c for i in v for c in i))
-            sec.blocks.append(_table(k, cols, [[text(i.get(c)) for c in cols] for i in v],
+            sec.blocks.append(table(k, cols, [[text(i.get(c)) for c in cols] for i in v],
                                      "summary"))
         elif isinstance(v, dict) and v and all(isinstance(i, dict) for i in v.values()):
             cols = list(dict.fromkeys(c for i in v.values() for c in i))
-            sec.blocks.append(_table(k, ["", *cols],
+            sec.blocks.append(table(k, ["", *cols],
                                      [[a, *[text(i.get(c)) for c in cols]] for a, i in v.items()],
                                      "summary"))
         elif isinstance(v, dict):
-            sec.blocks.append(_table(k, ["key", "value"], [[a, text(b)] for a, b in v.items()],
+            sec.blocks.append(table(k, ["key", "value"], [[a, text(b)] for a, b in v.items()],
                                      "summary"))
     return sec
 
@@ -605,67 +475,47 @@ def _package_version() -> str:
         return "unknown"
 
 
-def render_report(
-    study_path: PathLike,
-    *,
-    result: PathLike | None = None,
-    extracted: PathLike | None = None,
-    design: PathLike | None = None,
-    montecarlo: PathLike | None = None,
-    command: str | None = None,
-    now: datetime | None = None,
-) -> str:
-    """The report of a study as one HTML document (see the module notes for the sections).
+def render_report(data: ReportData, *, command: str | None = None,
+                  now: datetime | None = None) -> str:
+    """The report of ``data`` as one HTML document (see the module notes for the sections).
 
     Parameters
     ----------
-    study_path : the study TOML file.
-    result : a result of ``eigenupdate update --save``; without it the report runs the
-        update itself when the study has a measurement file.
-    extracted : an extraction CSV (``eigenupdate extract -o``).
-    design, montecarlo : JSON objects (a test design plan, a Monte Carlo summary),
-        rendered as tables of their keys.
+    data : the numbers, from :func:`eigenupdate.workflow.report_data`.
     command : the command line, for the provenance (default: ``sys.argv``).
     now : the report's date (default: now, UTC).
 
     Examples
     --------
-    >>> page = render_report("examples/paper_fig2/study.toml", now=datetime(2026, 1, 1))
+    >>> from eigenupdate.workflow import report_data
+    >>> from eigenupdate.io.study import load_study
+    >>> data = report_data(load_study("examples/paper_fig2/study.toml"))
+    >>> page = render_report(data, now=datetime(2026, 1, 1))
     >>> page.startswith("<!DOCTYPE html>"), page.count("<table"), "http" in page
     (True, 10, False)
     """
-    study = load_study(study_path)
-    res = read_result(result, study.model) if result is not None else None
-    ext = (read_extracted(extracted, [c.name for c in study.configurations])
-           if extracted is not None else None)
-    summaries = [(key, title, read_summary(p), Path(p).name)
-                 for key, title, p in (("design", "Test design", design),
-                                       ("montecarlo", "Monte Carlo summary", montecarlo))
-                 if p is not None]
-    fitted = workflow.extract_study(study) if study.frf else None
-    doc, origin = _update_doc(study, res)
-
+    study = data.study
+    initial = dict(zip(study.model.names, study.model.values.tolist(), strict=True))
+    update = data.update
     sections = [_study_section(study)]
-    for s in (_identifiability_section(study),
-              _extraction_section(study, fitted, ext,
-                                  Path(extracted).name if extracted is not None else None),
-              _update_section(study, doc, origin) if doc is not None else
-              (Section("update", "The update", paragraphs=[origin]) if origin else None),
-              _comparison_section(study, doc, fitted, ext)):
+    for s in (_identifiability_section(data), _extraction_section(data),
+              _update_section(study, update, data.update_origin) if update is not None else
+              (Section("update", "The update", paragraphs=[data.update_origin])
+               if data.update_origin else None),
+              _comparison_section(data),
+              _design_section(data.design, data.validation, initial, data.design_name)
+              if data.design is not None else None,
+              _montecarlo_section(data.montecarlo, data.montecarlo_name)
+              if data.montecarlo is not None else None):
         if s is not None:
             sections.append(s)
-    sections += [_design_section(s[2], s[3]) if s[0] == "design" and _is_design(s[2])
-                 else _summary_section(*s) for s in summaries]
-
-    files = [("study", study_path), ("result", result), ("extraction", extracted),
-             ("design", design), ("Monte Carlo", montecarlo)]
+    sections += [_summary_section(*s) for s in data.summaries]
     stamp = (now or datetime.now(UTC)).strftime("%Y-%m-%d %H:%M:%S %Z").strip()
     provenance = [
         ("eigenupdate version", _package_version()),
         ("date", stamp),
         ("command", command if command is not None else shlex.join(sys.argv)),
-        *[(f"{what} file", f"{Path(p).name}  SHA-256 {_sha256(p)}")
-          for what, p in files if p is not None],
+        *[(f"{what} file", f"{Path(p).name}  SHA-256 {_sha256(p)}") for what, p in data.files],
     ]
     env = jinja2.Environment(loader=jinja2.FileSystemLoader(TEMPLATES),
                              autoescape=True, undefined=jinja2.StrictUndefined,
@@ -673,24 +523,3 @@ def render_report(
     return env.get_template("report.html.j2").render(
         title=study.title, sections=sections, provenance=provenance,
         stylesheet=(TEMPLATES / "report.css").read_text(encoding="utf-8"))
-
-
-def write_report(
-    study_path: PathLike,
-    *,
-    output: PathLike,
-    result: PathLike | None = None,
-    extracted: PathLike | None = None,
-    design: PathLike | None = None,
-    montecarlo: PathLike | None = None,
-    command: str | None = None,
-) -> Path:
-    """Write the report of a study to ``output`` (HTML), whole or not at all.
-
-    Everything is computed before the file is written (see :func:`render_report` for
-    the arguments); ``output`` is replaced atomically.
-    """
-    page = render_report(study_path, result=result, extracted=extracted, design=design,
-                         montecarlo=montecarlo, command=command)
-    write_text(output, page)
-    return Path(output)

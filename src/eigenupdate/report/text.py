@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from eigenupdate.identify.identifiability import IdentifiabilityReport
-from eigenupdate.identify.updating import UpdateResult
+if TYPE_CHECKING:  # types only: the command line imports this module before any command
+    from eigenupdate.identify.identifiability import IdentifiabilityReport
+    from eigenupdate.identify.updating import UpdateResult
+    from eigenupdate.measure.survey import TestExtraction
 
 
 def table(header: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
@@ -100,3 +103,78 @@ def update_text(r: UpdateResult, initial: dict[str, float], title: str) -> str:
           n["reason"]] for n in notes],
     ) if notes else None
     return "\n\n".join(x for x in [head, params, steps, freqs, pairing] if x)
+
+
+def extraction_text(result: TestExtraction) -> str:
+    """Per configuration: accepted modes, rejected candidates, missing/unexpected modes."""
+    blocks = []
+    for ex in result.configurations:
+        lines = [f"{ex.configuration} ({ex.line_spacing_hz:.4g} Hz lines; "
+                 + "; ".join(ex.notes) + ")"]
+        if not ex.modes:
+            lines.append("  no validated resonance")
+        else:
+            lines.append(table(
+                ["mode", "f Hz", "std Hz", "loss factor", "std", "fit R2", "check diff/std",
+                 "model Hz", "note"],
+                [[m.mode, m.frequency_hz, m.std_hz, m.loss_factor, m.loss_factor_std,
+                  m.fit_quality, m.disagreement, m.model_hz,
+                  "under-resolved" if m.under_resolved else ""] for m in ex.modes]))
+        for r in ex.rejected:
+            lines.append(f"  rejected {r.frequency_hz:.6g} Hz (band {r.band_hz[0]:.5g}-"
+                         f"{r.band_hz[1]:.5g} Hz): {r.reason}")
+        for k, f in ex.missing:
+            lines.append(f"  missing: model mode {k} ({f:.6g} Hz) expected, not found")
+        for m in ex.unexpected:
+            lines.append(f"  unexpected: {m.frequency_hz:.6g} Hz matches no model mode")
+        blocks.append("\n".join(lines))
+    return "\n\n".join(blocks)
+
+
+
+def frequencies_doc(freqs: dict[str, Any]) -> dict:
+    """``frequencies --json``: every configuration's elastic frequencies (Hz)."""
+    return {"configurations": [{"name": name, "frequencies_hz": f.tolist()}
+                               for name, f in freqs.items()]}
+
+
+def frequencies_text(freqs: dict[str, Any], title: str) -> str:
+    n = len(next(iter(freqs.values())))
+    return (f"{title}: elastic natural frequencies (Hz)\n"
+            + table(["configuration", *[f"mode {k}" for k in range(1, n + 1)]],
+                    [[name, *[round(float(x), 4) for x in f]] for name, f in freqs.items()]))
+
+
+def montecarlo_text(doc: dict, title: str) -> str:
+    """``montecarlo``: the counts and, when given, the statistics per parameter of the
+    summary ``doc`` (:meth:`~eigenupdate.design.montecarlo.MonteCarloResult.summary`)."""
+    lines = [f"{title}: {doc['trials']} virtual tests: {doc['converged']} converged, "
+             f"{doc['not_converged']} not converged, {doc['refused']} refused; seed entropy "
+             f"{doc['seed_entropy']}"]
+    if doc["statistics_refused"] is not None:
+        return lines[0]
+    if "prior_draws" in doc:
+        lines.append(f"predicted std: averaged over {doc['prior_draws']} draws of the truth "
+                     f"from the prior ({doc['prior_draw_seconds']:.1f} s), +- its Monte Carlo "
+                     f"error; linear: at the prior mean")
+    lines.append(table(
+        ["parameter", "bias", "empirical std", "predicted std", "+-", "emp/pred",
+         "linear std", "coverage 2 std"],
+        [[n, p["bias"], p["empirical_std"], p["predicted_std"], p["predicted_std_error"],
+          p["ratio_empirical_to_predicted"], p["linear_std"], p["coverage_2std"]]
+         for n, p in doc["parameters"].items()]))
+    return "\n".join(lines)
+
+
+def progress_bar(done: int, total: int) -> None:
+    """``done`` of ``total`` as a bar on standard error (a terminal), redrawn in place."""
+    n = 30 * done // total
+    end = "\n" if done == total else ""
+    print(f"\r[{'#' * n}{'.' * (30 - n)}] {done}/{total}", end=end, file=sys.stderr, flush=True)
+
+
+def progress(msg: str) -> None:
+    """One line on standard error; names in it come from input files: one printable line."""
+    from eigenupdate.errors import MAX_MESSAGE, shorten
+
+    print(shorten(msg, MAX_MESSAGE), file=sys.stderr, flush=True)

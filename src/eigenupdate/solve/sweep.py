@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 import scipy.sparse as sp
@@ -16,6 +17,7 @@ from eigenupdate.errors import InputError
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.coordinates import Coordinate
 from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.schema import reader
 from eigenupdate.solve.eigen import DENSE_LIMIT, base_operator, solve_elastic
 from eigenupdate.solve.response import configuration_matrices
 
@@ -41,6 +43,32 @@ class MassSweep:
     frequencies_hz: np.ndarray
     coordinate: Coordinate
     configuration: str | None = None
+
+    SCHEMA: ClassVar[str] = "eigenupdate.sweep/1"
+
+    def to_dict(self) -> dict:
+        """JSON-ready document; read back by :meth:`from_dict`."""
+        c = self.coordinate
+        return {"schema": self.SCHEMA, "added_mass": self.added_mass.tolist(),
+                "reference_mass": self.reference_mass,
+                "frequencies_hz": self.frequencies_hz.tolist(),
+                "coordinate": {"number": c.number, "node": c.node, "direction": c.direction},
+                "configuration": self.configuration}
+
+    @classmethod
+    def from_dict(cls, doc: dict, source: str | None = None) -> MassSweep:
+        """The sweep :meth:`to_dict` wrote; InputError naming the field otherwise."""
+        r = reader(doc, cls.SCHEMA, source)
+        mass, f = r.array("added_mass"), r.array("frequencies_hz", 2)
+        if f.shape[0] != mass.size:
+            raise r.fail("frequencies_hz", f"needs one row per added mass ({mass.size})")
+        c = r.child("coordinate")
+        try:
+            coord = Coordinate(c.int("number"), c.int("node"), c.int("direction"))
+        except InputError as exc:
+            raise c.fail("direction", str(exc)) from None
+        return cls(mass, r.number("reference_mass", minimum=0.0), f, coord,
+                   r.str("configuration", optional=True))
 
     @property
     def percent(self) -> np.ndarray | None:

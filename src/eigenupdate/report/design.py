@@ -1,37 +1,9 @@
-"""Text table and JSON document of a :class:`~eigenupdate.design.plan.DesignResult`."""
+"""Text tables of a :class:`~eigenupdate.design.plan.DesignResult` and of its validation."""
 
 from __future__ import annotations
 
 from eigenupdate.design.plan import DesignResult
 from eigenupdate.report.text import table
-
-
-def design_doc(r: DesignResult, initial: dict[str, float]) -> dict:
-    """JSON-ready document: chosen perturbations, candidates and the plans compared."""
-    return {
-        "method": r.method,
-        "criterion": r.criterion if isinstance(r.criterion, str) else list(r.criterion),
-        "modes": r.modes,
-        "exchange_swaps": r.swaps,
-        "prior_draws": r.draws,
-        "prior_draw_seconds": r.draw_seconds,
-        "chosen": [_candidate(r.candidates[i], r.modes) for i in r.chosen],
-        "plans": [{"label": p.label, "configurations": p.configurations,
-                   "criterion": p.criterion, "std": p.std, "std_error": p.std_error,
-                   "linear_std": p.linear_std, "gross_risk": p.gross_risk} for p in r.plans],
-        "initial": {n: initial[n] for n in r.names},
-        "candidates": [_candidate(c, r.modes) for c in r.candidates],
-    }
-
-
-def _candidate(c, modes) -> dict:
-    return {"name": c.configuration.name,
-            "additions": [{"coordinate": a.coordinate, "mass": a.mass, "stiffness": a.stiffness}
-                          for a in c.configuration.additions],
-            "shifts_hz": dict(zip((str(k) for k in modes), c.shifts_hz, strict=True)),
-            "shift_in_std": c.shift_in_std, "relative_gap": c.relative_gap,
-            "order_kept": c.order_kept, "exchange_risk": c.exchange_risk,
-            "admissible": c.admissible}
 
 
 def design_text(r: DesignResult, initial: dict[str, float], title: str) -> str:

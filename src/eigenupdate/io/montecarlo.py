@@ -27,13 +27,16 @@ def trials_csv(r: MonteCarloResult) -> str:
     return buf.getvalue()
 
 
-def write_montecarlo(r: MonteCarloResult, directory: str | Path, title: str = "") -> list[Path]:
-    """Write :data:`FILES` into ``directory`` (created if needed); returns their paths."""
+def write_montecarlo(r: MonteCarloResult, directory: str | Path, title: str = "",
+                     extra: dict | None = None) -> list[Path]:
+    """Write :data:`FILES` into ``directory`` (created if needed): summary.json is
+    :meth:`MonteCarloResult.to_dict` (with ``extra`` keys, e.g. where it ran); returns
+    their paths."""
     d = Path(directory)
     make_dir(d)
     s = r.summary()
     write_text(d / FILES[0], trials_csv(r))
-    write_text(d / FILES[1], dumps(s) + "\n")
+    write_text(d / FILES[1], dumps({**r.to_dict(), **(extra or {})}) + "\n")
     p = s["parameters"]
     if p:
         plot_std_comparison(d / FILES[2], r.names, [p[n]["empirical_std"] for n in r.names],

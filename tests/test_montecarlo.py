@@ -61,7 +61,11 @@ def test_truth_file_and_noise_from_the_design_table(tmp_path, run_cli):
     assert code == 0, err
     assert "\r" not in err  # the progress bar is for terminals only
     doc = json.loads(out)
-    assert doc["converged"] == 4
+    # every trial runs the checks of `eigenupdate update`: at 0.01 Hz the exchange test
+    # cannot separate mode 1 of '0.35 kg at 1' and '0.35 kg at 4' (about 2 std apart;
+    # identify/exchange.py) and refuses some correct data, counted apart, not as estimates
+    assert doc["converged"] >= 2 and doc["not_converged"] == doc["refused"] == 0
+    assert doc["converged"] + doc["caught"]["exchange"] == 4
     truth = {"m1": 10.0, "k1": 1.0e6}
     rows = (tmp_path / "mc" / "trials.csv").read_text().splitlines()
     header = rows[0].split(",")

@@ -20,12 +20,23 @@ from eigenupdate.design.plan import frequency_std
 from eigenupdate.design.prior import PriorPrediction, draw_values, predict_plan
 from eigenupdate.design.spec import DesignSpec
 from eigenupdate.errors import InputError, NumericalError
-from eigenupdate.identify.updating import update
+from eigenupdate.identify.checked import (
+    CONVERGED,
+    EXCHANGE,
+    REJECTED,
+    SECOND_SOLUTION,
+    checked_update,
+)
 from eigenupdate.identify.weights import prior_weights
 from eigenupdate.measure.measurement import Measurement, eigenvalue_std
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.jacobian import linearise, solve_configurations
+
+TRIAL_REFITS = 4
+"""Exchange refits per trial: the closest candidates in std, where an exchange is most
+likely to fit as well; ``eigenupdate update`` refits up to
+:data:`eigenupdate.identify.exchange.MAX_REFITS`."""
 
 
 @dataclass(frozen=True)
@@ -41,17 +52,21 @@ class TrialSetup:
     tolerance: float
     truth: np.ndarray | None = None  # all parameter values; None: draw from the prior
     optimizer: str = "trust-region"  # as the study's [updating] optimizer
+    max_refits: int = TRIAL_REFITS  # exchange refits per trial (the closest candidates)
 
 
 def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
-    """One virtual test; returns truth, estimate and reported std of the updated parameters."""
+    """One virtual test, updated and checked as ``eigenupdate update`` does
+    (:func:`eigenupdate.identify.checked.checked_update`); returns truth, estimate and
+    reported std of the updated parameters and the outcome (a trial whose fit the checks
+    catch keeps its estimate but is not counted as converged)."""
     rng = np.random.default_rng(seed)
     model = setup.model
     upd = model.updated
     truth = setup.truth.copy() if setup.truth is not None else draw_values(model, rng)
     out = {"truth": truth[upd], "estimate": np.full(upd.size, np.nan),
            "std": np.full(upd.size, np.nan), "converged": False, "refused": False, "nit": 0,
-           "message": ""}
+           "outcome": "refused", "message": ""}
     try:
         sols = solve_configurations(model, setup.configurations, max(setup.modes), truth)
         meas = {}
@@ -60,16 +75,19 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
                 std = setup.std_hz[(c.name, k)]
                 meas[(c.name, k)] = Measurement(
                     c.name, k, float(sol.frequencies_hz[k - 1] + rng.normal(0.0, std)), std)
-        res = update(model, setup.configurations, setup.modes, meas, method=setup.method,
-                     optimizer=setup.optimizer, max_iterations=setup.max_iterations,
-                     xtol=setup.tolerance)
+        checked = checked_update(model, setup.configurations, setup.modes, meas,
+                                 method=setup.method, optimizer=setup.optimizer,
+                                 max_iterations=setup.max_iterations, xtol=setup.tolerance,
+                                 max_refits=setup.max_refits, seed=rng.integers(2**63))
     except (InputError, NumericalError) as exc:  # a truth or its data the update refuses
         out.update(refused=True, message=str(exc))
         return out
+    res = checked.result
     names = [model.names[j] for j in upd]
     out.update(estimate=np.array([res.parameters[n] for n in names]),
                std=np.array([np.nan if res.std[n] is None else res.std[n] for n in names]),
-               converged=res.converged, nit=res.nit, message=res.message)
+               converged=checked.outcome == CONVERGED, nit=res.nit,
+               outcome=checked.outcome, message=res.message)
     return out
 
 
@@ -107,10 +125,17 @@ class MonteCarloResult:
 
     def counts(self) -> tuple[int, int, int]:
         """Trials converged, not converged (the update ran out of iterations or could not
-        lower the objective) and refused (the update refused the truth or its data)."""
+        lower the objective) and refused (the update refused the truth or its data); the
+        trials the checks caught are counted apart (:meth:`caught`)."""
         refused = sum(bool(t["refused"]) for t in self.trials)
         ok = sum(bool(t["converged"]) for t in self.trials)
-        return ok, len(self.trials) - ok - refused, refused
+        return ok, len(self.trials) - ok - refused - sum(self.caught().values()), refused
+
+    def caught(self) -> dict[str, int]:
+        """Trials whose converged fit the checks caught, by check: the data reject it
+        (``rejected``), a second solution fits as well, or a mode exchange does."""
+        return {k: sum(t.get("outcome") == k for t in self.trials)
+                for k in (REJECTED, SECOND_SOLUTION, EXCHANGE)}
 
     def refusal(self) -> str | None:
         """Why the statistics are not given (None when they are)."""
@@ -123,8 +148,8 @@ class MonteCarloResult:
             return (f"every one of the {refused} trials was refused by the update, e.g.: "
                     f"{first}")
         return (f"statistics need at least {MIN_CONVERGED} converged trials, {ok} of "
-                f"{len(self.trials)} converged ({bad} not converged, {refused} refused), "
-                f"e.g.: {first}")
+                f"{len(self.trials)} converged ({bad} not converged, {refused} refused, "
+                f"{sum(self.caught().values())} caught by the checks), e.g.: {first}")
 
     def summary(self) -> dict:
         """Per parameter over the converged trials: bias, empirical std of the error,
@@ -133,7 +158,11 @@ class MonteCarloResult:
         ok = [t for t in self.trials if t["converged"]]
         n = len(self.trials)
         _, bad, refused = self.counts()
+        caught = self.caught()
+        gross = sum(caught.values())
         doc = {"trials": n, "converged": len(ok), "not_converged": bad, "refused": refused,
+               "caught": caught, "caught_fraction": gross / n,
+               "gross_error_fraction": (gross + bad) / n,
                "not_converged_fraction": bad / n, "refused_fraction": refused / n,
                "minimum_converged": MIN_CONVERGED,
                "statistics_refused": self.refusal(),

@@ -9,6 +9,8 @@ so results do not depend on where or in which order the trials run.
 
 from __future__ import annotations
 
+import time
+from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -53,6 +55,21 @@ class TrialSetup:
     truth: np.ndarray | None = None  # all parameter values; None: draw from the prior
     optimizer: str = "trust-region"  # as the study's [updating] optimizer
     max_refits: int = TRIAL_REFITS  # exchange refits per trial (the closest candidates)
+    starts: int | None = None  # fits from prior draws testing uniqueness (None: default)
+
+
+def simulate(setup: TrialSetup, truth: np.ndarray, rng: np.random.Generator
+             ) -> dict[tuple[str, int], Measurement]:
+    """The measured frequencies of the plan at ``truth`` (all parameter values), each with
+    Gaussian noise of its stated std."""
+    sols = solve_configurations(setup.model, setup.configurations, max(setup.modes), truth)
+    meas = {}
+    for c, sol in zip(setup.configurations, sols, strict=True):
+        for k in setup.modes:
+            std = setup.std_hz[(c.name, k)]
+            meas[(c.name, k)] = Measurement(
+                c.name, k, float(sol.frequencies_hz[k - 1] + rng.normal(0.0, std)), std)
+    return meas
 
 
 def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
@@ -68,17 +85,12 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
            "std": np.full(upd.size, np.nan), "converged": False, "refused": False, "nit": 0,
            "outcome": "refused", "message": ""}
     try:
-        sols = solve_configurations(model, setup.configurations, max(setup.modes), truth)
-        meas = {}
-        for c, sol in zip(setup.configurations, sols, strict=True):
-            for k in setup.modes:
-                std = setup.std_hz[(c.name, k)]
-                meas[(c.name, k)] = Measurement(
-                    c.name, k, float(sol.frequencies_hz[k - 1] + rng.normal(0.0, std)), std)
+        meas = simulate(setup, truth, rng)
         checked = checked_update(model, setup.configurations, setup.modes, meas,
                                  method=setup.method, optimizer=setup.optimizer,
                                  max_iterations=setup.max_iterations, xtol=setup.tolerance,
-                                 max_refits=setup.max_refits, seed=rng.integers(2**63))
+                                 max_refits=setup.max_refits, starts=setup.starts,
+                                 seed=rng.integers(2**63))
     except (InputError, NumericalError) as exc:  # a truth or its data the update refuses
         out.update(refused=True, message=str(exc))
         return out
@@ -89,6 +101,47 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
                converged=checked.outcome == CONVERGED, nit=res.nit,
                outcome=checked.outcome, message=res.message)
     return out
+
+
+GROSS_DRAWS = 32
+"""Virtual tests behind the predicted chance of a gross error (binomial standard error
+at most 0.09, 0.05 at a 10 % chance)."""
+GROSS_SEED = 0x67726F7373
+"""Root seed of those tests: a stream of its own, apart from any Monte Carlo's trials."""
+
+
+@dataclass(frozen=True)
+class GrossPrediction:
+    """Chance that a test of the plan ends in a gross error: not converged, or a fit the
+    checks catch (data reject it, a second solution, a mode exchange).
+
+    Not a linear figure: the linearised posterior has no second solutions, exchanges or
+    failed iterations. It is the fraction of ``draws`` checked updates of data simulated
+    at draws of the truth from the prior with the stated noise (a refused draw counts
+    as gross too), with its binomial standard error; ``by_outcome`` counts each kind and
+    ``seconds`` is their share of the run's wall time."""
+
+    fraction: float
+    std_error: float
+    draws: int
+    by_outcome: dict[str, int]
+    seconds: float
+
+
+def gross_seeds(draws: int = GROSS_DRAWS, seed: int = GROSS_SEED
+                ) -> list[np.random.SeedSequence]:
+    """Seeds of the virtual tests behind :class:`GrossPrediction`."""
+    return np.random.SeedSequence(seed).spawn(draws)
+
+
+def predict_gross(trials: Sequence[dict], seconds: float) -> GrossPrediction:
+    """:class:`GrossPrediction` from the checked virtual tests ``trials`` (run with
+    :func:`run_trial` on :func:`gross_seeds`), which took ``seconds``."""
+    outcome = Counter(t["outcome"] for t in trials)
+    n = len(trials)
+    p = (n - outcome.get(CONVERGED, 0)) / n
+    return GrossPrediction(p, float(np.sqrt(max(p * (1 - p), 1 / n) / n)), n,
+                           dict(outcome), seconds)
 
 
 MIN_CONVERGED = 3
@@ -110,6 +163,8 @@ class MonteCarloResult:
     prior : the plan's accuracy averaged over draws of the truth from the prior
         (:func:`eigenupdate.design.prior.predict_plan`), what the trials' spread is to
         match; None when a truth is given.
+    gross : the predicted chance of a gross error (:func:`predict_gross`), None when a
+        truth is given.
     """
 
     names: list[str]
@@ -117,6 +172,7 @@ class MonteCarloResult:
     linear_std: np.ndarray
     entropy: int
     prior: PriorPrediction | None = None
+    gross: GrossPrediction | None = None
 
     @property
     def predicted_std(self) -> np.ndarray:
@@ -162,7 +218,7 @@ class MonteCarloResult:
         gross = sum(caught.values())
         doc = {"trials": n, "converged": len(ok), "not_converged": bad, "refused": refused,
                "caught": caught, "caught_fraction": gross / n,
-               "gross_error_fraction": (gross + bad) / n,
+               "gross_error_fraction": (n - len(ok)) / n,
                "not_converged_fraction": bad / n, "refused_fraction": refused / n,
                "minimum_converged": MIN_CONVERGED,
                "statistics_refused": self.refusal(),
@@ -178,6 +234,12 @@ class MonteCarloResult:
             doc["prior_draws"] = self.prior.draws
             doc["prior_draw_seconds"] = self.prior.seconds
             doc["predicted_gross_risk"] = self.prior.gross_risk
+        if self.gross is not None:
+            doc["predicted_gross_error_fraction"] = self.gross.fraction
+            doc["predicted_gross_error_fraction_error"] = self.gross.std_error
+            doc["predicted_gross_by_outcome"] = self.gross.by_outcome
+            doc["predicted_gross_draws"] = self.gross.draws
+            doc["predicted_gross_seconds"] = self.gross.seconds
         for i, name in enumerate(self.names):
             doc["parameters"][name] = {
                 "bias": float(err[:, i].mean()), "empirical_std": float(emp[i]),
@@ -235,7 +297,9 @@ def predicted_std(setup: TrialSetup) -> np.ndarray:
 
 def montecarlo(setup: TrialSetup, trials: int, seed: int | None = None, executor=None,
                progress: Progress | None = None) -> MonteCarloResult:
-    """Run ``trials`` virtual tests of the plan in ``setup`` on ``executor``.
+    """Run ``trials`` virtual tests of the plan in ``setup`` on ``executor``, and (truth
+    drawn from the prior) the :data:`GROSS_DRAWS` tests of the predicted chance of a gross
+    error with them (``progress(done, total)`` counts both).
 
     Examples
     --------
@@ -264,8 +328,15 @@ def montecarlo(setup: TrialSetup, trials: int, seed: int | None = None, executor
     prior = None if setup.truth is not None else predict_plan(
         setup.model, setup.configurations, setup.modes, setup.std_hz, setup.method,
         PRIOR_DRAWS)
-    results = (executor or InProcess()).map(run_trial, setup, root.spawn(trials), progress)
-    return MonteCarloResult(names, results, linear, int(root.entropy), prior)
+    # the tests behind the predicted chance of a gross error run with the trials, on one
+    # executor: a seed stream of their own, so the trials do not depend on them
+    extra = [] if setup.truth is not None else gross_seeds()
+    t0 = time.perf_counter()
+    results = (executor or InProcess()).map(run_trial, setup, [*root.spawn(trials), *extra],
+                                            progress)
+    share = (time.perf_counter() - t0) * len(extra) / (trials + len(extra))
+    gross = predict_gross(results[trials:], share) if extra else None
+    return MonteCarloResult(names, results[:trials], linear, int(root.entropy), prior, gross)
 
 
 PRIOR_DRAWS = 64

@@ -25,10 +25,15 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
-import scipy.stats
 
 from eigenupdate.errors import InputError, NumericalError
-from eigenupdate.identify.consistency import Consistency, residual_consistency
+from eigenupdate.identify.consistency import (
+    ALPHA_DISTINCT,
+    Consistency,
+    distance,
+    residual_consistency,
+    stated_covariance,
+)
 from eigenupdate.identify.exchange import MAX_REFITS, ExchangeTest, exchange_test
 from eigenupdate.identify.plausibility import check_measured_frequencies
 from eigenupdate.identify.updating import UpdateResult, update
@@ -52,10 +57,11 @@ STARTS = 4
 a prior std on every updated parameter; a random 6-mass network with a 10 % prior has a
 second solution within noise in about 1 of 10 draws of its truth)."""
 
-ALPHA_SECOND = 1e-4
+ALPHA_SECOND = ALPHA_DISTINCT
 """A second fit counts as another solution when it lies outside the first fit's
 (1 - ALPHA_SECOND) confidence ellipsoid: (x2 - x1)^T C^-1 (x2 - x1) above the chi-square
-quantile with p degrees of freedom (C the first fit's posterior covariance)."""
+quantile with p degrees of freedom (C the first fit's posterior covariance;
+:func:`eigenupdate.identify.consistency.distance`)."""
 
 
 def draw_values(model: ParametricModel, rng: np.random.Generator) -> np.ndarray:
@@ -92,7 +98,8 @@ class SecondSolution:
     """A fit from another start that the data accept as well, far from the first.
 
     ``distance2``: (x2 - x1)^T C^-1 (x2 - x1) with the first fit's covariance, against
-    ``limit`` (chi-square quantile at ALPHA_SECOND); ``chi2``: first and second fit's
+    ``limit`` (chi-square quantile at ALPHA_SECOND; C from the stated std,
+    :func:`eigenupdate.identify.consistency.stated_covariance`); ``chi2``: first and second fit's
     statistics; ``parameter``/``difference``: the largest relative difference."""
 
     values: dict[str, float]
@@ -152,12 +159,10 @@ def second_solution(model: ParametricModel, configurations: Sequence[Configurati
     """Fit again from ``starts`` draws of the prior (``kw``: the first fit's settings);
     the first fit that passes the chi-square test outside the first fit's confidence
     ellipsoid (see :data:`ALPHA_SECOND`), and the number of fits tried."""
-    if fit.cov is None or not has_prior(model):
+    if not has_prior(model) or starts < 1:
         return None, 0
-    cinv = np.linalg.pinv(fit.cov)
-    p = fit.x.size
-    limit = float(scipy.stats.chi2.isf(ALPHA_SECOND, p))
     method = kw["method"]
+    cov = stated_covariance(model, configurations, modes, fit, measurements, method)[1]
     for i in range(starts):
         try:
             res = update(model, configurations, modes, measurements,
@@ -167,10 +172,9 @@ def second_solution(model: ParametricModel, configurations: Sequence[Configurati
         test = _consistency(res, measurements, model, method)
         if not res.success or test is None or test.rejected:
             continue
-        dx = res.x - fit.x
-        d2 = float(dx @ cinv @ dx)
+        d2, limit = distance(fit.x, cov, res.x)
         if d2 > limit:
-            rel = np.abs(dx) / np.maximum(np.abs(fit.x), np.finfo(float).tiny)
+            rel = np.abs(res.x - fit.x) / np.maximum(np.abs(fit.x), np.finfo(float).tiny)
             j = int(np.argmax(rel))
             return SecondSolution(dict(zip(res.names, res.x.tolist(), strict=True)), d2,
                                   limit, (chi2, test.chi2), fit.names[j], float(rel[j])), i + 1
@@ -234,7 +238,8 @@ def checked_update(
         return CheckedUpdate(replace(res, success=False, message=f"{res.message}; but "
                                      f"{swap.ambiguous.message()}"),
                              EXCHANGE, fit, None, tried, swap)
-    if swap.skipped:
+    if swap.skipped or swap.harmless:
         res = replace(res, message=f"{res.message}; mode exchanges between configurations "
-                      f"tested: {swap.refitted}, not tested (limit): {swap.skipped}")
+                      f"tested: {swap.refitted}, not tested (limit): {swap.skipped}, fitting "
+                      f"as well with the same answer within its std: {swap.harmless}")
     return CheckedUpdate(res, CONVERGED, fit, None, tried, swap)

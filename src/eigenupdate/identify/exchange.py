@@ -14,18 +14,23 @@ fits' chi-square statistics (:mod:`eigenupdate.identify.consistency`),
 Delta = chi2_exchanged - chi2_first.
 
 The rule is maximum likelihood: the update is refused when Delta <= 0 (the exchanged
-labelling fits at least as well). Its error probabilities are stated with it. Linearised
-at the first fit, the two labellings are d std apart: d is the norm of the exchange's
-change of the data (in std) orthogonal to what the parameters (and the Bayesian prior
+labelling fits at least as well) and the exchanged fit's estimate lies outside the first
+fit's confidence ellipsoid at :data:`eigenupdate.identify.consistency.ALPHA_DISTINCT`
+(:func:`eigenupdate.identify.consistency.distance`): an exchange whose answer agrees with
+the first within its stated uncertainty changes nothing a user reads, and is counted as
+harmless instead. The error probabilities are stated with the rule. Linearised at the
+first fit, the two labellings are d std apart: d is the norm of the exchange's change
+of the data (in std) orthogonal to what the parameters (and the Bayesian prior
 rows) can absorb, :func:`separation`. With Gaussian noise, Delta ~ N(d^2, (2d)^2) when
 the first labelling is right and N(-d^2, (2d)^2) when the exchanged one is, so correct
 data are refused, and exchanged data pass, each with probability Phi(-d/2); the message
 gives d and that probability. Why not a rule with a fixed significance ALPHA for the
 exchanged data (refuse unless Delta >= 2 d z_ALPHA - d^2): Fig. 2's plan (12 equations,
 10 parameters) absorbs most of an exchange, d = 1.4-2.2 std for four candidates at
-0.01 Hz, and at ALPHA = 0.01 it refused 18 of 20 correct noisy data sets and the shipped
-error-free data (whose exchanged fits give Delta = d^2 < 2 d z - d^2). Such a plan cannot
-separate the labellings; its designer sees the risk in d (see ``design``).
+0.01 Hz, and at ALPHA = 0.01 it refused 18 of 20 correct noisy data sets; error-free
+data (Delta = d^2) would be refused whenever d < z_ALPHA = 2.33. Such a plan cannot
+separate the labellings; the chance that its tests end refused is counted in the
+predicted chance of a gross error (:func:`eigenupdate.design.montecarlo.predict_gross`).
 
 The refit starts from the study's initial model with the study's estimator and
 optimiser, not from the first fit: the first fit is the attractor of its own labelling,
@@ -55,14 +60,18 @@ import numpy as np
 import scipy.stats
 
 from eigenupdate.errors import InputError, NumericalError
-from eigenupdate.identify.consistency import DEFAULT_RELATIVE_STD, residual_consistency
+from eigenupdate.identify.consistency import (
+    DEFAULT_RELATIVE_STD,
+    distance,
+    residual_consistency,
+    stated_covariance,
+)
 from eigenupdate.identify.updating import UpdateResult, update
 from eigenupdate.identify.weights import prior_weights
 from eigenupdate.measure.measurement import Measurement
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.eigen import DENSE_LIMIT
-from eigenupdate.solve.jacobian import linearise
 
 N_STD = 3.0
 """Exchanges of values closer than this many combined std are not tested."""
@@ -115,6 +124,9 @@ class ExchangeTest:
     ambiguous: Exchange | None
     refitted: int
     skipped: int
+    harmless: int = 0
+    """Exchanges that fit as well but whose estimate lies inside the first fit's
+    confidence ellipsoid: the labelling does not change the answer."""
 
 
 def _std(m: Measurement) -> float:
@@ -188,13 +200,12 @@ def exchange_test(
     whose chi-square statistic is ``chi2``; the arguments are those of the first fit."""
     todo = candidates(configurations, modes, measurements)
     n_all, todo = len(todo), todo[:max_refits]
-    refitted, spent = 0, 0
+    refitted, spent, harmless = 0, 0, 0
     budget = np.inf if model.n <= DENSE_LIMIT else COST_SPARSE * fit.nfev
     index = {r: i for i, r in enumerate(fit.rows)}
     std_hz = np.array([_std(measurements[r]) for r in fit.rows])
     if todo:
-        lin = linearise(model, configurations, modes, fit.model.values)
-        jn = lin.normalised[[lin.rows.index(r) for r in fit.rows]]
+        jn, cov = stated_covariance(model, configurations, modes, fit, measurements, method)
         prior = prior_weights(model) if method == "bayesian" else np.zeros(jn.shape[1])
     for _, k, a, b in todo:
         if spent >= budget:
@@ -218,6 +229,11 @@ def exchange_test(
                                     updated=res.parameters)
         if test is not None and (test.rejected or test.chi2 > chi2):
             continue
+        if np.all(np.isfinite(res.x)):
+            d2, limit = distance(fit.x, cov, res.x)
+            if d2 <= limit:
+                harmless += 1
+                continue  # both labellings give one answer within its confidence region
         d = separation(jn, fit.measured_hz, std_hz, prior, index[(a, k)], index[(b, k)])
         first, other = fit.x, res.x
         rel = np.abs(other - first) / np.maximum(np.abs(first), np.finfo(float).tiny)
@@ -226,5 +242,5 @@ def exchange_test(
             Exchange(a, b, k, (chi2, np.nan if test is None else test.chi2),
                      0 if test is None else test.dof, fit.names[j], float(rel[j]),
                      dict(zip(res.names, res.x.tolist(), strict=True)), d),
-            refitted, n_all - refitted)
-    return ExchangeTest(None, refitted, n_all - refitted)
+            refitted, n_all - refitted, harmless)
+    return ExchangeTest(None, refitted, n_all - refitted, harmless)

@@ -241,7 +241,8 @@ def checked_update(
                                      f"{swap.ambiguous.message()}"),
                              EXCHANGE, fit, None, tried, swap)
     if swap.skipped or swap.harmless:
+        same = (f", fitting as well with the same answer within its std: {swap.harmless}"
+                if swap.harmless else "")
         res = replace(res, message=f"{res.message}; mode exchanges between configurations "
-                      f"tested: {swap.refitted}, not tested (limit): {swap.skipped}, fitting "
-                      f"as well with the same answer within its std: {swap.harmless}")
+                      f"tested: {swap.refitted}, not tested (limit): {swap.skipped}{same}")
     return CheckedUpdate(res, CONVERGED, fit, None, tried, swap)

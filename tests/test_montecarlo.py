@@ -61,7 +61,11 @@ def test_truth_file_and_noise_from_the_design_table(tmp_path, run_cli):
     assert code == 0, err
     assert "\r" not in err  # the progress bar is for terminals only
     doc = json.loads(out)
-    assert doc["converged"] == 4
+    # every trial runs the checks of `eigenupdate update`: at 0.01 Hz the exchange test
+    # cannot separate mode 1 of '0.35 kg at 1' and '0.35 kg at 4' (about 2 std apart;
+    # identify/exchange.py) and refuses some correct data, counted apart, not as estimates
+    assert doc["converged"] >= 2 and doc["not_converged"] == doc["refused"] == 0
+    assert doc["converged"] + doc["caught"]["exchange"] == 4
     truth = {"m1": 10.0, "k1": 1.0e6}
     rows = (tmp_path / "mc" / "trials.csv").read_text().splitlines()
     header = rows[0].split(",")
@@ -170,15 +174,18 @@ def test_same_results_on_a_real_scheduler_and_two_worker_processes(tmp_path, run
 
 
 def test_automatic_choice_keeps_a_small_study_in_process(tmp_path, run_cli):
-    # 20 trials of the beam take about a second here: no cluster is started, and the
-    # summary says which executor was chosen and why
-    code, out, err = run_cli("montecarlo", BEAM, "--trials", 20, "--seed", 11, "--json")
+    # 10 checked trials of the beam at a given truth (no tests of the gross-error chance)
+    # take about 4 s of CPU (0.44 s each, up to 9 fits with the multi-start and the
+    # exchange refits): no cluster is started, and the summary says which executor was
+    # chosen and why
+    code, out, err = run_cli("montecarlo", BEAM, "--trials", 10, "--seed", 11, "--truth",
+                             BEAM, "--json")
     assert code == 0, err
     doc = json.loads(out)
-    assert doc["executor"].startswith("in-process (automatic: 19 more tasks x ")
+    assert doc["executor"].startswith("in-process (automatic: 9 more tasks x ")
     assert "automatic" in err
-    code, out2, _ = run_cli("montecarlo", BEAM, "--trials", 20, "--seed", 11, "--json",
-                            "--in-process")
+    code, out2, _ = run_cli("montecarlo", BEAM, "--trials", 10, "--seed", 11, "--truth",
+                            BEAM, "--json", "--in-process")
     a, b = json.loads(out2), doc
     assert a["parameters"] == b["parameters"] and a["converged"] == b["converged"]
 

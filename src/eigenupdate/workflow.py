@@ -15,18 +15,16 @@ and returns a typed result, so a notebook does what ``eigenupdate <command>`` do
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.identify.consistency import residual_consistency
-from eigenupdate.identify.exchange import exchange_test
+from eigenupdate.identify.checked import checked_update
 from eigenupdate.identify.identifiability import IdentifiabilityReport, check
-from eigenupdate.identify.plausibility import check_measured_frequencies
-from eigenupdate.identify.updating import UpdateResult, update
+from eigenupdate.identify.updating import UpdateResult
 from eigenupdate.identify.weights import estimator_weights
 from eigenupdate.io.frf_files import read_frf_files
 from eigenupdate.io.results import read_json, read_loss_factors, read_result
@@ -76,40 +74,17 @@ def update_study(study: Study, method: str | None = None, optimizer: str | None 
     structure's rigid-body modes: added stiffness cannot lower an eigenvalue of a grounded
     structure), and a converged fit that the data reject (chi-square test of the
     residuals, :mod:`eigenupdate.identify.consistency`) is returned as not converged,
-    naming the configurations and modes that do not fit; so is a fit whose data another
-    labelling fits as well (a mode's values exchanged between two configurations,
-    :mod:`eigenupdate.identify.exchange`).
+    naming the configurations and modes that do not fit; so is a fit that a fit from a
+    draw of the prior matches within noise far from it (a second solution), and a fit
+    whose data another labelling fits as well (a mode's values exchanged between two
+    configurations): :func:`eigenupdate.identify.checked.checked_update`.
     """
-    meas = study.measurements()
-    method = method or study.method
-    n_rigid = solve_configurations(study.model, study.configurations[:1], 1)[0].n_rigid
-    check_measured_frequencies(study.configurations, meas, source=str(study.frequencies),
-                               n_rigid=n_rigid)
-    res = update(
-        study.model, study.configurations, study.require_modes(), meas,
-        method=method, optimizer=optimizer or study.optimizer,
+    return checked_update(
+        study.model, study.configurations, study.require_modes(), study.measurements(),
+        method=method or study.method, optimizer=optimizer or study.optimizer,
         max_iterations=study.max_iterations, xtol=study.tolerance,
         source=str(study.frequencies), progress=progress,
-    )
-    if not res.success:
-        return res
-    fit = residual_consistency(res.rows, res.measured_hz, res.updated_hz, meas,
-                               res.identifiability.rank, model=study.model if
-                               method == "bayesian" else None, updated=res.parameters)
-    if fit is None:
-        return res
-    if fit.rejected:
-        return replace(res, success=False, message=f"{res.message}; but {fit.message()}")
-    swap = exchange_test(study.model, study.configurations, study.require_modes(), meas, res,
-                         fit.chi2, method=method, optimizer=optimizer or study.optimizer,
-                         max_iterations=study.max_iterations, xtol=study.tolerance)
-    if swap.ambiguous is not None:
-        return replace(res, success=False, message=f"{res.message}; but "
-                       f"{swap.ambiguous.message()}")
-    if swap.skipped:
-        res = replace(res, message=f"{res.message}; mode exchanges between configurations "
-                      f"tested: {swap.refitted}, not tested (limit): {swap.skipped}")
-    return res
+    ).result
 
 
 def study_frequencies(study: Study, n_modes: int | None = None) -> dict[str, np.ndarray]:

@@ -9,6 +9,8 @@ so results do not depend on where or in which order the trials run.
 
 from __future__ import annotations
 
+import time
+from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import ClassVar
@@ -21,13 +23,25 @@ from eigenupdate.design.plan import frequency_std
 from eigenupdate.design.prior import PriorPrediction, draw_values, predict_plan
 from eigenupdate.design.spec import DesignSpec
 from eigenupdate.errors import InputError, NumericalError
-from eigenupdate.identify.updating import update
+from eigenupdate.identify.checked import (
+    CONVERGED,
+    EXCHANGE,
+    OUTCOMES,
+    REJECTED,
+    SECOND_SOLUTION,
+    checked_update,
+)
 from eigenupdate.identify.weights import prior_weights
 from eigenupdate.measure.measurement import Measurement, eigenvalue_std
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.schema import finite_or_none, reader
 from eigenupdate.solve.jacobian import linearise, solve_configurations
+
+TRIAL_REFITS = 4
+"""Exchange refits per trial: the closest candidates in std, where an exchange is most
+likely to fit as well; ``eigenupdate update`` refits up to
+:data:`eigenupdate.identify.exchange.MAX_REFITS`."""
 
 
 @dataclass(frozen=True)
@@ -43,36 +57,94 @@ class TrialSetup:
     tolerance: float
     truth: np.ndarray | None = None  # all parameter values; None: draw from the prior
     optimizer: str = "trust-region"  # as the study's [updating] optimizer
+    max_refits: int = TRIAL_REFITS  # exchange refits per trial (the closest candidates)
+    starts: int | None = None  # fits from prior draws testing uniqueness (None: default)
+
+
+def simulate(setup: TrialSetup, truth: np.ndarray, rng: np.random.Generator
+             ) -> dict[tuple[str, int], Measurement]:
+    """The measured frequencies of the plan at ``truth`` (all parameter values), each with
+    Gaussian noise of its stated std."""
+    sols = solve_configurations(setup.model, setup.configurations, max(setup.modes), truth)
+    meas = {}
+    for c, sol in zip(setup.configurations, sols, strict=True):
+        for k in setup.modes:
+            std = setup.std_hz[(c.name, k)]
+            meas[(c.name, k)] = Measurement(
+                c.name, k, float(sol.frequencies_hz[k - 1] + rng.normal(0.0, std)), std)
+    return meas
 
 
 def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
-    """One virtual test; returns truth, estimate and reported std of the updated parameters."""
+    """One virtual test, updated and checked as ``eigenupdate update`` does
+    (:func:`eigenupdate.identify.checked.checked_update`); returns truth, estimate and
+    reported std of the updated parameters and the outcome (a trial whose fit the checks
+    catch keeps its estimate but is not counted as converged)."""
     rng = np.random.default_rng(seed)
     model = setup.model
     upd = model.updated
     truth = setup.truth.copy() if setup.truth is not None else draw_values(model, rng)
     out = {"truth": truth[upd], "estimate": np.full(upd.size, np.nan),
            "std": np.full(upd.size, np.nan), "converged": False, "refused": False, "nit": 0,
-           "message": ""}
+           "outcome": "refused", "message": ""}
     try:
-        sols = solve_configurations(model, setup.configurations, max(setup.modes), truth)
-        meas = {}
-        for c, sol in zip(setup.configurations, sols, strict=True):
-            for k in setup.modes:
-                std = setup.std_hz[(c.name, k)]
-                meas[(c.name, k)] = Measurement(
-                    c.name, k, float(sol.frequencies_hz[k - 1] + rng.normal(0.0, std)), std)
-        res = update(model, setup.configurations, setup.modes, meas, method=setup.method,
-                     optimizer=setup.optimizer, max_iterations=setup.max_iterations,
-                     xtol=setup.tolerance)
+        meas = simulate(setup, truth, rng)
+        checked = checked_update(model, setup.configurations, setup.modes, meas,
+                                 method=setup.method, optimizer=setup.optimizer,
+                                 max_iterations=setup.max_iterations, xtol=setup.tolerance,
+                                 max_refits=setup.max_refits, starts=setup.starts,
+                                 seed=rng.integers(2**63))
     except (InputError, NumericalError) as exc:  # a truth or its data the update refuses
         out.update(refused=True, message=str(exc))
         return out
+    res = checked.result
     names = [model.names[j] for j in upd]
     out.update(estimate=np.array([res.parameters[n] for n in names]),
                std=np.array([np.nan if res.std[n] is None else res.std[n] for n in names]),
-               converged=res.success, nit=res.nit, message=res.message)
+               converged=checked.outcome == CONVERGED, nit=res.nit,
+               outcome=checked.outcome, message=res.message)
     return out
+
+
+GROSS_DRAWS = 32
+"""Virtual tests behind the predicted chance of a gross error (binomial standard error
+at most 0.09, 0.05 at a 10 % chance)."""
+GROSS_SEED = 0x67726F7373
+"""Root seed of those tests: a stream of its own, apart from any Monte Carlo's trials."""
+
+
+@dataclass(frozen=True)
+class GrossPrediction:
+    """Chance that a test of the plan ends in a gross error: not converged, or a fit the
+    checks catch (data reject it, a second solution, a mode exchange).
+
+    Not a linear figure: the linearised posterior has no second solutions, exchanges or
+    failed iterations. It is the fraction of ``draws`` checked updates of data simulated
+    at draws of the truth from the prior with the stated noise (a refused draw counts
+    as gross too), with its binomial standard error; ``by_outcome`` counts each kind and
+    ``seconds`` is their share of the run's wall time."""
+
+    fraction: float
+    std_error: float
+    draws: int
+    by_outcome: dict[str, int]
+    seconds: float
+
+
+def gross_seeds(draws: int = GROSS_DRAWS, seed: int = GROSS_SEED
+                ) -> list[np.random.SeedSequence]:
+    """Seeds of the virtual tests behind :class:`GrossPrediction`."""
+    return np.random.SeedSequence(seed).spawn(draws)
+
+
+def predict_gross(trials: Sequence[dict], seconds: float) -> GrossPrediction:
+    """:class:`GrossPrediction` from the checked virtual tests ``trials`` (run with
+    :func:`run_trial` on :func:`gross_seeds`), which took ``seconds``."""
+    outcome = Counter(t["outcome"] for t in trials)
+    n = len(trials)
+    p = (n - outcome.get(CONVERGED, 0)) / n
+    return GrossPrediction(p, float(np.sqrt(max(p * (1 - p), 1 / n) / n)), n,
+                           dict(outcome), seconds)
 
 
 MIN_CONVERGED = 3
@@ -94,6 +166,8 @@ class MonteCarloResult:
     prior : the plan's accuracy averaged over draws of the truth from the prior
         (:func:`eigenupdate.design.prior.predict_plan`), what the trials' spread is to
         match; None when a truth is given.
+    gross : the predicted chance of a gross error (:func:`predict_gross`), None when a
+        truth is given.
     """
 
     names: list[str]
@@ -101,6 +175,7 @@ class MonteCarloResult:
     linear_std: np.ndarray
     entropy: int
     prior: PriorPrediction | None = None
+    gross: GrossPrediction | None = None
 
     SCHEMA: ClassVar[str] = "eigenupdate.montecarlo/1"
 
@@ -115,13 +190,18 @@ class MonteCarloResult:
             "schema": self.SCHEMA, **self.summary(), "names": self.names,
             "trial_results": [{**t, **{k: values(t[k]) for k in ("truth", "estimate", "std")},
                                "converged": bool(t["converged"]),
-                               "refused": bool(t["refused"]), "nit": int(t["nit"])}
+                               "refused": bool(t["refused"]), "nit": int(t["nit"]),
+                               "outcome": str(t["outcome"])}
                               for t in self.trials],
             "linear_std": values(self.linear_std), "entropy": str(self.entropy),
             "prior": None if self.prior is None else {
                 "std": values(self.prior.std), "std_error": values(self.prior.std_error),
                 "gross_risk": self.prior.gross_risk, "draws": self.prior.draws,
                 "seconds": self.prior.seconds},
+            "gross": None if self.gross is None else {
+                "fraction": self.gross.fraction, "std_error": self.gross.std_error,
+                "draws": self.gross.draws, "by_outcome": dict(self.gross.by_outcome),
+                "seconds": self.gross.seconds},
         }
 
     @classmethod
@@ -134,17 +214,24 @@ class MonteCarloResult:
             arrays = {k: t.array(k, nulls=True) for k in ("truth", "estimate", "std")}
             if any(a.size != len(names) for a in arrays.values()):
                 raise t.fail("truth", f"truth, estimate and std need {len(names)} values")
+            outcome = t.str("outcome")
+            if outcome not in (*OUTCOMES, "refused"):
+                raise t.fail("outcome", f"{outcome!r} is not one of {[*OUTCOMES, 'refused']}")
             trials.append({**arrays, "converged": t.bool("converged"),
                            "refused": t.bool("refused"), "nit": t.int("nit"),
-                           "message": t.str("message")})
+                           "outcome": outcome, "message": t.str("message")})
         p = r.child("prior", optional=True)
         prior = None if p is None else PriorPrediction(
             p.array("std"), p.array("std_error"), p.number("gross_risk"), p.int("draws"),
             p.number("seconds"))
+        g = r.child("gross", optional=True)
+        gross = None if g is None else GrossPrediction(
+            g.number("fraction"), g.number("std_error"), g.int("draws"),
+            {str(k): int(v) for k, v in g.raw("by_outcome", dict).items()}, g.number("seconds"))
         entropy = r.str("entropy")
         if not entropy.isdigit():
             raise r.fail("entropy", f"{entropy!r} is not a seed's entropy (digits)")
-        return cls(names, trials, r.array("linear_std"), int(entropy), prior)
+        return cls(names, trials, r.array("linear_std"), int(entropy), prior, gross)
 
     @property
     def predicted_std(self) -> np.ndarray:
@@ -153,10 +240,17 @@ class MonteCarloResult:
 
     def counts(self) -> tuple[int, int, int]:
         """Trials converged, not converged (the update ran out of iterations or could not
-        lower the objective) and refused (the update refused the truth or its data)."""
+        lower the objective) and refused (the update refused the truth or its data); the
+        trials the checks caught are counted apart (:meth:`caught`)."""
         refused = sum(bool(t["refused"]) for t in self.trials)
         ok = sum(bool(t["converged"]) for t in self.trials)
-        return ok, len(self.trials) - ok - refused, refused
+        return ok, len(self.trials) - ok - refused - sum(self.caught().values()), refused
+
+    def caught(self) -> dict[str, int]:
+        """Trials whose converged fit the checks caught, by check: the data reject it
+        (``rejected``), a second solution fits as well, or a mode exchange does."""
+        return {k: sum(t.get("outcome") == k for t in self.trials)
+                for k in (REJECTED, SECOND_SOLUTION, EXCHANGE)}
 
     def refusal(self) -> str | None:
         """Why the statistics are not given (None when they are)."""
@@ -169,8 +263,8 @@ class MonteCarloResult:
             return (f"every one of the {refused} trials was refused by the update, e.g.: "
                     f"{first}")
         return (f"statistics need at least {MIN_CONVERGED} converged trials, {ok} of "
-                f"{len(self.trials)} converged ({bad} not converged, {refused} refused), "
-                f"e.g.: {first}")
+                f"{len(self.trials)} converged ({bad} not converged, {refused} refused, "
+                f"{sum(self.caught().values())} caught by the checks), e.g.: {first}")
 
     def summary(self) -> dict:
         """Per parameter over the converged trials: bias, empirical std of the error,
@@ -179,7 +273,11 @@ class MonteCarloResult:
         ok = [t for t in self.trials if t["converged"]]
         n = len(self.trials)
         _, bad, refused = self.counts()
+        caught = self.caught()
+        gross = sum(caught.values())
         doc = {"trials": n, "converged": len(ok), "not_converged": bad, "refused": refused,
+               "caught": caught, "caught_fraction": gross / n,
+               "gross_error_fraction": (n - len(ok)) / n,
                "not_converged_fraction": bad / n, "refused_fraction": refused / n,
                "minimum_converged": MIN_CONVERGED,
                "statistics_refused": self.refusal(),
@@ -195,6 +293,12 @@ class MonteCarloResult:
             doc["prior_draws"] = self.prior.draws
             doc["prior_draw_seconds"] = self.prior.seconds
             doc["predicted_gross_risk"] = self.prior.gross_risk
+        if self.gross is not None:
+            doc["predicted_gross_error_fraction"] = self.gross.fraction
+            doc["predicted_gross_error_fraction_error"] = self.gross.std_error
+            doc["predicted_gross_by_outcome"] = self.gross.by_outcome
+            doc["predicted_gross_draws"] = self.gross.draws
+            doc["predicted_gross_seconds"] = self.gross.seconds
         for i, name in enumerate(self.names):
             doc["parameters"][name] = {
                 "bias": float(err[:, i].mean()), "empirical_std": float(emp[i]),
@@ -252,7 +356,9 @@ def predicted_std(setup: TrialSetup) -> np.ndarray:
 
 def montecarlo(setup: TrialSetup, trials: int, seed: int | None = None, executor=None,
                progress: Progress | None = None) -> MonteCarloResult:
-    """Run ``trials`` virtual tests of the plan in ``setup`` on ``executor``.
+    """Run ``trials`` virtual tests of the plan in ``setup`` on ``executor``, and (truth
+    drawn from the prior) the :data:`GROSS_DRAWS` tests of the predicted chance of a gross
+    error with them (``progress(done, total)`` counts both).
 
     Examples
     --------
@@ -281,8 +387,15 @@ def montecarlo(setup: TrialSetup, trials: int, seed: int | None = None, executor
     prior = None if setup.truth is not None else predict_plan(
         setup.model, setup.configurations, setup.modes, setup.std_hz, setup.method,
         PRIOR_DRAWS)
-    results = (executor or InProcess()).map(run_trial, setup, root.spawn(trials), progress)
-    return MonteCarloResult(names, results, linear, int(root.entropy), prior)
+    # the tests behind the predicted chance of a gross error run with the trials, on one
+    # executor: a seed stream of their own, so the trials do not depend on them
+    extra = [] if setup.truth is not None else gross_seeds()
+    t0 = time.perf_counter()
+    results = (executor or InProcess()).map(run_trial, setup, [*root.spawn(trials), *extra],
+                                            progress)
+    share = (time.perf_counter() - t0) * len(extra) / (trials + len(extra))
+    gross = predict_gross(results[trials:], share) if extra else None
+    return MonteCarloResult(names, results[:trials], linear, int(root.entropy), prior, gross)
 
 
 PRIOR_DRAWS = 64

@@ -35,38 +35,9 @@ import numpy as np
 
 from eigenupdate.design.criteria import criterion_value
 from eigenupdate.design.search import PlanScorer
-from eigenupdate.errors import InputError
+from eigenupdate.identify.checked import draw_values, has_prior  # noqa: F401 (re-exported)
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
-
-
-def draw_values(model: ParametricModel, rng: np.random.Generator) -> np.ndarray:
-    """All parameter values with the updated ones drawn from their priors N(s_0, sigma_s),
-    truncated at 0 (physical values only); fixed parameters keep their values.
-
-    >>> from eigenupdate.model.parameters import Parameter
-    >>> from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
-    >>> m = spring_mass_model([Mass(Parameter("m", 2.0, 0.1), 1)],
-    ...                       [Spring(Parameter("k", 800.0, 40.0, update=False), (0, 1))])
-    >>> v = draw_values(m, np.random.default_rng(0)); round(float(v[0]), 4), float(v[1])
-    (2.0126, 800.0)
-    """
-    values = model.values.copy()
-    for j in model.updated:
-        p = model.parameters[j]
-        if p.std is None:
-            raise InputError(f"parameter {p.name!r} has no std to draw its true value from; "
-                             f"give one, or a truth file (--truth)", field="model")
-        v = -1.0
-        while v < 0:
-            v = p.value + p.std * rng.normal()
-        values[j] = v
-    return values
-
-
-def has_prior(model: ParametricModel) -> bool:
-    """Every updated parameter has a prior std to draw the truth from."""
-    return all(model.parameters[j].std is not None for j in model.updated)
 
 
 def min_gap(f_all: np.ndarray, used: Sequence[int]) -> float:

@@ -25,8 +25,13 @@ class Validation:
     linear_std : linearised std at the prior mean.
     empirical_std : std of (estimate - truth) over the converged trials (None: too few).
     coverage_2std : fraction of converged trials within 2 reported std of the truth.
-    predicted_gross_risk : the design's chance of a gross error.
+    predicted_gross_risk : the chance of a gross error predicted for the plan: by checked
+        virtual tests at draws of the prior
+        (:func:`eigenupdate.design.montecarlo.predict_gross`), else the design's
+        crowding risk.
     montecarlo : the trials themselves.
+    empirical_gross_risk : fraction of the trials that did not converge, were refused or
+        were caught by the checks.
     """
 
     names: list[str]
@@ -37,6 +42,7 @@ class Validation:
     coverage_2std: np.ndarray | None
     predicted_gross_risk: float | None
     montecarlo: MonteCarloResult
+    empirical_gross_risk: float | None = None
 
 
 def validate_design(model: ParametricModel, spec: DesignSpec, result: DesignResult,
@@ -64,4 +70,5 @@ def validate_design(model: ParametricModel, spec: DesignSpec, result: DesignResu
     return Validation(names, np.array([plan.std[n] for n in names]),
                       np.array([plan.std_error[n] for n in names]),
                       np.array([plan.linear_std[n] for n in names]), emp, cover,
-                      plan.gross_risk, mc)
+                      plan.gross_risk if mc.gross is None else mc.gross.fraction, mc,
+                      1.0 - len(ok) / len(mc.trials))

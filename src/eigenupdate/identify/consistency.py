@@ -140,3 +140,45 @@ def residual_consistency(
                      key=lambda m: -abs(m.z))
     return Consistency(chi2, dof, float(scipy.stats.chi2.isf(ALPHA, dof)),
                        float(scipy.stats.norm.isf(ALPHA / (2 * len(rows)))), misfits, assumed)
+
+
+def stated_covariance(model: ParametricModel, configurations, modes, fit,
+                      measurements: Mapping[tuple[str, int], Measurement], method: str
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """(J, cov) at the fit ``fit`` (an UpdateResult): the Jacobian of its rows in
+    normalised parameters, and the covariance of its estimate (physical units) from the
+    stated frequency std (DEFAULT_RELATIVE_STD where none) and, for the Bayesian method,
+    the prior: (J^T W J + W_s)^-1. Not the fit's own ``cov``, which an unweighted
+    estimator scales by its residuals, so that a wrong fit's large residuals would make
+    its confidence region large enough to hold any rival."""
+    from eigenupdate.identify.weights import prior_weights
+    from eigenupdate.solve.jacobian import linearise
+
+    lin = linearise(model, configurations, modes, fit.model.values)
+    jn = lin.normalised[[lin.rows.index(r) for r in fit.rows]]
+    f = np.asarray(fit.measured_hz, dtype=float)
+    s_lam = 8 * np.pi ** 2 * f * np.array([measurements[r].std_hz or DEFAULT_RELATIVE_STD * abs(x)
+                                           for r, x in zip(fit.rows, f, strict=True)])
+    prior = prior_weights(model) if method == "bayesian" else np.zeros(jn.shape[1])
+    A = np.vstack([jn / s_lam[:, None], np.diag(prior)])
+    cov = np.linalg.pinv(A.T @ A) * np.outer(lin.scale, lin.scale)
+    return jn, cov
+
+
+ALPHA_DISTINCT = 1e-4
+"""Two fits are distinct answers when the second lies outside the first's
+(1 - ALPHA_DISTINCT) confidence ellipsoid (see :func:`distance`)."""
+
+
+def distance(x: np.ndarray, cov: np.ndarray, other: np.ndarray) -> tuple[float, float]:
+    """(d2, limit): d2 = (other - x)^T cov^+ (other - x), the squared distance of
+    ``other`` from the estimate ``x`` in its posterior covariance, and the chi-square
+    quantile at :data:`ALPHA_DISTINCT` with len(x) degrees of freedom it is compared with.
+
+    >>> d2, limit = distance(np.zeros(2), np.diag([1.0, 4.0]), np.array([3.0, 2.0]))
+    >>> d2, round(limit, 3)       # 9 + 1; -2 ln 1e-4
+    (10.0, 18.421)
+    """
+    dx = np.asarray(other, dtype=float) - np.asarray(x, dtype=float)
+    return (float(dx @ np.linalg.pinv(cov) @ dx),
+            float(scipy.stats.chi2.isf(ALPHA_DISTINCT, dx.size)))

@@ -112,6 +112,7 @@ def update(
     ftol: float = 1e-10,
     source: str | None = None,
     progress: Callable[[str], None] | None = None,
+    start: np.ndarray | None = None,
 ) -> UpdateResult:
     """Update the model's updated parameters from measured natural frequencies.
 
@@ -132,6 +133,8 @@ def update(
     source : file name for error messages.
     progress : called with one line per iteration, "[i/max_iterations] iteration i: ..."
         (objective, step, largest change, seconds).
+    start : all parameter values to start the iteration from (default: the model's);
+        the Bayesian prior stays centred on the model's values.
     """
     if max_iterations < 1:
         raise InputError("max_iterations must be >= 1", field="updating.max_iterations")
@@ -234,7 +237,7 @@ def update(
         return identifiability(pairing.S @ Jn, p.lin.names, pairing.weights, weights.prior)
 
     lower = FLOOR * z0  # 0 for parameters whose initial value is 0
-    z = z0.copy()
+    z = z0.copy() if start is None else np.asarray(start, dtype=float)[upd] / scale
     t0 = time.perf_counter()
     mass_diagonal = np.asarray(model.mass().diagonal(), dtype=float)
     point = evaluate(z)

@@ -99,6 +99,7 @@ def extract_test(
     by_model = model is not None and configurations is not None and not bands_hz
     if by_model:
         out = _number_by_model(out, model, list(configurations), problems)
+        _pair_by_shapes(out, frfs, model, list(configurations), problems)
     else:
         for ex in out:
             ex.notes.append("numbered by order: " + ("bands given" if bands_hz else "no model"))
@@ -111,6 +112,26 @@ def extract_test(
             problems.append(text)
     return TestExtraction(out, "model" if by_model else "order", sorted(used_modes),
                           problems)
+
+
+def _pair_by_shapes(out: list[ConfigurationExtraction], frfs: dict[str, Sequence[FRF]],
+                    model: ParametricModel, configurations: list[Configuration],
+                    problems: list[str]) -> None:
+    """Measured shapes against the model's and the bare structure's
+    (:mod:`eigenupdate.measure.shapes`): an exchanged mode is a problem, a crossing the
+    model shares a note."""
+    from eigenupdate.measure.shapes import measured_shape, shape_pairing
+
+    shapes = {}
+    for ex in out:
+        got = [measured_shape(ex.configuration, m.mode, m.frequency_hz, m.fits,
+                              frfs[ex.configuration]) for m in ex.modes]
+        shapes[ex.configuration] = [s for s in got if s is not None]
+    pairing = shape_pairing(shapes, model, configurations)
+    problems.extend(pairing.problems)
+    for ex in out:
+        ex.notes.extend(n for n in pairing.notes if n.startswith(
+            f"configuration {ex.configuration!r}:"))
 
 
 def _number_by_model(out: list[ConfigurationExtraction], model: ParametricModel,

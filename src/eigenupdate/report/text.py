@@ -148,15 +148,23 @@ def frequencies_text(freqs: dict[str, Any], title: str) -> str:
 def montecarlo_text(doc: dict, title: str) -> str:
     """``montecarlo``: the counts and, when given, the statistics per parameter of the
     summary ``doc`` (:meth:`~eigenupdate.design.montecarlo.MonteCarloResult.summary`)."""
+    caught = doc.get("caught") or {}
+    held = "".join(f", {k} {v}" for k, v in caught.items() if v)
     lines = [f"{title}: {doc['trials']} virtual tests: {doc['converged']} converged, "
-             f"{doc['not_converged']} not converged, {doc['refused']} refused; seed entropy "
-             f"{doc['seed_entropy']}"]
+             f"{doc['not_converged']} not converged, {doc['refused']} refused, "
+             f"{sum(caught.values())} caught by the checks{' (' + held[2:] + ')' if held else ''}"
+             f"; seed entropy {doc['seed_entropy']}"]
     if doc["statistics_refused"] is not None:
         return lines[0]
     if "prior_draws" in doc:
         lines.append(f"predicted std: averaged over {doc['prior_draws']} draws of the truth "
                      f"from the prior ({doc['prior_draw_seconds']:.1f} s), +- its Monte Carlo "
                      f"error; linear: at the prior mean")
+    if "predicted_gross_error_fraction" in doc:
+        lines.append(f"gross errors (not converged or caught): {doc['gross_error_fraction']:.1%}"
+                     f" of the trials; predicted {doc['predicted_gross_error_fraction']:.1%} +- "
+                     f"{doc['predicted_gross_error_fraction_error']:.1%} from "
+                     f"{doc['predicted_gross_draws']} checked tests at prior draws")
     lines.append(table(
         ["parameter", "bias", "empirical std", "predicted std", "+-", "emp/pred",
          "linear std", "coverage 2 std"],

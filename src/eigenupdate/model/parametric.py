@@ -158,8 +158,11 @@ class ParametricModel:
             kt, mt = [], []
             for parts, out in ((k_parts, kt), (m_parts, mt)):
                 for j in range(len(parameters)):
-                    mine = [t.coefficient * _csr(t.matrix, n) for t in parts
-                            if t.powers[0][0] == j]
+                    mine = [t for t in parts if t.powers[0][0] == j]
+                    if len(mine) == 1 and mine[0].coefficient == 1:
+                        out.append(mine[0].matrix)  # as given: no copy
+                        continue
+                    mine = [t.coefficient * _csr(t.matrix, n) for t in mine]
                     out.append(sum(mine[1:], mine[0]) if mine else None)
             return cls(k0, m0, tuple(parameters), tuple(kt), tuple(mt), coordinates,
                        coordinate_table)

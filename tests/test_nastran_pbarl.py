@@ -183,13 +183,15 @@ def test_refused_sections_one_line(tmp_path, run_cli, card, message):
     assert str(tmp_path / "bad.bdf") in err and message in err
 
 
-def test_dimension_parameter_refused(tmp_path):
-    """A, I and J are not linear in a PBARL dimension: the parameter is refused."""
+def test_dimension_parameter_of_a_shear_flexible_section_refused(tmp_path):
+    """A PBARL dimension is a parameter (test_nastran_nonlinear.py) on shear-rigid
+    sections; NASTRAN's ROD and BAR are shear-flexible, where K is no sum of fixed
+    matrices times functions of it: refused."""
     path = tmp_path / "one.bdf"
-    path.write_text(_bulk(_pbarl(1, "I", SECTIONS[5][1])))
-    with pytest.raises(Exception, match=re.escape("PBARL 1 field DIM1: not a parameter: A, "
-                                                  "I and J are not linear")):
-        read_nastran(path, [(Parameter("h", 0.0), CardField("PBARL", 1, "DIM1"))])
+    path.write_text(_bulk(_pbarl(1, "ROD", SECTIONS[1][1])))
+    with pytest.raises(Exception, match=re.escape("CBAR 1: its parameters enter K "
+                                                  "nonlinearly")):
+        read_nastran(path, [(Parameter("r", 0.0), CardField("PBARL", 1, "DIM1"))])
 
 
 def test_pbarl_nonstructural_mass(tmp_path):

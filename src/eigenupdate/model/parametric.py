@@ -12,7 +12,7 @@ user's number of every remaining row. ``coordinate_table``
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -66,6 +66,58 @@ class Term:
         """True for ``coefficient * s_j`` (one parameter, power 1)."""
         return len(self.powers) == 1 and self.powers[0][1] == 1
 
+    @property
+    def indices(self) -> tuple[int, ...]:
+        return tuple(j for j, _ in self.powers)
+
+    def replaced(self, matrix) -> Term:
+        return Term(matrix, tuple((int(j), float(a)) for j, a in self.powers),
+                    float(self.coefficient))
+
+
+# complex step: Im f(x + i h) / h is f'(x) to round-off (no difference of two values)
+_STEP = 1e-30
+
+
+@dataclass(frozen=True)
+class FunctionTerm:
+    """One part of K(s) or M(s): ``function(s[indices]) * matrix`` for a coefficient
+    that is no monomial (a section's J, a centroid's shift).
+
+    ``function`` takes the parameters' values as an array, returns a number, and must be
+    analytic in them written with complex-safe arithmetic (no ``float()``, comparisons
+    on ``.real``): d/ds_j is then the complex-step derivative Im f(x + i h e_j) / h,
+    exact to round-off. It must be picklable (a module-level function or a dataclass
+    instance) for the Monte Carlo workers.
+
+    Examples
+    --------
+    >>> t = FunctionTerm(None, (0, 1), lambda x: x[0] / x[1])
+    >>> t.value(np.array([3.0, 2.0])), t.derivative(np.array([3.0, 2.0]), 1)
+    (1.5, -0.75)
+    """
+
+    matrix: sp.csr_array | None
+    indices: tuple[int, ...]
+    function: Callable[[np.ndarray], complex]
+
+    linear = False
+
+    def value(self, s: np.ndarray) -> float:
+        return float(np.real(self.function(np.asarray(s, dtype=float)[list(self.indices)])))
+
+    def derivative(self, s: np.ndarray, j: int) -> float:
+        if j not in self.indices:
+            return 0.0
+        x = np.asarray(s, dtype=float)[list(self.indices)].astype(complex)
+        k = self.indices.index(j)
+        h = _STEP * max(abs(x[k].real), 1e-200)
+        x[k] += 1j * h
+        return float(np.imag(self.function(x)) / h)
+
+    def replaced(self, matrix) -> FunctionTerm:
+        return FunctionTerm(matrix, tuple(int(j) for j in self.indices), self.function)
+
 
 @dataclass(frozen=True)
 class ParametricModel:
@@ -97,8 +149,8 @@ class ParametricModel:
     m_terms: tuple[sp.csr_array | None, ...]
     coordinates: np.ndarray = field(default=None)  # user coordinate number of each row
     coordinate_table: CoordinateTable = field(default=None)  # node and direction of each
-    k_parts: tuple[Term, ...] = ()  # nonlinear model: K(s) = K0 + sum of these
-    m_parts: tuple[Term, ...] = ()
+    k_parts: tuple[Term | FunctionTerm, ...] = ()  # nonlinear: K(s) = K0 + sum of these
+    m_parts: tuple[Term | FunctionTerm, ...] = ()
 
     def __post_init__(self) -> None:
         n = np.shape(self.k0)[0]
@@ -147,6 +199,11 @@ class ParametricModel:
         n = np.shape(k0)[0]
         k_parts, m_parts = tuple(k_parts), tuple(m_parts)
         for t in k_parts + m_parts:
+            if isinstance(t, FunctionTerm):
+                if not t.indices or any(not 0 <= j < len(parameters) for j in t.indices):
+                    raise InputError(f"a term's indices {t.indices} must be parameter "
+                                     f"indices 0..{len(parameters) - 1}")
+                continue
             bad = [j for j, a in t.powers if not (0 <= j < len(parameters)
                                                   and math.isfinite(a) and a != 0)]
             twice = len({j for j, _ in t.powers}) != len(t.powers)
@@ -168,10 +225,8 @@ class ParametricModel:
                        coordinate_table)
         none = (None,) * len(parameters)
         return cls(k0, m0, tuple(parameters), none, none, coordinates, coordinate_table,
-                   tuple(Term(_csr(t.matrix, n), tuple((int(j), float(a)) for j, a in t.powers),
-                              float(t.coefficient)) for t in k_parts),
-                   tuple(Term(_csr(t.matrix, n), tuple((int(j), float(a)) for j, a in t.powers),
-                              float(t.coefficient)) for t in m_parts))
+                   tuple(t.replaced(_csr(t.matrix, n)) for t in k_parts),
+                   tuple(t.replaced(_csr(t.matrix, n)) for t in m_parts))
 
     @property
     def nonlinear(self) -> bool:
@@ -186,7 +241,7 @@ class ParametricModel:
             for j in range(len(self.parameters)):
                 d = None
                 for t in parts:
-                    if any(i == j for i, _ in t.powers):
+                    if j in t.indices:
                         x = t.derivative(s, j) * t.matrix
                         d = x if d is None else d + x
                 out.append(None if d is None else sp.csr_array(d))
@@ -270,7 +325,7 @@ def _check_powers(parameters, parts, s: np.ndarray) -> None:
     """InputError for a parameter at 0 that enters with a power below 1 or not whole
     (its term or derivative is infinite or undefined there)."""
     for t in parts:
-        for j, a in t.powers:
+        for j, a in getattr(t, "powers", ()):
             if s[j] <= 0 and not (a >= 1 and float(a).is_integer()):
                 raise InputError(f"parameter {parameters[j].name!r} = {s[j]:g} enters K or M "
                                  f"with power {a:g}: it must be > 0")

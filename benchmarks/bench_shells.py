@@ -8,9 +8,14 @@ Times, in the same run:
   (508,086 coordinates), combined for one thickness (K = T (K_m + K_drill + K_s) +
   T^3 K_b, M = rho T M) and summed into CSR 6 x 6 node block by node block, in chunks
   of 8192 elements;
-* CTRIA3: the same grid cut into 2 x 290 x 290 triangles.
+* CTRIA3: the same grid cut into 2 x 290 x 290 triangles;
+* with ``--deck`` (nastran environment): the CQUAD4 plate written as a BDF (GRID,
+  CQUAD4, PSHELL, MAT1; MAT1 E and RHO as parameters) and read through
+  :func:`eigenupdate.io.nastran.read_nastran`, against pyNastran's ``read_bdf`` alone
+  (parsing) in the same run; the difference is eigenupdate's validation and assembly.
 
-Run: ``.venv/bin/python benchmarks/bench_shells.py`` (``--size small`` for a quick run).
+Run: ``.venv/bin/python benchmarks/bench_shells.py`` (``--size small`` for a quick run;
+``.venv-nastran/bin/python benchmarks/bench_shells.py --deck`` adds the deck path).
 Prints each time, the ratio to the baseline, and a check that the plate's matrices are
 symmetric with the six rigid-body motions of a free plate stress-free.
 """
@@ -70,6 +75,7 @@ def check(xyz, K, M) -> str:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--size", choices=sorted(SIZES), default="full")
+    ap.add_argument("--deck", action="store_true", help="also time the BDF path")
     args = ap.parse_args()
     nx, n_sub = SIZES[args.size]
     t0, c0 = time.perf_counter(), time.process_time()
@@ -88,6 +94,45 @@ def main() -> None:
               f"{dt:.2f} s (CPU {cpu:.2f} s)  ({dt / base:.2f} x baseline, CPU "
               f"{cpu / cbase:.2f} x)")
         print(f"          {check(xyz, K, M)}")
+    if args.deck:
+        deck(nx)
+
+
+def deck(nx: int) -> None:
+    """Time the BDF path on the CQUAD4 plate: pyNastran's parse alone, then read_nastran
+    (parse + validation + assembly of K0, M0 and the two parameters' K_j, M_j)."""
+    import tempfile
+    import warnings
+    from pathlib import Path
+
+    from pyNastran.bdf.bdf import read_bdf
+
+    from eigenupdate.io.nastran import CardField, read_nastran
+    from eigenupdate.model.parameters import Parameter
+
+    xyz, el = plate(nx, False)
+    lines = ["PARAM,COUPMASS,1", "PSHELL,1,1,.005,1,,1", "MAT1,1,7.e10,,.33,2700."]
+    lines += [f"GRID,{i + 1},,{x:.6f},{y:.6f},0." for i, (x, y, _) in enumerate(xyz)]
+    lines += [f"CQUAD4,{k + 1},1,{a + 1},{b + 1},{c + 1},{d + 1}" for k, (a, b, c, d)
+              in enumerate(el)]
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "plate.bdf"
+        path.write_text("\n".join(lines + ["ENDDATA", ""]))
+        t0, c0 = time.perf_counter(), time.process_time()
+        read_bdf(str(path), punch=True, xref=False, debug=None)
+        base, cbase = time.perf_counter() - t0, time.process_time() - c0
+        specs = [(Parameter("E", 0.0), CardField("MAT1", 1, "E")),
+                 (Parameter("rho", 0.0), CardField("MAT1", 1, "RHO"))]
+        t0, c0 = time.perf_counter(), time.process_time()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            nm = read_nastran(path, specs)
+        dt, cpu = time.perf_counter() - t0, time.process_time() - c0
+    print(f"deck      pyNastran read_bdf alone ({xyz.shape[0]} GRID, {el.shape[0]} CQUAD4): "
+          f"{base:.2f} s (CPU {cbase:.2f} s)")
+    print(f"deck      read_nastran ({nm.model.n} free coordinates, 2 parameters): {dt:.2f} s "
+          f"(CPU {cpu:.2f} s)  ({dt / base:.2f} x read_bdf; assembly and checks "
+          f"{dt - base:.2f} s, CPU {cpu - cbase:.2f} s)")
 
 
 if __name__ == "__main__":

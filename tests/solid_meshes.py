@@ -1,4 +1,4 @@
-"""Box meshes of CHEXA8, CPENTA6, CTETRA4 and CTETRA10 elements, and their frequencies."""
+"""Box meshes of CHEXA8/20, CPENTA6/15, CTETRA4/10 elements, and their frequencies."""
 
 from __future__ import annotations
 
@@ -30,8 +30,13 @@ def box_mesh(size, cells, kind: str, move=None) -> tuple[np.ndarray, np.ndarray]
     hexa = np.column_stack([nid[i + a, j + b, k + c] for (a, b, c) in _CORNER])
     if kind == "CHEXA8":
         return xyz, hexa
+    if kind == "CHEXA20":
+        return _mid_edges(xyz, hexa, solids.HEX_EDGES)
+    penta = np.vstack([hexa[:, [0, 1, 2, 4, 5, 6]], hexa[:, [0, 2, 3, 4, 6, 7]]])
     if kind == "CPENTA6":
-        return xyz, np.vstack([hexa[:, [0, 1, 2, 4, 5, 6]], hexa[:, [0, 2, 3, 4, 6, 7]]])
+        return xyz, penta
+    if kind == "CPENTA15":
+        return _mid_edges(xyz, penta, solids.PENTA_EDGES)
     tets = []
     for perm in itertools.permutations(range(3)):
         path, corner = [(0, 0, 0)], [0, 0, 0]
@@ -42,11 +47,17 @@ def box_mesh(size, cells, kind: str, move=None) -> tuple[np.ndarray, np.ndarray]
     tets = np.vstack(tets)
     if kind == "CTETRA4":
         return xyz, tets
-    edges = np.sort(tets[:, [[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]]], axis=2)
+    return _mid_edges(xyz, tets, np.array([[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]]))
+
+
+def _mid_edges(xyz, elements, pairs):
+    """Quadratic elements: a node at the middle of each edge (shared between elements),
+    in the element's mid-edge order ``pairs``."""
+    edges = np.sort(elements[:, pairs], axis=2)
     unique, inverse = np.unique(edges.reshape(-1, 2), axis=0, return_inverse=True)
     mid = xyz[unique].mean(axis=1)
-    extra = xyz.shape[0] + inverse.reshape(-1, 6)
-    return np.vstack([xyz, mid]), np.hstack([tets, extra])
+    extra = xyz.shape[0] + inverse.reshape(-1, len(pairs))
+    return np.vstack([xyz, mid]), np.hstack([elements, extra])
 
 
 def solid_matrices(xyz, elements, E, nu, rho, lumped=False):

@@ -26,14 +26,11 @@ from eigenupdate.io.nastran import read_nastran  # noqa: E402
 
 SHARED = ROOT.parent / "shared/data/nastran"
 LINE_DECKS = ["cofe_ten_bar", "cofe_svanberg_beam", "cofe_cantilever_guyan", "pyn_beam_modes",
-              "n95_d03081a"]
-# shells and solids are issue 20: refused, naming every such card with its count
-SHELL_DECKS = {
-    "pyn_solid_shell_bar": "CHEXA x1, CPENTA x2, CQUAD4 x4, CTETRA x2, CTRIA3 x8, PCOMP x2, "
-                           "PSHELL x1, PSOLID x1",
-    "dakota_cylinder": "CQUAD4 x320, PSHELL x1",
-    "pyn_tet10": "CTETRA x2, PSOLID x1",
-}
+              "n95_d03081a", "pyn_solid_shell_bar"]
+# cards still refused: every one named with its count
+REFUSED = ("GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,1.,1.,0.\nGRID,4,,0.,1.,0.\n"
+           "GRID,5,,.5,.5,1.\nCQUAD8,1,1,1,2,3,4\nCTRIA6,2,1,1,2,3\nCTRIA6,3,1,1,3,4\n"
+           "CPYRAM,4,2,1,2,3,4,5\nPSHELL,1,1,.1\nPSOLID,2,1\nMAT1,1,1.e7,,.3,.1\n")
 
 
 def _shared() -> Path:
@@ -54,8 +51,10 @@ def _ref(case: str) -> tuple[Path, dict]:
 def test_deck_reproduces_nastran(case):
     """Source: NASTRAN's printed natural frequencies of the published deck (ref.json
     cycles_hz, rigid-body modes excluded): every compared mode within ref.json's
-    tolerance (1e-5 for these decks: their discrete model is defined by the cards, and
-    NASTRAN prints 7 significant digits, 5e-7 relative)."""
+    tolerance (1e-5 for line, spring, mass and rigid decks: their discrete model is
+    defined by the cards, and NASTRAN prints 7 significant digits, 5e-7 relative; 1e-2
+    for pyn_solid_shell_bar's shells and solids, whose formulations differ between codes;
+    measured 0.30 %, 0.18 %, 0.82 %)."""
     deck, ref = _ref(case)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", EigenupdateWarning)
@@ -77,17 +76,17 @@ def test_skipped_cards_in_one_note():
     assert "EIGRL x1, FORCE x2, MDLPRM x1, PARAM GRDPNT, PARAM POST" in notes[0]
 
 
-@pytest.mark.parametrize("case", sorted(SHELL_DECKS))
-def test_shell_and_solid_decks_refused(case, run_cli, tmp_path, monkeypatch):
+def test_unsupported_elements_refused(run_cli, tmp_path, monkeypatch):
     """One line naming every unsupported card with its count; exit 2; nothing of
     pyNastran's on stdout, no pyNastran_crash.bdf left behind."""
-    deck, _ = _ref(case)
+    deck = tmp_path / "deck.bdf"
+    deck.write_text("BEGIN BULK\n" + REFUSED + "ENDDATA\n")
     monkeypatch.chdir(tmp_path)
     study = tmp_path / "study.toml"
     study.write_text(f'[model]\ntype = "nastran"\nbdf = "{deck}"\n')
     code, out, err = run_cli("frequencies", study, "--modes", "1")
     assert code == 2 and out == "" and err.count("\n") == 1 and "Traceback" not in err
-    assert f"not supported: {SHELL_DECKS[case]} (" in err
+    assert "not supported: CPYRAM x1, CQUAD8 x1, CTRIA6 x2" in err
     assert not list(tmp_path.glob("pyNastran_*"))
 
 

@@ -29,6 +29,7 @@ import scipy.sparse as sp
 
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_constraints import constraint_equations
+from eigenupdate.io.nastran_continuum import assemble_continuum
 from eigenupdate.io.nastran_deck import Deck, load_deck
 from eigenupdate.io.nastran_fields import FIELDS, NOT_LINEAR, get_field, set_field, stores
 from eigenupdate.io.nastran_lines import assemble_lines
@@ -38,7 +39,7 @@ from eigenupdate.io.nastran_points import (
     assemble_conm2,
     assemble_scalars,
 )
-from eigenupdate.model import constraints, reduction
+from eigenupdate.model import constraints, reduction, shells
 from eigenupdate.model.coordinates import Coordinate, CoordinateTable
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel, Term
@@ -168,11 +169,16 @@ class _Triplets:
 
     def __init__(self):
         self.r, self.c, self.v = [], [], []
+        self.whole: list = []  # assembled (n, n) matrices (shells, solids)
 
     def add(self, rows, cols, vals):
         self.r.append(np.ravel(rows))
         self.c.append(np.ravel(cols))
         self.v.append(np.ravel(vals))
+
+    def add_matrix(self, m) -> None:
+        """Add an already assembled sparse matrix of the model's size."""
+        self.whole.append(m)
 
     def matrix(self, n: int, keep: np.ndarray | None = None) -> sp.csr_array:
         if not self.v:
@@ -180,6 +186,8 @@ class _Triplets:
         else:
             m = sp.csr_array((np.concatenate(self.v), (np.concatenate(self.r),
                                                       np.concatenate(self.c))), shape=(n, n))
+        for w in self.whole:
+            m = m + w if m.nnz else sp.csr_array(w)
         m.sum_duplicates()
         return m if keep is None else sp.csr_array(m[keep][:, keep])
 
@@ -236,6 +244,8 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     extra: list = []  # nonlinear parts: ("k" or "m", triplets, FunctionTerm)
     assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
                    k0, m0, kj, mj, extra)
+    assemble_continuum(bdf, grid, xyz, frames, nids.size, consistent, wtmass,
+                       _param(bdf, "K6ROT", shells.K6ROT), pindex, values, k0, m0, kj, mj)
     assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj)
     assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
     assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj)
@@ -292,7 +302,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     keep = np.flatnonzero(free)
     if keep.size == 0:
         raise InputError("every coordinate is restrained or carries neither stiffness nor mass")
-    k0m, m0m = (sp.csr_array(sp.csr_array(a)[keep][:, keep]) for a in (K0, M0))
+    k0m, m0m = (_kept(a, keep) for a in (K0, M0))
     analysis = _analysis_set(bdf, where, ndof)
     if analysis is not None:
         analysis = analysis[rows_ind]
@@ -311,11 +321,10 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
         params.append(Parameter(p.name, v, p.std, p.update))
     parts: dict[str, list] = {"k": [], "m": []}
     for kind, ts in (("k", kt), ("m", mt)):
-        parts[kind] += [Term(sp.csr_array(t[keep][:, keep]), ((j, 1.0),))
-                        for j, t in enumerate(ts) if t.nnz]
+        parts[kind] += [Term(_kept(t, keep), ((j, 1.0),)) for j, t in enumerate(ts) if t.nnz]
     for kind, a, term in xt:
         if a.nnz:
-            parts[kind].append(term.replaced(sp.csr_array(a[keep][:, keep])))
+            parts[kind].append(term.replaced(_kept(a, keep)))
     pm = ParametricModel.from_parts(
         k0m, m0m, tuple(params), parts["k"], parts["m"],
         coordinates=coords,
@@ -333,6 +342,14 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     omitted = frozenset((10 * nids[gone // 6] + gone % 6 + 1).tolist())
     return NastranModel(path, pm, tuple(fields), consistent, spc_set, held, bdf,
                         dependent=dependent, omitted=omitted)
+
+
+def _kept(a, keep: np.ndarray) -> sp.csr_array:
+    """Rows and columns ``keep`` of a square matrix (no copy when all are kept)."""
+    a = sp.csr_array(a)
+    if keep.size == a.shape[0]:
+        return a
+    return sp.csr_array(a[keep][:, keep])
 
 
 def _set_rows(cards, where, label: str) -> list[int]:

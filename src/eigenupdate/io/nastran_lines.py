@@ -22,6 +22,10 @@ PBARL_SHAPES = ("ROD", "TUBE", "BAR", "BOX", *sections.THIN_WALLED)
 # shear factors NASTRAN gives the PBARL/PBEAML sections: circle 0.9 (NASTRAN's
 # documentation; Simcenter's frequencies of the shared pyn_beam_modes deck agree to 1e-7,
 # NASTRAN_CoFE's 0.85716 would be 0.96 % off), solid rectangle 5/6 (NASTRAN_CoFE's PBEAML)
+ROUNDING = 1e-4
+"""Relative spread of a PBEAM's station values taken as the rounding of one value (the
+first station's is used): the shared pyn_solid_shell_bar deck writes I1 as .0052083 at
+end A and .005208 at end B (6e-5 apart); a real taper is larger and refused."""
 SHEAR_FACTORS = {"BAR": (5.0 / 6.0, 5.0 / 6.0), "ROD": (0.9, 0.9)}
 
 
@@ -256,7 +260,9 @@ def bar_section(prop) -> tuple:
         raise InputError(f"{where}: shear factors K1 = {k1:g}, K2 = {k2:g} must be >= 0")
     if prop.type == "PBEAM":
         for name in ("A", "i1", "i2", "i12", "j", "nsm"):
-            if np.ptp(np.asarray(getattr(prop, name), float)) != 0:
+            v = np.asarray(getattr(prop, name), float)
+            # one value written twice to different digits (.0052083, .005208) is constant
+            if np.ptp(v) > ROUNDING * np.abs(v).max():
                 raise InputError(f"{where}: {name.upper()} varies along the beam; only a "
                                  f"constant section is supported")
         # S1, S2 (shear relief of a taper) do nothing on a constant section

@@ -77,21 +77,37 @@ def assemble(nodes: np.ndarray, blocks: Callable[[slice], np.ndarray], n_nodes: 
     >>> bool(np.array_equal(a.toarray(), scatter(d, np.stack([k, k, k]), 4).toarray()))
     True
     """
+    return assemble_many(nodes, lambda s: [blocks(s)], 1, n_nodes, per_node, chunk)[0]
+
+
+def assemble_many(nodes: np.ndarray, blocks: Callable[[slice], list], count: int,
+                  n_nodes: int, per_node: int, chunk: int = 8192) -> list[sp.csr_array]:
+    """:func:`assemble` of ``count`` matrices at once: ``blocks(s)`` gives a list of
+    ``count`` block arrays (or None for an empty one) for the elements of slice ``s``,
+    so that what they share (element axes, Jacobians) is computed once."""
     nodes = np.asarray(nodes, dtype=np.int64)
     m, k = nodes.shape
     b = per_node
-    keys, sums = [], []
+    keys: list[list] = [[] for _ in range(count)]
+    sums: list[list] = [[] for _ in range(count)]
     for start in range(0, m, chunk):
         s = slice(start, min(start + chunk, m))
         e = nodes[s]
-        data = np.asarray(blocks(s), float).reshape(-1, k, b, k, b).transpose(0, 1, 3, 2, 4)
         key = (e[:, :, None] * n_nodes + e[:, None, :]).ravel()
-        u, summed = _node_blocks(key, data.reshape(-1, b, b))
-        keys.append(u)
-        sums.append(summed)
-    if not keys:
-        return sp.csr_array((n_nodes * b, n_nodes * b))
-    key, summed = _node_blocks(np.concatenate(keys), np.concatenate(sums))
-    indptr = np.searchsorted(key // n_nodes, np.arange(n_nodes + 1))
-    return sp.bsr_array((summed, key % n_nodes, indptr),
-                        shape=(n_nodes * b, n_nodes * b)).tocsr()
+        for i, blk in enumerate(blocks(s)):
+            if blk is None:
+                continue
+            data = np.asarray(blk, float).reshape(-1, k, b, k, b).transpose(0, 1, 3, 2, 4)
+            u, summed = _node_blocks(key, data.reshape(-1, b, b))
+            keys[i].append(u)
+            sums[i].append(summed)
+    out = []
+    for kk, ss in zip(keys, sums, strict=True):
+        if not kk:
+            out.append(sp.csr_array((n_nodes * b, n_nodes * b)))
+            continue
+        key, summed = _node_blocks(np.concatenate(kk), np.concatenate(ss))
+        indptr = np.searchsorted(key // n_nodes, np.arange(n_nodes + 1))
+        out.append(sp.bsr_array((summed, key % n_nodes, indptr),
+                                shape=(n_nodes * b, n_nodes * b)).tocsr())
+    return out

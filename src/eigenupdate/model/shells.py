@@ -315,6 +315,24 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     return R, out
 
 
+def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
+                shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None):
+    """Element axes R (n, 3, 3) and the stiffness parts per unit thickness power in
+    element axes, compact: ``{part: (columns, (n, c, c) block)}``; :func:`combine` sums
+    them with per-element factors and turns the sum to global axes (one rotation for
+    any number of factor sets, which is what a deck's parameters need)."""
+    return _local_parts(xyz, membrane, bending, shear, k6rot, labels)
+
+
+def combine(R: np.ndarray, parts: dict, factors: dict[str, np.ndarray]) -> np.ndarray:
+    """Sum (n, 6k, 6k) in global axes of the compact ``parts`` of :func:`local_parts`
+    times ``factors`` ({part: (n,)}; a missing part counts 0)."""
+    n = R.shape[0]
+    m = 6 * (int(max(c.max() for c, _ in parts.values())) // 6 + 1)
+    terms = [(*parts[q], np.asarray(f, float).reshape(n, 1, 1)) for q, f in factors.items()]
+    return rotate(_expand(terms, n, m), R)
+
+
 def shell_stiffness_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                           shear: np.ndarray, k6rot: float = K6ROT,
                           labels: list[str] | None = None) -> dict[str, np.ndarray]:

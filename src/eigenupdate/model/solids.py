@@ -28,11 +28,18 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 
-NODES = {"CTETRA4": 4, "CTETRA10": 10, "CPENTA6": 6, "CHEXA8": 8}
+NODES = {"CTETRA4": 4, "CTETRA10": 10, "CPENTA6": 6, "CHEXA8": 8, "CHEXA20": 20,
+         "CPENTA15": 15}
 
 _TET_EDGES = np.array([[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]])
 _HEX = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
                  [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
+# NASTRAN's mid-edge order: CHEXA20 G9-G20 and CPENTA15 G7-G15
+HEX_EDGES = np.array([[0, 1], [1, 2], [2, 3], [3, 0], [0, 4], [1, 5], [2, 6], [3, 7],
+                      [4, 5], [5, 6], [6, 7], [7, 4]])
+PENTA_EDGES = np.array([[0, 1], [1, 2], [2, 0], [0, 3], [1, 4], [2, 5], [3, 4], [4, 5],
+                        [5, 3]])
+_HEX20 = np.vstack([_HEX, (_HEX[HEX_EDGES[:, 0]] + _HEX[HEX_EDGES[:, 1]]) / 2])
 
 
 def isotropic_elasticity(E: np.ndarray, nu: np.ndarray) -> np.ndarray:
@@ -87,8 +94,48 @@ def _wedge_rule(n: int) -> list[tuple[np.ndarray, float]]:
             for z, wz in zip(x, w, strict=True)]
 
 
+def _quadratic(kind: str, p) -> np.ndarray:
+    """Shape functions of CHEXA20 (serendipity) and CPENTA15 at p (complex allowed)."""
+    r, s, t = p
+    if kind == "CHEXA20":
+        out = []
+        for a, b, c in _HEX20:
+            f = [1 + x * y if y else 1 - x * x for x, y in ((r, a), (s, b), (t, c))]
+            if a and b and c:
+                out.append(f[0] * f[1] * f[2] * (r * a + s * b + t * c - 2) / 8)
+            else:
+                out.append(f[0] * f[1] * f[2] / 4)
+        return np.array(out)
+    L = [1 - r - s, r, s]
+    corners = [L[i] * ((2 * L[i] - 1) * (1 + z * t) - (1 - t * t)) / 2
+               for z in (-1, 1) for i in range(3)]
+    edges = [2 * L[a] * L[b] * (1 - t) for a, b in ((0, 1), (1, 2), (2, 0))]
+    edges += [L[i] * (1 - t * t) for i in range(3)]
+    edges += [2 * L[a] * L[b] * (1 + t) for a, b in ((0, 1), (1, 2), (2, 0))]
+    return np.array(corners + edges)
+
+
+def _wedge15_rule() -> list[tuple[np.ndarray, float]]:
+    """Collapsed 3 x 3 Gauss on the triangle (exact to degree 4) times 3-point Gauss
+    through the thickness: exact for CPENTA15's stiffness and mass on a right prism."""
+    x, w = _gauss(3)
+    a, wa = (x + 1) / 2, w / 2
+    out = []
+    for ai, wi in zip(a, wa, strict=True):
+        for bi, wj in zip(a, wa, strict=True):
+            for z, wz in zip(x, w, strict=True):
+                out.append((np.array([ai, bi * (1 - ai), z]), wi * wj * (1 - ai) * wz))
+    return out
+
+
 def _shape(kind: str, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Shape functions N (k,) and natural gradients (3, k) at natural point p."""
+    if kind in ("CHEXA20", "CPENTA15"):
+        # gradients by the complex step: exact to rounding for these polynomials
+        h = 1e-30
+        dN = np.array([_quadratic(kind, np.asarray(p, complex) + 1j * h * e).imag / h
+                       for e in np.eye(3)])
+        return _quadratic(kind, np.asarray(p, float)), dN
     r, s, t = p
     if kind in ("CTETRA4", "CTETRA10"):
         L = np.array([1 - r - s - t, r, s, t])
@@ -120,6 +167,10 @@ def _rule(kind: str, mass: bool) -> list[tuple[np.ndarray, float]]:
         return _tet_rule(3 if not mass else 4)
     if kind == "CPENTA6":
         return _wedge_rule(2 if not mass else 3)
+    if kind == "CPENTA15":
+        return _wedge15_rule()
+    if kind == "CHEXA20":
+        return _hex_rule(3)  # exact for a parallelepiped's stiffness and mass
     return _hex_rule(2 if not mass else 3)
 
 
@@ -128,13 +179,13 @@ def _kind(xyz: np.ndarray) -> str:
     for name, nodes in NODES.items():
         if nodes == k:
             return name
-    raise ValueError(f"{k} nodes: solids have 4, 6, 8 or 10")
+    raise ValueError(f"{k} nodes: solids have 4, 6, 8, 10, 15 or 20")
 
 
 def _jacobians(kind: str, xyz: np.ndarray, rule, labels) -> list[tuple]:
     """(N, det |J|, Cartesian gradients (n, 3, k)) at each point of ``rule``; checks
     that det J keeps one sign over the points and the corners."""
-    corners = [(c, 0.0) for c in _HEX] if kind == "CHEXA8" else []
+    corners = [(c, 0.0) for c in _HEX] if kind in ("CHEXA8", "CHEXA20") else []
     found = []
     for p, w in list(rule) + corners:
         N, dn = _shape(kind, p)

@@ -1,0 +1,406 @@
+"""CQUAD4 and CTRIA3 (PSHELL, PCOMP) and CHEXA (8, 20 nodes), CPENTA (6, 15), CTETRA
+(4, 10) (PSOLID) of a deck:
+properties, materials and the assembly of their (parameter) stiffness and mass with
+:mod:`eigenupdate.model.shells`, :mod:`eigenupdate.model.solids` and
+:mod:`eigenupdate.model.laminate`, a chunk of elements at a time
+(:func:`eigenupdate.model.assembly.assemble_many`).
+
+MAT1 as NASTRAN uses it (MSC/NX MAT1 remarks): shells take E and NU for membrane and
+bending (so in-plane shear is E / (2 (1 + NU)) even when G is given) and G for transverse
+shear; solids take E and NU, never G. A PSHELL's stiffness is therefore, part by part,
+E1 T K_membrane + E1 T K_drilling + E2 T^3 K_bending + G3 s(T) K_shear (MIDi's moduli),
+linear in each material's E (G3 too when MAT1 leaves G blank) and the mass
+WTMASS (RHO1 T + NSM) M linear in RHO: ``MAT1 E`` and ``RHO`` are parameters.
+THETA/MCID (material axes) do not matter for an isotropic MAT1 and are ignored there;
+they orient the plies of a PCOMP.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from eigenupdate.errors import InputError
+from eigenupdate.io.nastran_fields import in_range
+from eigenupdate.model import laminate, shells, solids
+from eigenupdate.model.assembly import assemble_many
+
+SHELLS = {"CQUAD4": 4, "CTRIA3": 3}
+SOLIDS = {("CHEXA", 8): "CHEXA8", ("CHEXA", 20): "CHEXA20", ("CPENTA", 6): "CPENTA6",
+          ("CPENTA", 15): "CPENTA15", ("CTETRA", 4): "CTETRA4", ("CTETRA", 10): "CTETRA10"}
+PARTS = shells.STIFFNESS_PARTS
+RIGID_SHEAR = 1e3
+"""Transverse shear stiffness of a PSHELL with MID3 blank (shear-rigid in NASTRAN), as a
+multiple of MID2's E / (2 (1 + NU)) T."""
+
+
+def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot, pindex,
+                       values, k0, m0, kj, mj) -> None:
+    """Add the shells' and solids' K and M (and each parameter's K_j, M_j) to the
+    triplets of :mod:`eigenupdate.io.nastran`."""
+    groups: dict = {}
+    for eid, e in sorted(bdf.elements.items()):
+        if e.type in SHELLS:
+            groups.setdefault(("shell", SHELLS[e.type]), []).append(e)
+        elif e.type in ("CHEXA", "CPENTA", "CTETRA"):
+            n = sum(1 for g in e.node_ids if g)
+            kind = SOLIDS.get((e.type, n))
+            if kind is None or any(not g for g in e.node_ids[:n]):
+                raise InputError(f"{e.type} {eid}: {n} nodes: only CHEXA 8 or 20, CPENTA 6 "
+                                 f"or 15 and CTETRA 4 or 10 (every mid-edge node or none) "
+                                 f"are supported")
+            groups.setdefault(("solid", kind), []).append(e)
+    for (family, k), elems in sorted(groups.items()):
+        if family == "shell":
+            _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot,
+                    pindex, values, k0, m0, kj, mj)
+        else:
+            _solids(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, pindex,
+                    values, k0, m0, kj, mj)
+
+
+def _mat1(bdf, mid, where: str):
+    mat = bdf.materials.get(mid)
+    if mat is None:
+        raise InputError(f"{where}: material {mid} is not defined")
+    if mat.type != "MAT1":
+        raise InputError(f"{where}: material {mat.type} {mid} is not supported here (MAT1 "
+                         f"only)")
+    for name in ("e", "g", "nu", "rho"):
+        if getattr(mat, name) is not None:
+            in_range(getattr(mat, name), f"MAT1 {mid}: {name.upper()}")
+    if not (mat.e and mat.e > 0):
+        raise InputError(f"MAT1 {mid}: E must be > 0 for a shell or solid, got {mat.e}")
+    if mat.nu is None or not -1.0 < mat.nu < 0.5:
+        raise InputError(f"MAT1 {mid}: NU = {mat.nu} must be in (-1, 0.5) for a shell or solid")
+    if (mat.rho or 0.0) < 0:
+        raise InputError(f"MAT1 {mid}: negative density RHO = {mat.rho:g}")
+    return mat
+
+
+def _tied(mat) -> bool:
+    """MAT1 G blank: pyNastran filled in E / (2 (1 + NU)), which follows E."""
+    return mat.g is not None and math.isclose(mat.g, mat.e / (2 * (1 + mat.nu)), rel_tol=1e-12)
+
+
+def _pshell(bdf, prop) -> dict:
+    where = f"PSHELL {prop.pid}"
+    if not prop.mid1:
+        raise InputError(f"{where}: MID1 blank (no membrane) is not supported")
+    if prop.mid4:
+        raise InputError(f"{where}: MID4 (membrane-bending coupling) is not supported")
+    if prop.t is None:
+        raise InputError(f"{where}: T blank (thicknesses from the elements' T1-T4) is not "
+                         f"supported")
+    T = in_range(prop.t, f"{where}: T")
+    if not T > 0:
+        raise InputError(f"{where}: T = {T:g} must be > 0")
+    m1 = _mat1(bdf, prop.mid1, where + " MID1")
+    if prop.mid2 in (None, 0):
+        m2 = m3 = None
+        if prop.mid3:
+            raise InputError(f"{where}: MID3 needs MID2 (bending)")
+    else:
+        if prop.mid2 < 0:
+            raise InputError(f"{where}: MID2 = {prop.mid2} (plane strain) is not supported")
+        m2 = _mat1(bdf, prop.mid2, where + " MID2")
+        m3 = _mat1(bdf, prop.mid3, where + " MID3") if prop.mid3 else None
+    ratio = 1.0 if prop.twelveIt3 is None else in_range(prop.twelveIt3, f"{where}: 12I/T^3")
+    tst = 5.0 / 6.0 if prop.tst is None else in_range(prop.tst, f"{where}: TS/T")
+    if m2 is not None and not (ratio > 0 and tst > 0):
+        raise InputError(f"{where}: 12I/T^3 = {ratio:g} and TS/T = {tst:g} must be > 0")
+    cm = shells.plane_stress(1.0, m1.nu)[0]
+    cb = np.zeros((3, 3)) if m2 is None else shells.plane_stress(1.0, m2.nu)[0] * ratio / 12
+    rigid = m2 is not None and m3 is None
+    if rigid:
+        # MID3 blank: NASTRAN's shear-rigid (Kirchhoff) plate, as MID2's G times
+        # RIGID_SHEAR: the frequencies then differ from the rigid limit by 1/RIGID_SHEAR
+        # of the shear deformation's share, itself of order (T / L)^2
+        m3, tst = m2, RIGID_SHEAR
+    cs = np.zeros((2, 2)) if m3 is None else np.eye(2) * tst
+    return {"T": T, "cm": cm, "cb": cb, "cs": cs, "E1": m1.e, "E2": 0.0 if m2 is None else m2.e,
+            "G3": 0.0 if m3 is None else m3.e / (2 * (1 + m3.nu)) if rigid else m3.g,
+            "E3": 1.0 if m3 is None else m3.e, "mid1": m1.mid,
+            "mid2": 0 if m2 is None else m2.mid, "mid3": 0 if m3 is None else m3.mid,
+            "tied3": m3 is not None and (rigid or _tied(m3)),
+            "mass": {m1.mid: (m1.rho or 0.0, T)},
+            "nsm": in_range(prop.nsm or 0.0, f"{where}: NSM"), "laminate": None}
+
+
+def _ply(bdf, mid: int, where: str) -> tuple[np.ndarray, np.ndarray, float]:
+    """Plane moduli (3, 3), transverse shear moduli (2, 2) and density of a ply."""
+    mat = bdf.materials.get(mid)
+    if mat is None:
+        raise InputError(f"{where}: material {mid} is not defined")
+    if mat.type == "MAT1":
+        m = _mat1(bdf, mid, where)
+        return shells.plane_stress(m.e, m.nu)[0], np.eye(2) * m.g, m.rho or 0.0
+    if mat.type == "MAT8":
+        vals = {k: getattr(mat, a) for k, a in (("E1", "e11"), ("E2", "e22"), ("NU12", "nu12"),
+                                                 ("G12", "g12"), ("G1Z", "g1z"),
+                                                 ("G2Z", "g2z"))}
+        for k, v in vals.items():
+            if k != "NU12" and not (v is not None and in_range(v, f"MAT8 {mid}: {k}") > 0):
+                raise InputError(f"MAT8 {mid}: {k} = {v} must be given and > 0 (a blank G1Z/"
+                                 f"G2Z's default is not modelled)")
+        nu = vals["NU12"] or 0.0
+        if not nu**2 * vals["E2"] / vals["E1"] < 1:
+            raise InputError(f"MAT8 {mid}: NU12 = {nu:g} makes the ply's moduli indefinite")
+        q = laminate.orthotropic_plane(vals["E1"], vals["E2"], nu, vals["G12"])
+        if (mat.rho or 0.0) < 0:
+            raise InputError(f"MAT8 {mid}: negative density RHO = {mat.rho:g}")
+        return q, np.diag([vals["G1Z"], vals["G2Z"]]), mat.rho or 0.0
+    raise InputError(f"{where}: material {mat.type} {mid} is not supported (MAT1 or MAT8 "
+                     f"plies)")
+
+
+def _pcomp(bdf, prop) -> dict:
+    where = f"PCOMP {prop.pid}"
+    lam = (prop.lam or "").strip().upper()
+    if lam not in ("", "SYM"):
+        raise InputError(f"{where}: LAM = {lam} is not supported (blank or SYM)")
+    t = np.asarray(prop.get_thicknesses(), float)
+    if not np.all(t > 0):
+        raise InputError(f"{where}: every ply thickness T must be > 0, got {t.tolist()}")
+    angles = np.asarray(prop.get_thetas(), float)
+    if not np.all(np.isfinite(angles)):
+        raise InputError(f"{where}: ply angles THETA must be finite numbers")
+    mids = prop.get_material_ids()
+    plies = [_ply(bdf, int(m), f"{where} ply {i + 1}") for i, m in enumerate(mids)]
+    T = float(t.sum())
+    z0 = -T / 2 if prop.z0 is None else in_range(prop.z0, f"{where}: Z0")
+    mass: dict = {}
+    for m, p, ti in zip(mids, plies, t, strict=True):
+        mass[int(m)] = (p[2], mass.get(int(m), (0.0, 0.0))[1] + ti)
+    out = {"T": T, "E1": 1.0, "E2": 1.0, "G3": 1.0, "E3": 1.0, "mid1": 0, "mid2": 0,
+           "mid3": 0, "tied3": False, "mass": mass,
+           "nsm": in_range(prop.nsm or 0.0, f"{where}: NSM"), "plies": set(mass),
+           "laminate": (np.stack([p[0] for p in plies]), np.stack([p[1] for p in plies]),
+                        t, z0, np.radians(angles))}
+    one = bdf.materials[int(mids[0])]
+    if len(mass) == 1 and one.type == "MAT1":
+        # one isotropic material: A, D ~ E and H ~ G, so its E is a linear parameter
+        # as a PSHELL's (the laminate's moduli are divided by them below)
+        out.update(E1=one.e, E2=one.e, G3=one.g or 1.0, E3=one.e, mid1=one.mid, mid2=one.mid,
+                   mid3=one.mid, tied3=_tied(one))
+    return out
+
+
+def _material_angle(bdf, elems, xyz_e: np.ndarray, labels: list[str]) -> np.ndarray:
+    """Angle (n,) of each element's material x axis from its element x axis: THETA from
+    the G1-G2 side, or MCID's x axis projected on the element (rectangular MCID)."""
+    R, local = shells.shell_axes(xyz_e, labels)
+    side = local[:, 1] - local[:, 0]
+    out = np.arctan2(side[:, 1], side[:, 0])
+    for i, e in enumerate(elems):
+        tm = e.theta_mcid
+        if isinstance(tm, int):
+            c = bdf.coords.get(tm)
+            if c is None or c.Type != "R":
+                raise InputError(f"{labels[i]}: MCID {tm} must be a defined rectangular system")
+            x = R[i] @ c.beta()[0]
+            if math.hypot(x[0], x[1]) < 1e-8:
+                raise InputError(f"{labels[i]}: MCID {tm}'s x axis is normal to the element")
+            out[i] = math.atan2(x[1], x[0])
+        else:
+            out[i] += math.radians(float(tm or 0.0))
+    return out
+
+
+def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot, pindex,
+            values, k0, m0, kj, mj) -> None:
+    props: dict = {}
+    labels = [f"{e.type} {e.eid}" for e in elems]
+    nodes = np.array([[grid(g, lab) for g in e.node_ids] for e, lab in zip(elems, labels,
+                                                                          strict=True)])
+    rows = []
+    for e, lab in zip(elems, labels, strict=True):
+        prop = bdf.properties.get(e.pid)
+        if prop is None or prop.type not in ("PSHELL", "PCOMP"):
+            raise InputError(f"{lab}: property PSHELL or PCOMP {e.pid} is not defined")
+        if e.pid not in props:
+            props[e.pid] = _pshell(bdf, prop) if prop.type == "PSHELL" else _pcomp(bdf, prop)
+        p = props[e.pid]
+        if e.zoffset:
+            raise InputError(f"{lab}: ZOFFS = {e.zoffset:g} (offset from the grids) is not "
+                             f"supported")
+        corner = [x for x in (e.T1, e.T2, e.T3, getattr(e, "T4", None)) if x is not None]
+        if e.tflag or any(not math.isclose(x, p["T"], rel_tol=1e-12) for x in corner):
+            raise InputError(f"{lab}: corner thicknesses T1-T4 (TFLAG {e.tflag}) differing "
+                             f"from the property's T are not supported")
+        rows.append(p)
+    n = len(elems)
+    xyz_e = xyz[nodes]
+    T = np.array([p["T"] for p in rows])
+    E1, E2, G3, E3 = (np.array([p[q] for p in rows]) for q in ("E1", "E2", "G3", "E3"))
+    cm, cb, cs = np.zeros((n, 3, 3)), np.zeros((n, 3, 3)), np.zeros((n, 2, 2))
+    flat = np.array([p["laminate"] is None for p in rows])
+    for i, p in enumerate(rows):
+        if flat[i]:
+            cm[i], cb[i], cs[i] = p["cm"], p["cb"], p["cs"]
+    if not flat.all():
+        lam = np.flatnonzero(~flat)
+        angle = _material_angle(bdf, [elems[i] for i in lam], xyz_e[lam],
+                                [labels[i] for i in lam])
+        for pid in sorted({elems[i].pid for i in lam}):
+            sel = lam[[elems[i].pid == pid for i in lam]]
+            q, g, t, z0, theta = props[pid]["laminate"]
+            A, B, D, H = laminate.abd(q, g, t, z0, angle[np.searchsorted(lam, sel)][:, None]
+                                      + theta[None, :])
+            Tp = props[pid]["T"]
+            big = np.abs(B).max(axis=(1, 2)) > 1e-9 * np.abs(A).max(axis=(1, 2)) * Tp
+            if big.any():
+                raise InputError(f"PCOMP {pid}: membrane-bending coupling (an unsymmetric "
+                                 f"laminate, or Z0 != -T/2) is not supported")
+            p = props[pid]  # moduli per unit E1, E2, G3 (1 unless one MAT1)
+            cm[sel], cb[sel] = A / (Tp * p["E1"]), D / (Tp**3 * p["E2"])
+            cs[sel] = H / (Tp * p["G3"])
+    size = shells.stabilisation_size(xyz_e)
+    total = {"membrane": E1 * T, "drilling": E1 * T, "bending": E2 * T**3,
+             "shear": G3 * shells.shear_thickness(T, size)}
+    mass = wtmass * np.array([sum(r * t for r, t in p["mass"].values()) + p["nsm"]
+                              for p in rows])
+    deriv_k: list[dict] = [{} for _ in kj]
+    deriv_m: list = [None for _ in mj]
+    mids = {q: np.array([p[q] for p in rows]) for q in ("mid1", "mid2", "mid3")}
+    tied3 = np.array([p["tied3"] for p in rows])
+    for (card, cid), slots in pindex.items():
+        if card != "MAT1":
+            continue
+        mixed = sorted({e.pid for e, p in zip(elems, rows, strict=True)
+                        if cid in p.get("plies", ()) and p["mid1"] != cid})
+        if mixed and "E" in slots:
+            raise InputError(f"MAT1 {cid} field E: not a parameter of PCOMP {mixed[0]}, whose "
+                             f"plies use several materials (its condensed membrane is not "
+                             f"linear in one of them)")
+        if "E" in slots:
+            d = deriv_k[slots["E"]]
+            sh = shells.shear_thickness(T, size)
+            for part, mask, f in (("membrane", mids["mid1"] == cid, T),
+                                  ("drilling", mids["mid1"] == cid, T),
+                                  ("bending", mids["mid2"] == cid, T**3),
+                                  ("shear", (mids["mid3"] == cid) & tied3, sh * G3 / E3)):
+                if mask.any():
+                    d[part] = np.where(mask, f, 0.0)
+        if "RHO" in slots:
+            thick = np.array([p["mass"].get(cid, (0.0, 0.0))[1] for p in rows])
+            if thick.any():
+                deriv_m[slots["RHO"]] = wtmass * thick
+    base = {part: tot - sum((values[j] * d[part] for j, d in enumerate(deriv_k) if part in d),
+                            np.zeros(n)) for part, tot in total.items()}
+    mbase = mass - sum((values[j] * d for j, d in enumerate(deriv_m) if d is not None),
+                       np.zeros(n))
+    lumped = not consistent
+
+    def blocks(s: slice) -> list:
+        R, parts = shells.local_parts(xyz_e[s], cm[s], cb[s], cs[s], k6rot, labels[s])
+        hit = {p: c[s] for p, c in base.items() if np.any(c[s])}
+        out = [_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6) if hit else None]
+        for d in deriv_k:
+            hit = {p: c[s] for p, c in d.items() if np.any(c[s])}
+            out.append(_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6)
+                       if hit else None)
+        m = shells.shell_mass(xyz_e[s], lumped, labels[s])  # rotation-invariant
+        out.append(mbase[s, None, None] * m if np.any(mbase[s]) else None)
+        out += [None if d is None or not np.any(d[s]) else d[s, None, None] * m
+                for d in deriv_m]
+        return out
+
+    mats = assemble_many(nodes, blocks, 2 + len(kj) + len(mj), n_nodes, 6)
+    _add(k0, mats[0], 6)
+    for j in range(len(kj)):
+        _add(kj[j], mats[1 + j], 6)
+    _add(m0, mats[1 + len(kj)], 6)
+    for j in range(len(mj)):
+        _add(mj[j], mats[2 + len(kj) + j], 6)
+
+
+def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pindex,
+            values, k0, m0, kj, mj) -> None:
+    k = solids.NODES[kind]
+    labels = [f"{e.type} {e.eid}" for e in elems]
+    nodes = np.array([[grid(g, lab) for g in e.node_ids[:k]]
+                      for e, lab in zip(elems, labels, strict=True)])
+    mats: dict = {}
+    mid = np.zeros(len(elems), int)
+    for i, (e, lab) in enumerate(zip(elems, labels, strict=True)):
+        prop = bdf.properties.get(e.pid)
+        if prop is None or prop.type != "PSOLID":
+            raise InputError(f"{lab}: property PSOLID {e.pid} is not defined")
+        where = f"PSOLID {e.pid}"
+        for name, default in (("isop", None), ("integ", None), ("fctn", "SMECH")):
+            v = getattr(prop, name, default)
+            if v not in (default, "", None) and str(v).strip().upper() not in (default, ""):
+                raise InputError(f"{where}: {name.upper().replace('INTEG', 'IN')} = {v} is "
+                                 f"not supported (blank: NASTRAN's default element)")
+        if prop.mid not in mats:
+            mats[prop.mid] = _mat1(bdf, prop.mid, where)
+        mid[i] = prop.mid
+    E = np.array([mats[m].e for m in mid])
+    nu = np.array([mats[m].nu for m in mid])
+    rho = np.array([mats[m].rho or 0.0 for m in mid])
+    unit = solids.isotropic_elasticity(np.ones(len(elems)), nu)
+    kfac, mfac = E.copy(), wtmass * rho
+    dk = [None for _ in kj]
+    dm = [None for _ in mj]
+    for (card, cid), slots in pindex.items():
+        if card == "MAT1" and cid in mats:
+            if "E" in slots:
+                dk[slots["E"]] = np.where(mid == cid, 1.0, 0.0)
+            if "RHO" in slots:
+                dm[slots["RHO"]] = np.where(mid == cid, wtmass, 0.0)
+    for j, d in enumerate(dk):
+        if d is not None:
+            kfac = kfac - values[j] * d
+    for j, d in enumerate(dm):
+        if d is not None:
+            mfac = mfac - values[j] * d
+    lumped = not consistent
+    xyz_e = xyz[nodes]
+
+    def blocks(s: slice) -> list:
+        ku = _to_cd(solids.solid_stiffness(xyz_e[s], unit[s], labels[s]), frames, nodes[s], 3)
+        m = solids.solid_mass(xyz_e[s], lumped, labels[s])
+        return ([kfac[s, None, None] * ku if np.any(kfac[s]) else None]
+                + [None if d is None or not np.any(d[s]) else d[s, None, None] * ku
+                   for d in dk]
+                + [mfac[s, None, None] * m if np.any(mfac[s]) else None]
+                + [None if d is None or not np.any(d[s]) else d[s, None, None] * m
+                   for d in dm])
+
+    out = assemble_many(nodes, blocks, 2 + len(kj) + len(mj), n_nodes, 3)
+    _add(k0, out[0], 3)
+    for j in range(len(kj)):
+        _add(kj[j], out[1 + j], 3)
+    _add(m0, out[1 + len(kj)], 3)
+    for j in range(len(mj)):
+        _add(mj[j], out[2 + len(kj) + j], 3)
+
+
+def _to_cd(blocks: np.ndarray, frames: np.ndarray, nodes: np.ndarray, per_node: int
+           ) -> np.ndarray:
+    """Element blocks (n, m, m) in basic axes turned to each grid's displacement axes
+    (CD; ``frames`` rows): F K F^T node block by node block."""
+    F = frames[nodes]  # (n, k, 3, 3)
+    if np.all(F == np.eye(3)):
+        return blocks
+    n, k = nodes.shape
+    T = np.zeros((n, k * per_node, k * per_node))
+    for a in range(k):
+        for b in range(0, per_node, 3):
+            r = a * per_node + b
+            T[:, r:r + 3, r:r + 3] = F[:, a]
+    return T @ blocks @ np.swapaxes(T, 1, 2)
+
+
+def _add(trip, mat, per_node: int) -> None:
+    """Add a matrix assembled ``per_node`` coordinates a node to the 6-a-node triplets."""
+    if mat.nnz == 0:
+        return
+    if per_node == 6:  # already numbered as the model
+        trip.add_matrix(mat)
+        return
+    coo = mat.tocoo()
+    r, c = coo.row.astype(np.int64), coo.col.astype(np.int64)
+    trip.add(6 * (r // per_node) + r % per_node, 6 * (c // per_node) + c % per_node, coo.data)

@@ -245,7 +245,8 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
                    k0, m0, kj, mj, extra)
     assemble_continuum(bdf, grid, xyz, frames, nids.size, consistent, wtmass,
-                       _param(bdf, "K6ROT", shells.K6ROT), pindex, values, k0, m0, kj, mj)
+                       _param(bdf, "K6ROT", shells.K6ROT), pindex, values, k0, m0, kj, mj,
+                       extra)
     assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj)
     assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
     assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj)

@@ -27,6 +27,8 @@ FIELDS = {
     # section dimensions: A, I1, I2, J through the shape's formulas (nonlinear)
     "PBARL": {f"DIM{k + 1}": ("_dim", k) for k in range(10)},
     "PBEAML": {f"DIM{k + 1}": ("_dim", k) for k in range(10)},
+    # thickness: membrane ~ T, bending ~ T^3, shear ~ T, mass ~ RHO T + NSM (nonlinear)
+    "PSHELL": {"T": "t"},
 }
 
 NOT_LINEAR = {
@@ -41,6 +43,7 @@ def stores(bdf) -> dict:
             "PELAS": bdf.properties, "CELAS2": bdf.elements, "CELAS4": bdf.elements,
             "CMASS4": bdf.masses, "CONM2": bdf.masses, "CONM1": bdf.masses,
             "PBUSH": bdf.properties, "PBARL": bdf.properties, "PBEAML": bdf.properties,
+            "PSHELL": bdf.properties,
             "CMASS2": bdf.masses, "PMASS": bdf.properties_mass}
 
 

@@ -27,7 +27,7 @@ FIELD_INDEX = {
     ("PBEAM", "A"): 3, ("PBEAM", "I1"): 4, ("PBEAM", "I2"): 5, ("PBEAM", "J"): 7,
     ("PROD", "A"): 3, ("PROD", "J"): 4,
     ("CELAS2", "K"): 2, ("CELAS4", "K"): 2, ("CMASS2", "M"): 2, ("CMASS4", "M"): 2,
-    ("CONM2", "M"): 4,
+    ("CONM2", "M"): 4, ("PSHELL", "T"): 3,
     # PBARL/PBEAML PID MID GROUP TYPE, then DIM1... on the continuation (one station)
     **{(c, f"DIM{k}"): 8 + k for c in ("PBARL", "PBEAML") for k in range(1, 11)},
 }

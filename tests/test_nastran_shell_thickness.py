@@ -141,3 +141,35 @@ def test_update_recovers_two_thicknesses_and_E_and_writes_them_back(tmp_path):
     write_updated_bdf(nm, out, res.parameters)
     back = _read(out, _spec(fields)).model.values
     assert back == pytest.approx(res.x, rel=1e-11)  # 12 significant digits written
+
+
+@pytest.mark.slow
+def test_study_update_writes_the_thicknesses_into_the_bdf(tmp_path, run_cli):
+    """The command line from a study to the updated BDF: PSHELL T named by card, id and
+    field; the data the hand-edited truth deck's frequencies (written with 17 digits).
+    Slow: the workflow refits with modes exchanged between configurations."""
+    plate(tmp_path / "plate.bdf", nx=6)
+    truth = dict(INIT, t1=0.0042, t2=0.0061)
+    true_model = _read(plate(tmp_path / "truth.bdf", truth, nx=6)).model
+    grids = (16, 25, 32)  # interior grids of the 7 x 7
+    configs = [Configuration("base")] + [mass_at(dof_number(g, 3), 2.0, f"g{g}")
+                                         for g in grids]
+    sols = solve_configurations(true_model, configs, 3)
+    rows = ["configuration,mode,frequency_hz,std_hz"]
+    rows += [f"{c.name},{k},{float(s.frequencies_hz[k - 1])!r},"
+             for c, s in zip(configs, sols, strict=True) for k in (1, 2, 3)]
+    (tmp_path / "measured.csv").write_text("\n".join(rows) + "\n")
+    study = tmp_path / "study.toml"
+    study.write_text(
+        '[model]\ntype = "nastran"\nbdf = "plate.bdf"\n'
+        + "".join(f'[[model.parameter]]\nname = "{n}"\ncard = "PSHELL"\nid = {i}\n'
+                  f'field = "T"\n' for n, i in (("t1", 1), ("t2", 2)))
+        + "".join(f'[[perturbation]]\nname = "g{g}"\ngrid = {g}\ncomponent = 3\nmass = 2.0\n'
+                  for g in grids)
+        + '[measurement]\nfrequencies = "measured.csv"\nmodes = [1, 2, 3]\n')
+    out = tmp_path / "updated.bdf"
+    code, text, err = run_cli("update", study, "--save-bdf", out)
+    assert code == 0, err
+    back = _read(out, _spec(FIELDS[:2])).model.values
+    assert back == pytest.approx([truth["t1"], truth["t2"]], rel=1e-6)
+    assert "PSHELL" in out.read_text() and "eigenupdate: updated" in out.read_text()

@@ -214,8 +214,11 @@ class ParametricModel:
         if all(t.linear for t in k_parts + m_parts):
             kt, mt = [], []
             for parts, out in ((k_parts, kt), (m_parts, mt)):
+                by = {}
+                for t in parts:
+                    by.setdefault(t.powers[0][0], []).append(t)
                 for j in range(len(parameters)):
-                    mine = [t for t in parts if t.powers[0][0] == j]
+                    mine = by.get(j, [])
                     if len(mine) == 1 and mine[0].coefficient == 1:
                         out.append(mine[0].matrix)  # as given: no copy
                         continue
@@ -237,15 +240,13 @@ class ParametricModel:
         s = self.values
         _check_powers(self.parameters, self.k_parts + self.m_parts, s)
         for name, parts in (("k_terms", self.k_parts), ("m_terms", self.m_parts)):
-            out = []
-            for j in range(len(self.parameters)):
-                d = None
-                for t in parts:
-                    if j in t.indices:
-                        x = t.derivative(s, j) * t.matrix
-                        d = x if d is None else d + x
-                out.append(None if d is None else sp.csr_array(d))
-            object.__setattr__(self, name, tuple(out))
+            out: list = [None] * len(self.parameters)
+            for t in parts:
+                for j in t.indices:
+                    x = t.derivative(s, j) * t.matrix
+                    out[j] = x if out[j] is None else out[j] + x
+            object.__setattr__(self, name, tuple(None if d is None else sp.csr_array(d)
+                                                 for d in out))
 
     def at(self, values: Sequence[float] | None) -> ParametricModel:
         """This model with ``values``, when its derivatives depend on them (nonlinear);

@@ -35,6 +35,9 @@ from eigenupdate.io.nastran_write import write_updated_bdf  # noqa: E402
 # the PBARL frame's members: pids 2 TUBE, 4 BOX, 5 I, 6 T, 7 CHAN (shear-rigid here)
 DIMS = [("box_h", "PBARL", 4, "DIM2"), ("i_h", "PBARL", 5, "DIM1"),
         ("t_web", "PBARL", 6, "DIM4"), ("E", "MAT1", 1, "E"), ("rho", "MAT1", 1, "RHO")]
+# NASTRAN's shear-flexible PBARL ROD (1) and BAR (3): Timoshenko, phi = 12 EI/(K A G L^2)
+SHEAR = [("rod_r", "PBARL", 1, "DIM1"), ("bar_h", "PBARL", 3, "DIM2"), ("E", "MAT1", 1, "E"),
+         ("rho", "MAT1", 1, "RHO")]
 # the PBAR frame: E with the A of one section and I1 of another (products E A, E I1)
 PRODUCTS = [("E", "MAT1", 1, "E"), ("A4", "PBAR", 4, "A"), ("I5", "PBAR", 5, "I1")]
 
@@ -49,11 +52,12 @@ def _frame(path, which: str, values=None):
     J ("products"), written with the ``values`` of DIMS or PRODUCTS in their fields (by
     hand, every digit: repr)."""
     frame = random_frame(np.random.default_rng(6), True)
-    used = [p for p in sorted(SECTIONS) if SECTIONS[p][0] not in ("ROD", "BAR")]
+    used = [p for p in sorted(SECTIONS) if (SECTIONS[p][0] in ("ROD", "BAR"))
+            == (which == "shear")]
     frame.bars = [(eid, a, b, v, used[eid % len(used)]) for eid, a, b, v, _ in frame.bars]
     dims = {pid: list(d) for pid, (_, d) in SECTIONS.items()}
     frame.sections = {pid: list(closed_form(*SECTIONS[pid])) for pid in SECTIONS}
-    fields = DIMS if which == "dims" else PRODUCTS
+    fields = {"dims": DIMS, "shear": SHEAR, "products": PRODUCTS}[which]
     for (_, card, cid, f), v in zip(fields, [] if values is None else values, strict=False):
         if card == "MAT1":
             setattr(frame, {"E": "E", "RHO": "rho"}[f], float(v))
@@ -62,7 +66,7 @@ def _frame(path, which: str, values=None):
         else:
             frame.sections[cid][{"A": 0, "I1": 1}[f]] = float(v)
     text = frame.bdf()
-    if which == "dims":
+    if which != "products":
         lines = text.splitlines()
         kept = [x for i, x in enumerate(lines) if not x.startswith("PBAR*")
                 and not (i and lines[i - 1].startswith("PBAR*"))]
@@ -108,9 +112,9 @@ def ell(tmp_path):
     return _ell(tmp_path / "ell.bdf")
 
 
-@pytest.mark.parametrize("which", ["dims", "products"])
+@pytest.mark.parametrize("which", ["dims", "shear", "products"])
 def test_model_at_new_values_is_the_hand_edited_deck(tmp_path, which):
-    fields = DIMS if which == "dims" else PRODUCTS
+    fields = {"dims": DIMS, "shear": SHEAR, "products": PRODUCTS}[which]
     nm = read_nastran(_frame(tmp_path / "a.bdf", which), _spec(fields))
     assert nm.model.nonlinear
     new = nm.model.values * np.array([1.05, 0.97, 1.1, 1.03, 0.98][:len(fields)])
@@ -121,9 +125,9 @@ def test_model_at_new_values_is_the_hand_edited_deck(tmp_path, which):
         assert abs(a - b).max() <= 1e-12 * abs(b).max()
 
 
-@pytest.mark.parametrize("which", ["dims", "products"])
+@pytest.mark.parametrize("which", ["dims", "shear", "products"])
 def test_derivatives_match_central_differences(tmp_path, which):
-    fields = DIMS if which == "dims" else PRODUCTS
+    fields = {"dims": DIMS, "shear": SHEAR, "products": PRODUCTS}[which]
     model = read_nastran(_frame(tmp_path / "a.bdf", which), _spec(fields)).model
     s = model.values
     for j in range(len(fields)):
@@ -198,14 +202,15 @@ def test_refusals(tmp_path):
     pbarl = _frame(tmp_path / "a.bdf", "dims")
     with pytest.raises(InputError, match="PBARL 4: section BOX has DIM1-DIM4, not DIM5"):
         read_nastran(pbarl, [(Parameter("d", 0.0), CardField("PBARL", 4, "DIM5"))])
-    # NASTRAN's BAR section is shear-flexible: its dimensions are refused on a member
-    text = re.sub(r"(?m)^CBAR\*,1,\d+,", "CBAR*,1,3,", pbarl.read_text())
+    # pin flags on a shear-flexible BAR with a dimension parameter: refused
+    text = _frame(tmp_path / "b.bdf", "shear").read_text().replace("PARAM,COUPMASS,1\n", "")
+    text = re.sub(r"(?m)^(CBAR\*,1,\d+,\d+,\d+)\n\*,(.*)$", r"\1\n*,\2,GGG\n*,6,", text)
     bar = tmp_path / "bar.bdf"
     bar.write_text(text)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", EigenupdateWarning)
-        with pytest.raises(InputError, match="CBAR 1: its parameters enter K nonlinearly"):
-            read_nastran(bar, [(Parameter("d", 0.0), CardField("PBARL", 3, "DIM2"))])
+        with pytest.raises(InputError, match="not supported with pin flags"):
+            read_nastran(bar, _spec(SHEAR[:2]))
     # a step that leaves the shape's domain is named, not assembled
     nm = read_nastran(pbarl, [(Parameter("t", 0.0), CardField("PBARL", 4, "DIM3"))])
     with pytest.raises(InputError, match="section BOX needs DIM2 > 2 DIM3"):

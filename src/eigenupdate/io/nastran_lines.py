@@ -201,7 +201,7 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
                     linear_only(mask, fld, card, cid, planes[fld])
                     for part, c in parts_:
                         d(slots[fld], part, c, mask)
-    nonlin = _nonlinear_elements(deriv, pindex, pkeys, label, shear)
+    nonlin = _nonlinear_elements(deriv, pindex, pkeys, label, shear & np.array(pins).any(1))
     for dj in deriv:  # those elements' parts all go to their function terms
         for arr in dj.values():
             arr[nonlin] = 0.0
@@ -230,15 +230,35 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             fixed.update({f"DIM{k + 1}": float(x) for k, x in enumerate(dims)})
         slots = {**pindex.get(("MAT1", key[0]), {}), **pindex.get(key[1], {})}
         for part in PARTS:
-            deps = [f for f in slots if _enters(part, f, r[2], bool(beam[e]))]
+            k_shear = {"k_bend1": r[11], "k_bend2": r[12]}.get(part, 0.0)
+            # phi = 12 E I / (K A G L^2) holds A too
+            deps = [f for f in slots if _enters(part, f, r[2], bool(beam[e]))
+                    or (k_shear and f != "RHO")]
             if not deps:  # this part does not depend on the parameters
                 base[part][grp] = total[part][grp]
                 continue
-            fn = SectionPart(part, tuple(deps), tuple(fixed.items()), shape, r[2],
-                             bool(beam[e]), float(wtmass))
-            dest = type(k0)()
-            put(dest, {part: grp.astype(float)})
-            extra.append((part[0], dest, FunctionTerm(None, tuple(slots[f] for f in deps), fn)))
+            idx = tuple(slots[f] for f in deps)
+            if not k_shear:
+                fn = SectionPart(part, tuple(deps), tuple(fixed.items()), shape, r[2],
+                                 bool(beam[e]), float(wtmass))
+                dest = type(k0)()
+                put(dest, {part: grp.astype(float)})
+                extra.append((part[0], dest, FunctionTerm(None, idx, fn)))
+                continue
+            # Timoshenko: EI (U0 + phi U1) / (1 + phi) per unit EI, phi = c / L^2 differs
+            # with the length: two terms per distinct length
+            for length in np.unique(L[grp]):
+                sel = np.flatnonzero(grp & (L == length))
+                u0 = frame3d.stiffness_parts(L[sel])[part[2:]]
+                u1 = 2 * frame3d.stiffness_parts(L[sel], np.ones(sel.size),
+                                                 np.ones(sel.size))[part[2:]] - u0
+                for which, local in ((0, u0), (1, u1)):
+                    fn = SectionPart(part, tuple(deps), tuple(fixed.items()), shape, r[2],
+                                     bool(beam[e]), float(wtmass), float(k_shear),
+                                     float(length), which)
+                    dest = type(k0)()
+                    dest.add(r_idx[sel], c_idx[sel], frame3d.to_global(local, T[sel]))
+                    extra.append(("k", dest, FunctionTerm(None, idx, fn)))
 
     for kind, dest0, dests in (("k", k0, kj), ("m", m0, mj)):
         put(dest0, {p: c for p, c in base.items() if p[0] == kind})
@@ -336,6 +356,7 @@ def pbarl_section(prop) -> tuple:
 
 
 def _nonlinear_elements(deriv, pindex, pkeys, label, shear) -> np.ndarray:
+    # shear: the shear-flexible elements with pin flags (condensed with phi: refused)
     """Mask of the elements whose K or M is not linear in the parameters: a section
     dimension is one, or two parameters scale one of their quantities (E A)."""
     dims = {k for k in pindex if k[0] in ("PBARL", "PBEAML")}
@@ -347,8 +368,7 @@ def _nonlinear_elements(deriv, pindex, pkeys, label, shear) -> np.ndarray:
     if hit.size:
         raise InputError(f"{label[hit[0]]}: its parameters enter K nonlinearly (a section "
                          f"dimension, or a product such as MAT1 E with PBAR A), which is "
-                         f"supported on shear-rigid sections only (K1/K2 blank; NASTRAN "
-                         f"gives PBARL/PBEAML BAR and ROD shear flexibility)")
+                         f"not supported with pin flags on a shear-flexible section")
     return out
 
 

@@ -190,7 +190,10 @@ class SectionPart:
     """One part coefficient of a group of frame elements (one material and section) as a
     function of the parameters among its quantities, for
     :class:`~eigenupdate.model.parametric.FunctionTerm`: EA, GJ, EI1, EI2, wtmass
-    (rho A + NSM), wtmass (rho (I1 + I2) + NSI) (the last 0 unless ``beam``).
+    (rho A + NSM), wtmass (rho (I1 + I2) + NSI) (the last 0 unless ``beam``); with
+    ``shear`` a shear-flexible bending part's two factors EI / (1 + phi) and
+    EI phi / (1 + phi) of elements of one ``length`` (:func:`frame3d.stiffness_parts`:
+    K = EI (U0 + phi U1) / (1 + phi)).
 
     ``slots`` names what each argument is (``E``, ``RHO``, ``A``, ``I1``, ``I2``,
     ``J``, ``DIM1``...); the other quantities keep their ``fixed`` values. With a
@@ -210,6 +213,9 @@ class SectionPart:
     tied: bool
     beam: bool
     wtmass: float
+    shear: float = 0.0  # K1 (bend1) or K2 (bend2) of a shear-flexible section, else 0
+    length: float = 0.0  # with ``shear``: the elements' length L
+    which: int = 0  # with ``shear``: 0 the factor EI / (1 + phi), 1 EI phi / (1 + phi)
 
     def __call__(self, x: np.ndarray):
         q = dict(self.fixed)
@@ -222,6 +228,10 @@ class SectionPart:
         e = q["E"]
         g = q["G"] * e / e0 if self.tied else q["G"]
         w = self.wtmass
+        if self.shear:  # Timoshenko bending, phi = 12 E I / (K A G L^2)
+            ei = e * q["I1" if self.part == "k_bend1" else "I2"]
+            phi = 12 * ei / (self.shear * q["A"] * g * self.length**2)
+            return ei * (phi if self.which else 1.0) / (1 + phi)
         return {"k_axial": lambda: e * q["A"], "k_torsion": lambda: g * q["J"],
                 "k_bend1": lambda: e * q["I1"], "k_bend2": lambda: e * q["I2"],
                 "m_translation": lambda: w * (q["RHO"] * q["A"] + q["NSM"]),

@@ -35,3 +35,23 @@ def random_network(rng, n):
     springs = [Spring(Parameter(f"k{j}", rng.uniform(0.5e6, 2e6)), p)
                for j, p in enumerate(pairs, 1)]
     return spring_mass_model(masses, springs, n)
+
+
+def thickness_strip(n_el=8, E=70e9, t=(0.004, 0.005), rho=2700.0, width=0.05, length=0.8,
+                    std=None):
+    """A free-free rectangular strip in bending, E and the thicknesses t1 (first half of
+    the elements), t2 (second half) its parameters: EI = E b t^3 / 12 (a product E t^3),
+    mass per length rho b t. Built from the unit-EI, unit-mass beam elements of
+    :func:`beam_model`; returns (nonlinear model, the unit linear beam)."""
+    from eigenupdate.model.parametric import ParametricModel, Term
+
+    unit = beam_model(np.linspace(0.0, length, n_el + 1).tolist(), 1.0, 1.0)
+    params = (Parameter("E", E, None if std is None else std * E),
+              Parameter("t1", t[0], None if std is None else std * t[0]),
+              Parameter("t2", t[1], None if std is None else std * t[1]))
+    region = [1 if e < n_el // 2 else 2 for e in range(n_el)]
+    kp = [Term(unit.k_terms[e], ((0, 1.0), (region[e], 3.0)), width / 12) for e in range(n_el)]
+    mp = [Term(unit.m_terms[n_el + e], ((region[e], 1.0),), rho * width) for e in range(n_el)]
+    model = ParametricModel.from_parts(unit.k0, unit.m0, params, kp, mp, unit.coordinates,
+                                       unit.coordinate_table)
+    return model, unit

@@ -7,7 +7,6 @@ Run for real in .venv-nastran (``make test``); skipped in the core environment."
 from __future__ import annotations
 
 import math
-import re
 import warnings
 
 import numpy as np
@@ -181,15 +180,6 @@ def test_refused_sections_one_line(tmp_path, run_cli, card, message):
     code, out, err = run_cli("frequencies", study, "--modes", "1")
     assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
     assert str(tmp_path / "bad.bdf") in err and message in err
-
-
-def test_dimension_parameter_refused(tmp_path):
-    """A, I and J are not linear in a PBARL dimension: the parameter is refused."""
-    path = tmp_path / "one.bdf"
-    path.write_text(_bulk(_pbarl(1, "I", SECTIONS[5][1])))
-    with pytest.raises(Exception, match=re.escape("PBARL 1 field DIM1: not a parameter: A, "
-                                                  "I and J are not linear")):
-        read_nastran(path, [(Parameter("h", 0.0), CardField("PBARL", 1, "DIM1"))])
 
 
 def test_pbarl_nonstructural_mass(tmp_path):

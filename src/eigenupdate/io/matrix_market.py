@@ -85,20 +85,24 @@ def read_matrix_model(
     k0: str | Path,
     m0: str | Path,
     parameters: Sequence[tuple[Parameter, str | Path | None, str | Path | None]],
+    terms: Sequence[tuple[tuple[tuple[int, float], ...], float, str | Path | None,
+                          str | Path | None]] = (),
 ) -> ParametricModel:
-    """Model K = K0 + sum s_j K_j, M = M0 + sum s_j M_j from Matrix Market files.
+    """Model K = K0 + sum s_j K_j, M = M0 + sum s_j M_j from Matrix Market files, plus
+    monomial ``terms``: (powers, coefficient, K file or None, M file or None), each adding
+    coefficient * prod s_j^a_j times its matrix (:class:`~eigenupdate.model.parametric.Term`).
 
-    ``parameters`` holds (parameter, K_j file or None, M_j file or None); at least one file
-    each. The model is built by :func:`eigenupdate.model.matrices.matrix_model`.
+    ``parameters`` holds (parameter, K_j file or None, M_j file or None). The model is
+    built by :func:`eigenupdate.model.matrices.matrix_model`.
     """
     K0 = read_matrix(k0)
     n = K0.shape[0]
-    require_model_size(n, len(parameters), "model.parameter")
+    require_model_size(n, len(parameters) + len(terms), "model.parameter")
     M0 = read_matrix(m0, n)
-    terms = []
+    linear = []
     for p, kf, mf in parameters:
-        if kf is None and mf is None:
-            raise InputError("needs a K and/or an M file", field=f"parameter {p.name}")
-        terms.append((p, None if kf is None else read_matrix(kf, n),
-                      None if mf is None else read_matrix(mf, n)))
-    return matrix_model(K0, M0, terms)
+        linear.append((p, None if kf is None else read_matrix(kf, n),
+                       None if mf is None else read_matrix(mf, n)))
+    parts = [(pw, c, None if kf is None else read_matrix(kf, n),
+              None if mf is None else read_matrix(mf, n)) for pw, c, kf, mf in terms]
+    return matrix_model(K0, M0, linear, parts)

@@ -1,4 +1,5 @@
-"""Assembling a NASTRAN deck's K and M, linear in named card fields.
+"""Assembling a NASTRAN deck's K and M as functions of named card fields (linear in most;
+PBARL/PBEAML dimensions and products such as MAT1 E with PBAR A through their formulas).
 
 :func:`read_nastran` reads the deck (:mod:`eigenupdate.io.nastran_deck`) and assembles a
 :class:`ParametricModel` whose parameters are named card fields (``MAT1 1 E``, see
@@ -41,7 +42,7 @@ from eigenupdate.io.nastran_points import (
 from eigenupdate.model import constraints, reduction, shells
 from eigenupdate.model.coordinates import Coordinate, CoordinateTable
 from eigenupdate.model.parameters import Parameter
-from eigenupdate.model.parametric import ParametricModel
+from eigenupdate.model.parametric import ParametricModel, Term
 
 __all__ = ["FIELDS", "CardField", "NastranModel", "get_field", "read_nastran", "set_field"]
 
@@ -240,10 +241,12 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
             raise InputError(f"{card}: component {c} must be 1-6 on a GRID")
         return 6 * grid(n, card) + int(c) - 1
 
+    extra: list = []  # nonlinear parts: ("k" or "m", triplets, FunctionTerm)
     assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
-                   k0, m0, kj, mj)
+                   k0, m0, kj, mj, extra)
     assemble_continuum(bdf, grid, xyz, frames, nids.size, consistent, wtmass,
-                       _param(bdf, "K6ROT", shells.K6ROT), pindex, values, k0, m0, kj, mj)
+                       _param(bdf, "K6ROT", shells.K6ROT), pindex, values, k0, m0, kj, mj,
+                       extra)
     assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj)
     assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
     assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj)
@@ -253,6 +256,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     K0, M0 = k0.matrix(ndof), m0.matrix(ndof)
     kt = [t.matrix(ndof) for t in kj]
     mt = [t.matrix(ndof) for t in mj]
+    xt = [(kind, t.matrix(ndof), term) for kind, t, term in extra]
     # rigid elements and MPCs: u = T u_i, every matrix reduced to the independent rows
     eqs = constraint_equations(bdf, grid, xyz, frames)
     labels = np.array(["" for _ in range(ndof)], dtype=object)
@@ -273,17 +277,24 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
         K0, M0 = T.T @ K0 @ T, T.T @ M0 @ T
         kt = [sp.csr_array(T.T @ a @ T) for a in kt]
         mt = [sp.csr_array(T.T @ a @ T) for a in mt]
+        xt = [(kind, sp.csr_array(T.T @ a @ T), term) for kind, a, term in xt]
         restrained = np.flatnonzero(np.isin(rows_ind, restrained))
     nfree = rows_ind.size
     K, M = sp.csr_array(K0), sp.csr_array(M0)
     for s, a, b in zip(values, kt, mt, strict=True):
         K, M = K + s * a, M + s * b
+    for kind, a, term in xt:
+        if kind == "k":
+            K = K + term.value(np.asarray(values)) * a
+        else:
+            M = M + term.value(np.asarray(values)) * a
     # coordinates with neither stiffness nor mass (rod rotations) carry nothing; with
     # PARAM AUTOSPC YES (MSC's and NX's default in normal modes) NASTRAN also constrains
     # those with mass and no stiffness (unconnected grids, rotations of rod-only grids)
     stiff, heavy = np.zeros(nfree, bool), np.zeros(nfree, bool)
-    for mat, hit in [(K, stiff), (M, heavy)] + [(t, stiff) for t in kt] + [(t, heavy)
-                                                                           for t in mt]:
+    for mat, hit in ([(K, stiff), (M, heavy)] + [(t, stiff) for t in kt]
+                     + [(t, heavy) for t in mt]
+                     + [(a, stiff if kind == "k" else heavy) for kind, a, _ in xt]):
         coo = mat.tocoo()
         hit[coo.row[coo.data != 0]] = True
     autospc = str(_param(bdf, "AUTOSPC", "YES")).upper() not in ("NO", "N")
@@ -309,10 +320,14 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     params = []
     for (p, _), v in zip(specs, values, strict=True):
         params.append(Parameter(p.name, v, p.std, p.update))
-    pm = ParametricModel(
-        k0m, m0m, tuple(params),
-        tuple(None if t.nnz == 0 else _kept(t, keep) for t in kt),
-        tuple(None if t.nnz == 0 else _kept(t, keep) for t in mt),
+    parts: dict[str, list] = {"k": [], "m": []}
+    for kind, ts in (("k", kt), ("m", mt)):
+        parts[kind] += [Term(_kept(t, keep), ((j, 1.0),)) for j, t in enumerate(ts) if t.nnz]
+    for kind, a, term in xt:
+        if a.nnz:
+            parts[kind].append(term.replaced(_kept(a, keep)))
+    pm = ParametricModel.from_parts(
+        k0m, m0m, tuple(params), parts["k"], parts["m"],
         coordinates=coords,
         # coordinate 10 * GRID + component: node = GRID, direction = component (UFF codes)
         coordinate_table=CoordinateTable(tuple(Coordinate(int(c), int(c) // 10, int(c) % 10)
@@ -426,9 +441,6 @@ def _check_fields(bdf, fields: list[CardField]) -> dict:
         if (f.card, f.field) in NOT_LINEAR:
             raise InputError(f"{f.card} {f.id} field {f.field}: not a parameter: "
                              f"{NOT_LINEAR[(f.card, f.field)]}")
-        if f.card in ("PBARL", "PBEAML") and f.field.startswith("DIM"):
-            raise InputError(f"{f.card} {f.id} field {f.field}: not a parameter: A, I and J are "
-                             f"not linear in the section's dimensions (MAT1 E and RHO are)")
         if f.card not in FIELDS:
             have = ", ".join(f"{c} {'/'.join(v)}" for c, v in FIELDS.items())
             raise InputError(f"card {f.card} has no parameter fields (supported: {have})")
@@ -438,6 +450,11 @@ def _check_fields(bdf, fields: list[CardField]) -> dict:
         card = cards[f.card].get(f.id)
         if card is None or card.type != f.card:
             raise InputError(f"{f.card} {f.id} is not in the file")
+        if f.card in ("PBARL", "PBEAML"):
+            n = np.atleast_2d(np.asarray(card.dim, float)).shape[1]
+            if int(f.field[3:]) > n:
+                raise InputError(f"{f.card} {f.id}: section {card.Type} has DIM1-DIM{n}, "
+                                 f"not {f.field}")
         slot = out.setdefault((f.card, f.id), {})
         if f.field in slot:
             raise InputError(f"{f.card} {f.id} field {f.field} is named by two parameters")

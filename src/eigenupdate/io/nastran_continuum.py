@@ -25,6 +25,7 @@ from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range
 from eigenupdate.model import laminate, shells, solids
 from eigenupdate.model.assembly import assemble_many
+from eigenupdate.model.parametric import FunctionTerm, Term
 
 SHELLS = {"CQUAD4": 4, "CTRIA3": 3}
 SOLIDS = {("CHEXA", 8): "CHEXA8", ("CHEXA", 20): "CHEXA20", ("CPENTA", 6): "CPENTA6",
@@ -36,9 +37,10 @@ multiple of MID2's E / (2 (1 + NU)) T."""
 
 
 def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot, pindex,
-                       values, k0, m0, kj, mj) -> None:
+                       values, k0, m0, kj, mj, extra) -> None:
     """Add the shells' and solids' K and M (and each parameter's K_j, M_j) to the
-    triplets of :mod:`eigenupdate.io.nastran`."""
+    triplets of :mod:`eigenupdate.io.nastran`; a PSHELL's T as a parameter adds its
+    terms to ``extra`` (:func:`_thickness_terms`)."""
     groups: dict = {}
     for eid, e in sorted(bdf.elements.items()):
         if e.type in SHELLS:
@@ -54,7 +56,7 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
     for (family, k), elems in sorted(groups.items()):
         if family == "shell":
             _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot,
-                    pindex, values, k0, m0, kj, mj)
+                    pindex, values, k0, m0, kj, mj, extra)
         else:
             _solids(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, pindex,
                     values, k0, m0, kj, mj)
@@ -209,7 +211,7 @@ def _material_angle(bdf, elems, xyz_e: np.ndarray, labels: list[str]) -> np.ndar
 
 
 def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot, pindex,
-            values, k0, m0, kj, mj) -> None:
+            values, k0, m0, kj, mj, extra) -> None:
     props: dict = {}
     labels = [f"{e.type} {e.eid}" for e in elems]
     nodes = np.array([[grid(g, lab) for g in e.node_ids] for e, lab in zip(elems, labels,
@@ -287,10 +289,16 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             thick = np.array([p["mass"].get(cid, (0.0, 0.0))[1] for p in rows])
             if thick.any():
                 deriv_m[slots["RHO"]] = wtmass * thick
+    thick = _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m)
     base = {part: tot - sum((values[j] * d[part] for j, d in enumerate(deriv_k) if part in d),
                             np.zeros(n)) for part, tot in total.items()}
     mbase = mass - sum((values[j] * d for j, d in enumerate(deriv_m) if d is not None),
                        np.zeros(n))
+    if thick:  # those elements' parts are all in their terms, but NSM
+        on = np.isin([e.pid for e in elems], list({t[0] for t in thick}))
+        for c in base.values():
+            c[on] = 0.0
+        mbase[on] = wtmass * np.array([p["nsm"] for p in rows])[on]
     lumped = not consistent
 
     def blocks(s: slice) -> list:
@@ -305,15 +313,87 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         out.append(mbase[s, None, None] * m if np.any(mbase[s]) else None)
         out += [None if d is None or not np.any(d[s]) else d[s, None, None] * m
                 for d in deriv_m]
+        for _, part, mask, _ in thick:
+            if not mask[s].any():
+                out.append(None)
+            elif part == "mass":
+                out.append(mask[s, None, None] * m)
+            else:
+                out.append(_to_cd(shells.combine(R, parts, {part: mask[s].astype(float)}),
+                                  frames, nodes[s], 6))
         return out
 
-    mats = assemble_many(nodes, blocks, 2 + len(kj) + len(mj), n_nodes, 6)
+    mats = assemble_many(nodes, blocks, 2 + len(kj) + len(mj) + len(thick), n_nodes, 6)
+    for i, (_, part, _, term) in enumerate(thick):
+        trip = type(k0)()
+        _add(trip, mats[2 + len(kj) + len(mj) + i], 6)
+        extra.append(("m" if part == "mass" else "k", trip, term))
     _add(k0, mats[0], 6)
     for j in range(len(kj)):
         _add(kj[j], mats[1 + j], 6)
     _add(m0, mats[1 + len(kj)], 6)
     for j in range(len(mj)):
         _add(mj[j], mats[2 + len(kj) + j], 6)
+
+
+MAX_SIZES = 64
+"""Most distinct CTRIA3 sizes of one PSHELL whose T is a parameter: each size's shear
+part T^3 / (T^2 + alpha h^2) is a term of its own."""
+
+
+def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m) -> list:
+    """(pid, part, element mask, term) of every PSHELL whose T is a parameter: membrane
+    and drilling E1 T, bending E2 T^3 (12I/T^3 in the moduli), shear G3 s(T) (T on a
+    CQUAD4, per size on a CTRIA3), mass WTMASS RHO1 T (NSM stays fixed); a MAT1 E or RHO
+    that is a parameter too multiplies in. Clears those elements' linear derivatives."""
+    out = []
+    pids = np.array([e.pid for e in elems])
+    for (card, pid), slots in sorted(pindex.items()):
+        on = pids == pid
+        if card != "PSHELL" or "T" not in slots or not on.any():
+            continue
+        p = rows[int(np.flatnonzero(on)[0])]
+        t = slots["T"]
+        for d in deriv_k:
+            for c in d.values():
+                c[on] = 0.0
+        for j, d in enumerate(deriv_m):
+            if d is not None:
+                deriv_m[j] = np.where(on, 0.0, d)
+
+        def times(mid, value, tied=True):
+            """(powers, coefficient) of a material's modulus: its E a parameter or not."""
+            e = pindex.get(("MAT1", mid), {}).get("E")
+            return ((((e, 1.0),), 1.0) if e is not None and tied else ((), value))
+
+        for part, mid, value, power in (("membrane", p["mid1"], p["E1"], 1.0),
+                                        ("drilling", p["mid1"], p["E1"], 1.0),
+                                        ("bending", p["mid2"], p["E2"], 3.0)):
+            if value:
+                pw, c = times(mid, value)
+                out.append((pid, part, on, Term(None, ((t, power),) + pw, c)))
+        if p["G3"]:
+            pw, c = times(p["mid3"], p["G3"], p["tied3"])
+            c = c if not pw else p["G3"] / p["E3"]
+            for h in np.unique(size[on]):
+                mask = on & (size == h)
+                if h == 0:  # CQUAD4: s(T) = T
+                    out.append((pid, "shear", mask, Term(None, ((t, 1.0),) + pw, c)))
+                    continue
+                if len(np.unique(size[on])) > MAX_SIZES:
+                    raise InputError(f"PSHELL {pid} field T: its CTRIA3 have more than "
+                                     f"{MAX_SIZES} different sizes (each size's shear part "
+                                     f"is a term); not supported as a parameter")
+                out.append((pid, "shear", mask, FunctionTerm(
+                    None, (t, *(j for j, _ in pw)),
+                    shells.ShearThickness(float(shells.ALPHA * h**2), float(c), bool(pw)))))
+        rho = [(mid, r) for mid, (r, _) in p["mass"].items()]
+        for mid, r in rho:
+            j = pindex.get(("MAT1", mid), {}).get("RHO")
+            pw, c = ((((j, 1.0),), wtmass) if j is not None else ((), wtmass * r))
+            if pw or r:
+                out.append((pid, "mass", on, Term(None, ((t, 1.0),) + pw, c)))
+    return out
 
 
 def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pindex,

@@ -24,6 +24,11 @@ FIELDS = {
     "CONM2": {"M": "mass"},
     "CMASS2": {"M": "mass"},
     "PMASS": {"M": "mass"},
+    # section dimensions: A, I1, I2, J through the shape's formulas (nonlinear)
+    "PBARL": {f"DIM{k + 1}": ("_dim", k) for k in range(10)},
+    "PBEAML": {f"DIM{k + 1}": ("_dim", k) for k in range(10)},
+    # thickness: membrane ~ T, bending ~ T^3, shear ~ T, mass ~ RHO T + NSM (nonlinear)
+    "PSHELL": {"T": "t"},
 }
 
 NOT_LINEAR = {
@@ -37,7 +42,8 @@ def stores(bdf) -> dict:
             "PROD": bdf.properties,
             "PELAS": bdf.properties, "CELAS2": bdf.elements, "CELAS4": bdf.elements,
             "CMASS4": bdf.masses, "CONM2": bdf.masses, "CONM1": bdf.masses,
-            "PBUSH": bdf.properties,
+            "PBUSH": bdf.properties, "PBARL": bdf.properties, "PBEAML": bdf.properties,
+            "PSHELL": bdf.properties,
             "CMASS2": bdf.masses, "PMASS": bdf.properties_mass}
 
 
@@ -48,6 +54,8 @@ def get_field(card, spec) -> float:
     attr, index = spec
     if attr == "_k":
         return float(pbush_k(card)[index])
+    if attr == "_dim":  # PBEAML: the first station's (constant sections only)
+        return float(np.atleast_2d(np.asarray(card.dim, float))[0, index])
     return float(np.asarray(getattr(card, attr))[index])
 
 
@@ -56,6 +64,12 @@ def set_field(card, spec, value: float) -> None:
     if isinstance(spec, str):
         old = getattr(card, spec)
         setattr(card, spec, np.full_like(old, value) if isinstance(old, np.ndarray) else value)
+    elif spec[0] == "_dim":
+        if card.type == "PBEAML":
+            for row in card.dim:
+                row[spec[1]] = value
+        else:
+            card.dim[spec[1]] = value
     elif spec[0] == "_k":
         ki = list(card.Ki) + [None] * (6 - len(card.Ki))
         ki[spec[1]] = value

@@ -12,6 +12,8 @@ import numpy as np
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_fields import in_range
 from eigenupdate.model import frame3d, sections
+from eigenupdate.model.parametric import FunctionTerm
+from eigenupdate.model.sections import PARTS, SectionPart
 
 # PBARL shapes read: pyNastran's A, I1, I2, J as they are (ROD, TUBE), or with NASTRAN's
 # torsion constant (BAR, BOX), or all from model/sections.py (I, T, CHAN)
@@ -28,8 +30,11 @@ SHEAR_FACTORS = {"BAR": (5.0 / 6.0, 5.0 / 6.0), "ROD": (0.9, 0.9)}
 
 
 def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
-           k0, m0, kj, mj) -> None:
-    """CBAR, CROD and CONROD, vectorised over elements."""
+           k0, m0, kj, mj, extra) -> None:
+    """CBAR, CROD and CONROD, vectorised over elements. Parameters that enter an
+    element's K or M nonlinearly (a PBARL/PBEAML dimension, or two parameters in one
+    quantity: MAT1 E and PBAR A) make one :class:`FunctionTerm` per material, section
+    and part, appended to ``extra`` as ("k" or "m", triplets of its matrix, term)."""
     sections: dict = {}  # validated once per property (or CONROD)
 
     def section(key, make, where_):
@@ -196,9 +201,14 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
                     linear_only(mask, fld, card, cid, planes[fld])
                     for part, c in parts_:
                         d(slots[fld], part, c, mask)
-    _one_parameter_per_quantity(deriv, label, kj)
+    nonlin = _nonlinear_elements(deriv, pindex, pkeys, label, shear & np.array(pins).any(1))
+    for dj in deriv:  # those elements' parts all go to their function terms
+        for arr in dj.values():
+            arr[nonlin] = 0.0
     base = {part: tot - sum((values[j] * dj[part] for j, dj in enumerate(deriv) if part in dj),
                             np.zeros(n)) for part, tot in total.items()}
+    for part in base:
+        base[part][nonlin] = 0.0
 
     def put(dest, coefs: dict[str, np.ndarray]) -> None:
         # sum the local parts first: one transformation and one COO block per element
@@ -206,6 +216,49 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
         if sel.size:
             local = sum(c[sel, None, None] * parts[p][sel] for p, c in coefs.items())
             dest.add(r_idx[sel], c_idx[sel], frame3d.to_global(local, T[sel]))
+
+    for key in sorted({(int(mids[e]), pkeys[e]) for e in np.flatnonzero(nonlin)}):
+        grp = nonlin & (mids == key[0]) & np.array([k == key[1] for k in pkeys])
+        e = int(np.flatnonzero(grp)[0])
+        r = rows[e]
+        prop = bdf.properties[key[1][1]]
+        shape = prop.Type if key[1][0] in ("PBARL", "PBEAML") else None
+        fixed = {"E": r[0], "G": r[1], "RHO": r[3], "A": r[4], "I1": r[5], "I2": r[6],
+                 "J": r[7], "NSM": r[8], "NSI": r[13]}
+        if shape is not None:
+            dims = np.atleast_2d(np.asarray(prop.dim, float))[0]
+            fixed.update({f"DIM{k + 1}": float(x) for k, x in enumerate(dims)})
+        slots = {**pindex.get(("MAT1", key[0]), {}), **pindex.get(key[1], {})}
+        for part in PARTS:
+            k_shear = {"k_bend1": r[11], "k_bend2": r[12]}.get(part, 0.0)
+            # phi = 12 E I / (K A G L^2) holds A too
+            deps = [f for f in slots if _enters(part, f, r[2], bool(beam[e]))
+                    or (k_shear and f != "RHO")]
+            if not deps:  # this part does not depend on the parameters
+                base[part][grp] = total[part][grp]
+                continue
+            idx = tuple(slots[f] for f in deps)
+            if not k_shear:
+                fn = SectionPart(part, tuple(deps), tuple(fixed.items()), shape, r[2],
+                                 bool(beam[e]), float(wtmass))
+                dest = type(k0)()
+                put(dest, {part: grp.astype(float)})
+                extra.append((part[0], dest, FunctionTerm(None, idx, fn)))
+                continue
+            # Timoshenko: EI (U0 + phi U1) / (1 + phi) per unit EI, phi = c / L^2 differs
+            # with the length: two terms per distinct length
+            for length in np.unique(L[grp]):
+                sel = np.flatnonzero(grp & (L == length))
+                u0 = frame3d.stiffness_parts(L[sel])[part[2:]]
+                u1 = 2 * frame3d.stiffness_parts(L[sel], np.ones(sel.size),
+                                                 np.ones(sel.size))[part[2:]] - u0
+                for which, local in ((0, u0), (1, u1)):
+                    fn = SectionPart(part, tuple(deps), tuple(fixed.items()), shape, r[2],
+                                     bool(beam[e]), float(wtmass), float(k_shear),
+                                     float(length), which)
+                    dest = type(k0)()
+                    dest.add(r_idx[sel], c_idx[sel], frame3d.to_global(local, T[sel]))
+                    extra.append(("k", dest, FunctionTerm(None, idx, fn)))
 
     for kind, dest0, dests in (("k", k0, kj), ("m", m0, mj)):
         put(dest0, {p: c for p, c in base.items() if p[0] == kind})
@@ -302,21 +355,32 @@ def pbarl_section(prop) -> tuple:
     return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, 0.0
 
 
-def _one_parameter_per_quantity(deriv, label, kj) -> None:
-    parts = {p for dj in deriv for p in dj}
-    for part in parts:
-        owner = np.full(len(label), -1)
-        for j, dj in enumerate(deriv):
-            if part not in dj:
-                continue
-            hit = np.flatnonzero(dj[part])
-            clash = hit[owner[hit] >= 0]
-            if clash.size:
-                e = clash[0]
-                raise InputError(f"{label[e]}: parameters {owner[e] + 1} and {j + 1} both scale "
-                                 f"its {part[2:]} {'stiffness' if part[0] == 'k' else 'mass'}"
-                                 f": K or M would hold their product (not linear)")
-            owner[hit] = j
+def _nonlinear_elements(deriv, pindex, pkeys, label, shear) -> np.ndarray:
+    # shear: the shear-flexible elements with pin flags (condensed with phi: refused)
+    """Mask of the elements whose K or M is not linear in the parameters: a section
+    dimension is one, or two parameters scale one of their quantities (E A)."""
+    dims = {k for k in pindex if k[0] in ("PBARL", "PBEAML")}
+    out = np.array([k in dims for k in pkeys], dtype=bool)
+    for part in {p for dj in deriv for p in dj}:
+        count = sum((dj[part] != 0).astype(int) for dj in deriv if part in dj)
+        out |= count > 1
+    hit = np.flatnonzero(out & shear)
+    if hit.size:
+        raise InputError(f"{label[hit[0]]}: its parameters enter K nonlinearly (a section "
+                         f"dimension, or a product such as MAT1 E with PBAR A), which is "
+                         f"not supported with pin flags on a shear-flexible section")
+    return out
+
+
+def _enters(part: str, field: str, tied: bool, beam: bool) -> bool:
+    """True when a parameter field enters one part coefficient of an element."""
+    if part == "m_torsion" and not beam:
+        return False
+    if field.startswith("DIM"):
+        return True
+    return {"E": part[0] == "k" and (part != "k_torsion" or tied), "RHO": part[0] == "m",
+            "A": part in ("k_axial", "m_translation"), "I1": part in ("k_bend1", "m_torsion"),
+            "I2": part in ("k_bend2", "m_torsion"), "J": part == "k_torsion"}[field]
 
 
 def _material(bdf, mid: int, where: str):

@@ -27,7 +27,9 @@ FIELD_INDEX = {
     ("PBEAM", "A"): 3, ("PBEAM", "I1"): 4, ("PBEAM", "I2"): 5, ("PBEAM", "J"): 7,
     ("PROD", "A"): 3, ("PROD", "J"): 4,
     ("CELAS2", "K"): 2, ("CELAS4", "K"): 2, ("CMASS2", "M"): 2, ("CMASS4", "M"): 2,
-    ("CONM2", "M"): 4,
+    ("CONM2", "M"): 4, ("PSHELL", "T"): 3,
+    # PBARL/PBEAML PID MID GROUP TYPE, then DIM1... on the continuation (one station)
+    **{(c, f"DIM{k}"): 8 + k for c in ("PBARL", "PBEAML") for k in range(1, 11)},
 }
 _CONTINUATION = re.compile(r"^[+*, ]|^$")
 
@@ -146,6 +148,9 @@ def write_updated_bdf(nm: NastranModel, out: str | Path, values: dict[str, float
     for p, f in zip(nm.model.parameters, nm.fields, strict=True):
         if p.name not in values or float(values[p.name]) == initial[p.name]:
             continue
+        if f.card == "PBEAML" and len(nm.bdf.properties[f.id].dim) > 1:
+            raise InputError(f"PBEAML {f.id}: its {f.field} on several stations cannot be "
+                             f"written back (give the section on one station)")
         if f.card not in found:
             found[f.card] = _cards(text, f.card)
         card, index = _locate(found[f.card], f)

@@ -369,7 +369,8 @@ def _model_files(table: dict, base: Path, model_type: str) -> list[Path]:
     if model_type != "matrices":
         return []
     files = [table["K0"], table["M0"]]
-    files += [t[k] for t in table.get("parameter", []) for k in ("K", "M") if k in t]
+    files += [t[k] for key in ("parameter", "term") for t in table.get(key, [])
+              for k in ("K", "M") if k in t]
     return [base / f for f in files]
 
 
@@ -473,11 +474,38 @@ def _matrices(m: _Reader, base: Path) -> ParametricModel:
         r = _Reader(t, f"model.parameter[{i + 1}]", m.source)
         p = _parameter(r, seen)
         kf, mf = r.get("K", "str", None), r.get("M", "str", None)
-        if kf is None and mf is None:
-            raise r.error("K", "a parameter needs a K and/or an M file")
+        if kf is None and mf is None and not any(
+                isinstance(x, dict) and p.name in (x.get("powers") or {})
+                for x in m.data.get("term", [])):
+            raise r.error("K", "a parameter needs a K and/or an M file, or a "
+                               "[[model.term]] whose powers name it")
         r.finish()
         params.append((p, None if kf is None else base / kf, None if mf is None else base / mf))
-    return read_matrix_model(k0, m0, params)
+    index = {p.name: j for j, (p, _, _) in enumerate(params)}
+    terms = []
+    for i, t in enumerate(m.get("term", "tables", [])):
+        r = _Reader(t, f"model.term[{i + 1}]", m.source)
+        kf, mf = r.get("K", "str", None), r.get("M", "str", None)
+        if kf is None and mf is None:
+            raise r.error("K", "a term needs a K and/or an M file")
+        powers = r.get("powers", "table")
+        if not powers:
+            raise r.error("powers", "must name at least one parameter, e.g. { t = 3 }")
+        pw = []
+        for name, a in powers.items():
+            if name not in index:
+                raise r.error("powers", f"unknown parameter {name!r} (parameters: "
+                                        f"{sorted(index)})")
+            if isinstance(a, bool) or not isinstance(a, int | float) or a == 0 \
+                    or not abs(a) <= 100:
+                raise r.error(f"powers.{name}", f"must be a non-zero number of magnitude up "
+                                                f"to 100, got {a!r}")
+            pw.append((index[name], float(a)))
+        coef = r.get("coefficient", "float", 1.0)
+        r.finish()
+        terms.append((tuple(pw), coef, None if kf is None else base / kf,
+                      None if mf is None else base / mf))
+    return read_matrix_model(k0, m0, params, terms)
 
 
 def _nastran(m: _Reader, base: Path):

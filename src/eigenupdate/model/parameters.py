@@ -10,7 +10,8 @@ from eigenupdate.errors import InputError
 
 @dataclass(frozen=True)
 class Parameter:
-    """One physical parameter s_j on which K and M depend linearly.
+    """One physical parameter s_j on which K and M depend (linearly, or through the
+    monomial terms of :class:`~eigenupdate.model.parametric.Term`).
 
     Parameters
     ----------

@@ -20,6 +20,7 @@ thicker than its shape allows) is an :class:`~eigenupdate.errors.InputError`.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -90,14 +91,17 @@ def thin_walled_section(shape: str, dim: Sequence[float]) -> tuple[float, float,
     >>> print(f"{a:.6g} {i1:.6g} {i2:.6g} {i12:g}")
     0.0086 0.000132447 1.12717e-05 0
     """
-    d = check_dimensions(shape, dim)
+    return tuple(float(x) for x in _thin(shape, check_dimensions(shape, dim)))
+
+
+def _thin(shape: str, d: np.ndarray) -> tuple:
     w, h, z, y = _rectangles(shape, d).T
     area = w * h
-    a = float(area.sum())
-    zc, yc = float(area @ z) / a, float(area @ y) / a
-    i1 = float(np.sum(w * h**3 / 12 + area * (y - yc) ** 2))
-    i2 = float(np.sum(h * w**3 / 12 + area * (z - zc) ** 2))
-    i12 = float(np.sum(area * (y - yc) * (z - zc)))  # 0: each shape is symmetric
+    a = area.sum()
+    zc, yc = (area @ z) / a, (area @ y) / a
+    i1 = np.sum(w * h**3 / 12 + area * (y - yc) ** 2)
+    i2 = np.sum(h * w**3 / 12 + area * (z - zc) ** 2)
+    i12 = np.sum(area * (y - yc) * (z - zc))  # 0: each shape is symmetric
     return a, i1, i2, i12
 
 
@@ -109,16 +113,18 @@ def solid_section(shape: str, dim: Sequence[float]) -> tuple[float, float, float
     >>> print(a, i1, i2)
     6.0 4.5 2.0
     """
-    d = check_dimensions(shape, dim)
+    return tuple(float(x) for x in _solid(shape, check_dimensions(shape, dim)))
+
+
+def _solid(shape: str, d: np.ndarray) -> tuple:
     if shape in ("ROD", "TUBE"):
         ro, ri = d[0], (d[1] if shape == "TUBE" else 0.0)
         a = np.pi * (ro**2 - ri**2)
         i = np.pi / 4 * (ro**4 - ri**4)
-        return float(a), float(i), float(i)
+        return a, i, i
     b, h = d[0], d[1]
     bi, hi = (b - 2 * d[3], h - 2 * d[2]) if shape == "BOX" else (0.0, 0.0)
-    return (float(b * h - bi * hi), float((b * h**3 - bi * hi**3) / 12),
-            float((h * b**3 - hi * bi**3) / 12))
+    return b * h - bi * hi, (b * h**3 - bi * hi**3) / 12, (h * b**3 - hi * bi**3) / 12
 
 
 def torsion_constant(shape: str, dim: Sequence[float]) -> float:
@@ -134,23 +140,100 @@ def torsion_constant(shape: str, dim: Sequence[float]) -> float:
     >>> print(f"{torsion_constant('BOX', [0.1, 0.2, 0.01, 0.01]):.6g}")
     2.08864e-05
     """
-    d = check_dimensions(shape, dim)
+    return float(_torsion(shape, check_dimensions(shape, dim)))
+
+
+def _torsion(shape: str, d: np.ndarray):
     if shape in ("ROD", "TUBE"):  # polar moment of the annulus
-        return float(np.pi / 2 * (d[0] ** 4 - (d[1] if shape == "TUBE" else 0.0) ** 4))
-    if shape == "BAR":  # long side a, short side b
-        a, b = max(d), min(d)
-        return float(a * b**3 * (1 / 3 - 0.21 * b / a * (1 - b**4 / (12 * a**4))))
+        return np.pi / 2 * (d[0] ** 4 - (d[1] if shape == "TUBE" else 0.0) ** 4)
+    if shape == "BAR":  # long side a, short side b (compared by value: complex-step safe)
+        a, b = (d[0], d[1]) if np.real(d[0]) >= np.real(d[1]) else (d[1], d[0])
+        return a * b**3 * (1 / 3 - 0.21 * b / a * (1 - b**4 / (12 * a**4)))
     if shape == "BOX":  # mid-line rectangle (DIM1 - DIM4) x (DIM2 - DIM3)
         b, h, t1, t2 = d
-        return float(2 * t1 * t2 * (b - t2) ** 2 * (h - t1) ** 2
-                     / (b * t2 + h * t1 - t2**2 - t1**2))
+        return (2 * t1 * t2 * (b - t2) ** 2 * (h - t1) ** 2
+                / (b * t2 + h * t1 - t2**2 - t1**2))
     if shape == "I":  # web mid-line between the flanges' mid-lines
         h, a, b, tw, ta, tb = d
-        return float((a * ta**3 + b * tb**3 + (h - (ta + tb) / 2) * tw**3) / 3)
+        return (a * ta**3 + b * tb**3 + (h - (ta + tb) / 2) * tw**3) / 3
     if shape == "T":
         b, h, tf, tw = d
-        return float((b * tf**3 + (h - tf / 2) * tw**3) / 3)
+        return (b * tf**3 + (h - tf / 2) * tw**3) / 3
     if shape == "CHAN":
         b, h, tw, tf = d
-        return float((2 * (b - tw / 2) * tf**3 + (h - tf) * tw**3) / 3)
+        return (2 * (b - tw / 2) * tf**3 + (h - tf) * tw**3) / 3
     raise InputError(f"no torsion constant for section {shape}")
+
+
+def section_properties(shape: str, dim: np.ndarray) -> tuple:
+    """A, I1, I2, J of a PBARL shape with NASTRAN's formulas, for real or complex
+    ``dim`` (complex-step derivatives; no checks: :func:`check_dimensions` first).
+
+    >>> a, i1, i2, j = section_properties("BAR", np.array([2.0, 3.0 + 1e-30j]))
+    >>> float(a.imag / 1e-30), float(i1.imag / 1e-30)    # dA/dh = b, dI1/dh = b h^2 / 4
+    (2.0, 4.5)
+    """
+    d = np.asarray(dim)
+    if shape in THIN_WALLED:
+        a, i1, i2, _ = _thin(shape, d)
+    else:
+        a, i1, i2 = _solid(shape, d)
+    return a, i1, i2, _torsion(shape, d)
+
+
+# the part coefficients of a frame element (model/frame3d.py parts), from its quantities
+PARTS = ("k_axial", "k_torsion", "k_bend1", "k_bend2", "m_translation", "m_torsion")
+
+
+@dataclass(frozen=True)
+class SectionPart:
+    """One part coefficient of a group of frame elements (one material and section) as a
+    function of the parameters among its quantities, for
+    :class:`~eigenupdate.model.parametric.FunctionTerm`: EA, GJ, EI1, EI2, wtmass
+    (rho A + NSM), wtmass (rho (I1 + I2) + NSI) (the last 0 unless ``beam``); with
+    ``shear`` a shear-flexible bending part's two factors EI / (1 + phi) and
+    EI phi / (1 + phi) of elements of one ``length`` (:func:`frame3d.stiffness_parts`:
+    K = EI (U0 + phi U1) / (1 + phi)).
+
+    ``slots`` names what each argument is (``E``, ``RHO``, ``A``, ``I1``, ``I2``,
+    ``J``, ``DIM1``...); the other quantities keep their ``fixed`` values. With a
+    ``shape`` A, I1, I2, J come from its DIMs (:func:`section_properties`). G follows E
+    when ``tied`` (MAT1 G blank).
+
+    >>> f = SectionPart("k_bend1", ("E", "DIM2"), (("E", 2e11), ("G", 8e10), ("RHO", 7850.0),
+    ...                 ("DIM1", 0.02), ("DIM2", 0.04)), "BAR", True, False, 1.0)
+    >>> round(float(f(np.array([2e11, 0.04]))), 6)    # E b h^3 / 12
+    21333.333333
+    """
+
+    part: str
+    slots: tuple[str, ...]
+    fixed: tuple[tuple[str, float], ...]
+    shape: str | None
+    tied: bool
+    beam: bool
+    wtmass: float
+    shear: float = 0.0  # K1 (bend1) or K2 (bend2) of a shear-flexible section, else 0
+    length: float = 0.0  # with ``shear``: the elements' length L
+    which: int = 0  # with ``shear``: 0 the factor EI / (1 + phi), 1 EI phi / (1 + phi)
+
+    def __call__(self, x: np.ndarray):
+        q = dict(self.fixed)
+        e0 = q["E"]
+        q.update(zip(self.slots, x, strict=True))
+        if self.shape is not None:
+            d = np.array([q[f"DIM{k + 1}"] for k in range(_SHAPES[self.shape][0])])
+            check_dimensions(self.shape, d.real)  # a step may leave the shape's domain
+            q["A"], q["I1"], q["I2"], q["J"] = section_properties(self.shape, d)
+        e = q["E"]
+        g = q["G"] * e / e0 if self.tied else q["G"]
+        w = self.wtmass
+        if self.shear:  # Timoshenko bending, phi = 12 E I / (K A G L^2)
+            ei = e * q["I1" if self.part == "k_bend1" else "I2"]
+            phi = 12 * ei / (self.shear * q["A"] * g * self.length**2)
+            return ei * (phi if self.which else 1.0) / (1 + phi)
+        return {"k_axial": lambda: e * q["A"], "k_torsion": lambda: g * q["J"],
+                "k_bend1": lambda: e * q["I1"], "k_bend2": lambda: e * q["I2"],
+                "m_translation": lambda: w * (q["RHO"] * q["A"] + q["NSM"]),
+                "m_torsion": lambda: w * (q["RHO"] * (q["I1"] + q["I2"]) + q["NSI"])
+                if self.beam else 0.0}[self.part]()

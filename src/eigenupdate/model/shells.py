@@ -42,6 +42,8 @@ the lumped one puts the integral of each shape function at its node.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from eigenupdate.errors import InputError
@@ -401,6 +403,25 @@ def shear_thickness(T: np.ndarray, size: np.ndarray) -> np.ndarray:
     """
     T, h = np.asarray(T, float), np.asarray(size, float)
     return T**3 / (T**2 + ALPHA * h**2)
+
+
+@dataclass(frozen=True)
+class ShearThickness:
+    """The shear part's factor of CTRIA3 elements of one size, for a
+    :class:`~eigenupdate.model.parametric.FunctionTerm` whose arguments are T (and E
+    when ``with_e``): ``coefficient`` (E) T^3 / (T^2 + c), c = alpha h_e^2.
+
+    >>> float(ShearThickness(1.0, 2.0, False)(np.array([1.0])))
+    1.0
+    """
+
+    c: float
+    coefficient: float
+    with_e: bool
+
+    def __call__(self, x: np.ndarray):
+        t = x[0]
+        return self.coefficient * (x[1] if self.with_e else 1.0) * t**3 / (t**2 + self.c)
 
 
 def shear_thickness_derivative(T: np.ndarray, size: np.ndarray) -> np.ndarray:

@@ -226,6 +226,8 @@ def linearise(
     [[-200.0, 0.5], [-50.0, 0.25]]
     """
     modes, upd = modes_and_updated(model, modes)
+    scale = np.array([model.parameters[j].scale for j in upd])  # initial values, not current
+    model = model.at(values)  # a nonlinear model's K_j, M_j at the values
     kt = [model.k_terms[j] for j in upd]
     mt = [model.m_terms[j] for j in upd]
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
@@ -247,6 +249,5 @@ def linearise(
         rows.extend((c.name, k) for k in modes)
     if sparse:  # all configurations' modes in one product per parameter
         blocks = [terms.result().derivatives(list(phi), np.array(lam))]
-    scale = np.array([model.parameters[j].scale for j in upd])  # initial values, not current
     return Linearisation(rows, np.array(lam), np.vstack(blocks), scale,
                          [model.names[j] for j in upd], report, phi)

@@ -129,6 +129,7 @@ def screen_configurations(
     certificate, are solved by Lanczos on the base factorisation.
     """
     modes, upd = modes_and_updated(model, modes, "modes")
+    model = model.at(values)  # a nonlinear model's K_j, M_j at the values
     configs = list(configurations)
     terms = RestrictedTerms([model.k_terms[j] for j in upd], [model.m_terms[j] for j in upd])
     idx = np.asarray(modes) - 1

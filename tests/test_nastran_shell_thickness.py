@@ -1,0 +1,175 @@
+"""PSHELL T as a parameter: membrane and drilling E T, bending E T^3, transverse shear
+G s(T) (T on CQUAD4; T^3 / (T^2 + alpha h^2) per size on CTRIA3), mass RHO T + NSM.
+
+Independent references: the deck with T (and MAT1 E, RHO) changed in its text and read
+again; central finite differences of K, M; Navier's simply supported plate (frequency
+proportional to T in bending); an update from the frequencies of a hand-edited deck,
+and the updated BDF read back. Runs in .venv-nastran (pyNastran)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from nastran_frames import need
+from plates import square_mesh
+
+from eigenupdate.errors import EigenupdateWarning
+from eigenupdate.identify.updating import update
+from eigenupdate.io.measurements import Measurement
+from eigenupdate.model.configurations import Configuration, mass_at
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.solve.eigen import solve_elastic
+from eigenupdate.solve.jacobian import solve_configurations
+
+pytestmark = pytest.mark.nastran
+need("pyNastran")
+from eigenupdate.io.nastran import CardField, dof_number, read_nastran  # noqa: E402
+from eigenupdate.io.nastran_write import write_updated_bdf  # noqa: E402
+
+E, NU, RHO = 2.0e11, 0.3, 7850.0
+INIT = {"t1": 0.004, "t2": 0.006, "E": E, "rho": RHO}
+FIELDS = [("t1", "PSHELL", 1, "T"), ("t2", "PSHELL", 2, "T"), ("E", "MAT1", 1, "E"),
+          ("rho", "MAT1", 1, "RHO")]
+
+
+def _read(path, specs=()):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EigenupdateWarning)
+        return read_nastran(path, specs)
+
+
+def _spec(fields=FIELDS):
+    return [(Parameter(n, 0.0), CardField(c, i, f)) for n, c, i, f in fields]
+
+
+def plate(path, v=INIT, nx=8, a=1.0, triangles=False, nsm=0.5):
+    """An a x a plate, simply supported (w on the edges, in-plane and drilling held),
+    PSHELL 1 (thickness t1) on x < a/2 and PSHELL 2 (t2) beyond, both MAT1 1, NSM on 2;
+    written with the values ``v`` in the cards' text (repr: every digit)."""
+    xyz, el = square_mesh(nx, a, triangles)
+    lines = [f"GRID,{i + 1},,{x!r},{y!r},0." for i, (x, y, _) in enumerate(xyz)]
+    card = "CTRIA3" if triangles else "CQUAD4"
+    for k, e in enumerate(el):
+        pid = 1 if xyz[e, 0].mean() < a / 2 else 2
+        lines.append(f"{card},{k + 1},{pid}," + ",".join(str(n + 1) for n in e))
+    edge = [i + 1 for i, (x, y, _) in enumerate(xyz)
+            if min(x, y) < 1e-12 * a or max(x, y) > a * (1 - 1e-12)]
+    lines += [f"SPC1,1,126,1,THRU,{len(xyz)}"] + [f"SPC1,1,3,{n}" for n in edge]
+    path.write_text(
+        "BEGIN BULK\nPARAM,COUPMASS,1\n"
+        f"PSHELL,1,1,{v['t1']!r},1,,1\nPSHELL,2,1,{v['t2']!r},1,,1,,{nsm!r}\n"
+        f"MAT1,1,{v['E']!r},,{NU!r},{v['rho']!r}\n" + "\n".join(lines) + "\nENDDATA\n")
+    return path
+
+
+@pytest.mark.parametrize("triangles", [False, True], ids=["CQUAD4", "CTRIA3"])
+def test_model_at_new_values_is_the_hand_edited_deck(tmp_path, triangles):
+    nm = _read(plate(tmp_path / "a.bdf", triangles=triangles), _spec())
+    assert nm.model.nonlinear and nm.model.values.tolist() == list(INIT.values())
+    new = dict(zip(INIT, np.array(list(INIT.values())) * [1.1, 0.93, 1.05, 0.97], strict=True))
+    ref = _read(plate(tmp_path / "b.bdf", new, triangles=triangles)).model
+    s = np.array(list(new.values()))
+    # the same element matrices times products of the same values, summed in another
+    # order: a few ulps of the largest entry
+    for a, b in ((nm.model.stiffness(s), ref.stiffness()), (nm.model.mass(s), ref.mass())):
+        assert abs(a - b).max() <= 1e-12 * abs(b).max()
+
+
+@pytest.mark.parametrize("triangles", [False, True], ids=["CQUAD4", "CTRIA3"])
+def test_derivatives_match_central_differences(tmp_path, triangles):
+    model = _read(plate(tmp_path / "a.bdf", triangles=triangles), _spec()).model
+    s = model.values
+    for j in range(s.size):
+        h = 1e-5 * s[j]
+        up, dn = s.copy(), s.copy()
+        up[j] += h
+        dn[j] -= h
+        # cubic (rational on CTRIA3) in T: truncation ~(h/s)^2 = 1e-10 relative;
+        # round-off eps |K| / (h/s) = 2e-11 relative
+        for exact, fun in ((model.k_terms[j], model.stiffness), (model.m_terms[j], model.mass)):
+            fd = (fun(up) - fun(dn)) / (2 * h)
+            if exact is None:
+                assert abs(fd).max() == 0
+                continue
+            assert abs(exact - fd).max() <= 1e-7 * abs(exact).max()
+
+
+def test_bending_frequency_scales_with_thickness_as_navier(tmp_path):
+    """Source: Navier, omega_11 = 2 pi^2 / a^2 sqrt(D / (rho h)) with D ~ E h^3: for a
+    thin plate (a/h = 1000, Mindlin's correction ~1e-5) omega ~ h, so evaluating the
+    model at a thickness 1.3 times the deck's (both regions) scales the lowest frequency
+    by 1.3, as re-reading the deck with that T does; and the mesh converges toward
+    Navier's value (bilinear: error ~ mesh^2)."""
+    t = 1e-3
+    v = {"t1": t, "t2": t, "E": E, "rho": RHO}
+    out = []
+    for nx in (8, 16):
+        nm = _read(plate(tmp_path / f"p{nx}.bdf", v, nx=nx, nsm=0.0), _spec(FIELDS[:2]))
+        f0 = solve_elastic(nm.model.stiffness(), nm.model.mass(), 1).frequencies_hz[0]
+        f1 = solve_elastic(nm.model.stiffness([1.3 * t] * 2), nm.model.mass([1.3 * t] * 2),
+                           1).frequencies_hz[0]
+        out.append((f0, f1))
+        # Mindlin's shear correction (pi h / a)^2 ~ 1e-5 changes between the thicknesses
+        assert f1 / f0 == pytest.approx(1.3, rel=5e-5)
+    for k, h in ((0, t), (1, 1.3 * t)):
+        D = E * h**3 / (12 * (1 - NU**2))
+        exact = 2 * np.pi**2 * np.sqrt(D / (RHO * h)) / (2 * np.pi)
+        f8, f16 = out[0][k], out[1][k]
+        # the 16-mesh's error is about a third of the change from 8 to 16 (h^2)
+        assert abs(f16 - exact) <= abs(f16 - f8) + 1e-4 * exact
+
+
+def test_update_recovers_two_thicknesses_and_E_and_writes_them_back(tmp_path):
+    fields = FIELDS[:3]
+    nm = _read(plate(tmp_path / "a.bdf"), _spec(fields))
+    truth = dict(INIT, t1=0.0043, t2=0.0057, E=2.06e11)
+    true_model = _read(plate(tmp_path / "truth.bdf", truth)).model
+    grids = [dof_number(g, 3) for g in (21, 41, 50)]  # interior grids (9 x 9 of them)
+    configs = [Configuration("base")] + [mass_at(c, 2.0, f"m{c}") for c in grids]
+    modes = [1, 2, 3, 4]
+    sols = solve_configurations(true_model, configs, max(modes))
+    data = {(c.name, k): Measurement(c.name, k, float(sol.frequencies_hz[k - 1]))
+            for c, sol in zip(configs, sols, strict=True) for k in modes}
+    res = update(nm.model, configs, modes, data, max_iterations=30)
+    assert res.success, res.message
+    want = np.array([truth[n] for n, *_ in fields])
+    # error-free data: limited by the eigenvalues' round-off over cond(J)
+    assert np.max(np.abs(res.x / want - 1)) < 1e-6
+    out = tmp_path / "updated.bdf"
+    write_updated_bdf(nm, out, res.parameters)
+    back = _read(out, _spec(fields)).model.values
+    assert back == pytest.approx(res.x, rel=1e-11)  # 12 significant digits written
+
+
+@pytest.mark.slow
+def test_study_update_writes_the_thicknesses_into_the_bdf(tmp_path, run_cli):
+    """The command line from a study to the updated BDF: PSHELL T named by card, id and
+    field; the data the hand-edited truth deck's frequencies (written with 17 digits).
+    Slow: the workflow refits with modes exchanged between configurations."""
+    plate(tmp_path / "plate.bdf", nx=6)
+    truth = dict(INIT, t1=0.0042, t2=0.0061)
+    true_model = _read(plate(tmp_path / "truth.bdf", truth, nx=6)).model
+    grids = (16, 25, 32)  # interior grids of the 7 x 7
+    configs = [Configuration("base")] + [mass_at(dof_number(g, 3), 2.0, f"g{g}")
+                                         for g in grids]
+    sols = solve_configurations(true_model, configs, 3)
+    rows = ["configuration,mode,frequency_hz,std_hz"]
+    rows += [f"{c.name},{k},{float(s.frequencies_hz[k - 1])!r},"
+             for c, s in zip(configs, sols, strict=True) for k in (1, 2, 3)]
+    (tmp_path / "measured.csv").write_text("\n".join(rows) + "\n")
+    study = tmp_path / "study.toml"
+    study.write_text(
+        '[model]\ntype = "nastran"\nbdf = "plate.bdf"\n'
+        + "".join(f'[[model.parameter]]\nname = "{n}"\ncard = "PSHELL"\nid = {i}\n'
+                  f'field = "T"\n' for n, i in (("t1", 1), ("t2", 2)))
+        + "".join(f'[[perturbation]]\nname = "g{g}"\ngrid = {g}\ncomponent = 3\nmass = 2.0\n'
+                  for g in grids)
+        + '[measurement]\nfrequencies = "measured.csv"\nmodes = [1, 2, 3]\n')
+    out = tmp_path / "updated.bdf"
+    code, text, err = run_cli("update", study, "--save-bdf", out)
+    assert code == 0, err
+    back = _read(out, _spec(FIELDS[:2])).model.values
+    assert back == pytest.approx([truth["t1"], truth["t2"]], rel=1e-6)
+    assert "PSHELL" in out.read_text() and "eigenupdate: updated" in out.read_text()

@@ -8,7 +8,8 @@ BDF (GRID, CQUAD4, PSHELL, MAT1, SPC1, PARAM COUPMASS) and read through
 enter K nonlinearly: E T membrane and shear, E T^3 bending). 10 configurations each add
 1 % of the panel's mass normal to the skin at one grid; 10 elastic modes.
 
-Timed (wall and this process's CPU time), alternately, ``--repeats`` times (the least of each kept, as the machine is shared):
+Timed (wall and this process's CPU time), alternately, ``--repeats`` times (the least
+of each kept, as the machine is shared):
 
 * base: :func:`eigenupdate.solve.eigen.solve_elastic` of the bare panel (10 modes);
 * iteration: :func:`eigenupdate.solve.jacobian.linearise` over the bare panel and the 10
@@ -158,7 +159,8 @@ def main() -> None:
             "n": model.n, "parameters": 2, "masses": N_MASSES, "modes": N_MODES,
             "read_s": t_read, "base_solve_s": base, "iteration_s": iteration,
             "cpu_base_solve_s": cpu_base, "cpu_iteration_s": cpu_iteration,
-            "ratio": ratio, "cpu_ratio": min(cpu_iteration) / min(cpu_base), "certificate": rep, "pivot_threshold": args.pivot_threshold,
+            "ratio": ratio, "cpu_ratio": min(cpu_iteration) / min(cpu_base),
+            "certificate": rep, "pivot_threshold": args.pivot_threshold,
             "load_average": os.getloadavg(),
             "machine": platform.platform()}, indent=2))
 

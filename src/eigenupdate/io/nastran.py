@@ -40,7 +40,7 @@ from eigenupdate.io.nastran_points import (
     assemble_scalars,
 )
 from eigenupdate.model import constraints, reduction, shells
-from eigenupdate.model.coordinates import Coordinate, CoordinateTable
+from eigenupdate.model.coordinates import CoordinateTable
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel, Term
 
@@ -330,8 +330,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
         k0m, m0m, tuple(params), parts["k"], parts["m"],
         coordinates=coords,
         # coordinate 10 * GRID + component: node = GRID, direction = component (UFF codes)
-        coordinate_table=CoordinateTable(tuple(Coordinate(int(c), int(c) // 10, int(c) % 10)
-                                               for c in coords)))
+        coordinate_table=CoordinateTable.from_arrays(coords, coords // 10, coords % 10))
     for p, f, a, b in zip(params, fields, pm.k_terms, pm.m_terms, strict=True):
         if a is None and b is None:
             raise InputError(f"{f.card} {f.id} field {f.field} (parameter {p.name!r}) acts on "

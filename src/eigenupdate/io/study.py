@@ -17,19 +17,20 @@ from eigenupdate.budget import require_nesting
 from eigenupdate.choices import ESTIMATORS, FRF_KINDS, OPTIMIZERS
 from eigenupdate.design.spec import CRITERIA, DesignSpec
 from eigenupdate.errors import InputError
-from eigenupdate.io.matrix_market import read_matrix_model
 from eigenupdate.io.measurements import read_measurements
+from eigenupdate.io.study_models import (
+    _beam,
+    _matrices,
+    _model_files,
+    _nastran,
+    _spring_mass,
+)
+from eigenupdate.io.study_table import TableReader
 from eigenupdate.measure.measurement import Measurement
-from eigenupdate.model.beam import beam_model, element_parameter_names
 from eigenupdate.model.configurations import BASE, Addition, Configuration
-from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
-from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
 
 MODEL_TYPES = ("spring-mass", "beam", "matrices", "nastran")
-LIMIT = 1e100
-"""Numbers of a study are 0 or of magnitude 1/LIMIT to LIMIT: beyond, products of a few
-of them (K = EI/L^3, lambda = k/m, (2 pi f)^2) leave the floating-point range."""
 
 
 @dataclass
@@ -91,82 +92,6 @@ class Study:
         return self.modes
 
 
-class _Reader:
-    """Typed access to one TOML table, with the dotted field name for errors."""
-
-    def __init__(self, data: dict, where: str, source: str):
-        if not isinstance(data, dict):
-            raise InputError("must be a table", source=source, field=where)
-        self.data, self.where, self.source = data, where, source
-        self.used: set[str] = set()
-
-    def _f(self, key: str) -> str:
-        return f"{self.where}.{key}" if self.where else key
-
-    def error(self, key: str, msg: str) -> InputError:
-        return InputError(msg, source=self.source, field=self._f(key))
-
-    def get(
-        self,
-        key: str,
-        kind: str,
-        default: Any = ...,
-    ) -> Any:
-        self.used.add(key)
-        if key not in self.data:
-            if default is ...:
-                raise self.error(key, "is required")
-            return default
-        v = self.data[key]
-        check = {
-            "str": lambda x: isinstance(x, str),
-            "int": lambda x: isinstance(x, int) and not isinstance(x, bool) and abs(x) < 2**31,
-            "float": lambda x: (
-                isinstance(x, int | float) and not isinstance(x, bool)
-                and (x == 0 or 1 / LIMIT <= abs(x) <= LIMIT)  # no float(x): ints may be huge
-            ),
-            "bool": lambda x: isinstance(x, bool),
-            "list": lambda x: isinstance(x, list),
-            "table": lambda x: isinstance(x, dict),
-            "tables": lambda x: isinstance(x, list) and all(isinstance(i, dict) for i in x),
-        }[kind]
-        if not check(v):
-            names = {
-                "str": "a string",
-                "int": "an integer of magnitude below 2**31",
-                "float": f"0 or a number of magnitude {1 / LIMIT:g} to {LIMIT:g}",
-                "bool": "true or false",
-                "list": "a list",
-                "table": "a table",
-                "tables": "an array of tables",
-            }
-            raise self.error(key, f"must be {names[kind]}, got {v!r}")
-        return float(v) if kind == "float" else v
-
-    def floats(self, key: str, default: Any = ...) -> float | list[float] | None:
-        """A number or a list of numbers."""
-        v = (
-            self.get(key, "list", default)
-            if isinstance(self.data.get(key), list)
-            else self.get(key, "float", default)
-        )
-        if isinstance(v, list):
-            bad = [x for x in v if isinstance(x, bool) or not isinstance(x, int | float)
-                   or (x != 0 and not 1 / LIMIT <= abs(x) <= LIMIT)]
-            if bad or not v:
-                raise self.error(key, "must be a number or a non-empty list of numbers (0 or "
-                                      f"of magnitude {1 / LIMIT:g} to {LIMIT:g})")
-            return [float(x) for x in v]
-        return v
-
-    def finish(self) -> None:
-        extra = sorted(set(self.data) - self.used)
-        if extra:
-            raise InputError(
-                f"unknown key(s) {extra}", source=self.source, field=self.where or None
-            )
-
-
 def load_study(path: str | Path, *, require_model: bool = True) -> Study:
     """Parse and validate a study file.
 
@@ -189,14 +114,14 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
         raise InputError(f"not UTF-8 text: {exc}", source=src) from None
     except ValueError as exc:  # TOMLDecodeError, or an integer of over 4300 digits
         raise InputError(f"invalid TOML: {exc}", source=src) from None
-    top = _Reader(data, "", src)
+    top = TableReader(data, "", src)
     title = top.get("title", "str", path.stem)
     if "model" not in data and not require_model:
         return _study_without_model(path, top, title)
     if "model" not in data:
         raise InputError("[model] is required (only 'extract' runs without a model)",
                          source=src, field="model")
-    m = _Reader(top.get("model", "table"), "model", src)
+    m = TableReader(top.get("model", "table"), "model", src)
     mtype = m.get("type", "str")
     builders = {"spring-mass": _spring_mass, "beam": _beam, "matrices": _matrices,
                 "nastran": _nastran}
@@ -212,7 +137,7 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
     nastran, model = (model, model.model) if mtype == "nastran" else (None, model)
 
     perts = [
-        _perturbation(_Reader(t, f"perturbation[{i + 1}]", src), nastran)
+        _perturbation(TableReader(t, f"perturbation[{i + 1}]", src), nastran)
         for i, t in enumerate(top.get("perturbation", "tables", []))
     ]
     configs = [Configuration(BASE), *perts]
@@ -231,7 +156,7 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
 
     modes, freq, frf, frf_options = _measurement(top, names, path)
 
-    up = _Reader(top.get("updating", "table", {}), "updating", src)
+    up = TableReader(top.get("updating", "table", {}), "updating", src)
     method = up.get("method", "str", "least-squares")
     if method not in ESTIMATORS:
         raise up.error("method", f"unknown method {method!r}; expected one of {list(ESTIMATORS)}")
@@ -248,7 +173,8 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
     up.finish()
     design = None
     if "design" in top.data:
-        design = _design(_Reader(top.get("design", "table"), "design", src), model, mtype, modes)
+        design = _design(TableReader(top.get("design", "table"), "design", src), model, mtype,
+                         modes)
     top.finish()
     return Study(
         path=path,
@@ -321,11 +247,11 @@ def _frf_settings(options: dict, names: list[str], frf: dict[str, list[Path]], b
     return {"bands_hz": table, "exclude_below_hz": low, "frf_kinds": kinds}
 
 
-def _measurement(top: _Reader, names: list[str] | None, path: Path
+def _measurement(top: TableReader, names: list[str] | None, path: Path
                  ) -> tuple[list[int], str | None, dict[str, list[Path]], dict[str, Any]]:
     """[measurement]: modes, frequencies, frf (by configuration), frf_options."""
     src = str(path)
-    meas = _Reader(top.get("measurement", "table", {}), "measurement", src)
+    meas = TableReader(top.get("measurement", "table", {}), "measurement", src)
     modes = meas.get("modes", "list", [])
     if any(isinstance(k, bool) or not isinstance(k, int) or not 1 <= k < 2**31 for k in modes):
         raise meas.error("modes", f"must be elastic mode numbers >= 1, got {modes}")
@@ -341,10 +267,10 @@ def _measurement(top: _Reader, names: list[str] | None, path: Path
     return modes, freq, frf, frf_options
 
 
-def _study_without_model(path: Path, top: _Reader, title: str) -> Study:
+def _study_without_model(path: Path, top: TableReader, title: str) -> Study:
     src = str(path)
     perts = [
-        _perturbation(_Reader(t, f"perturbation[{i + 1}]", src))
+        _perturbation(TableReader(t, f"perturbation[{i + 1}]", src))
         for i, t in enumerate(top.get("perturbation", "tables", []))
     ]
     names = [BASE, *[c.name for c in perts]] if perts else None
@@ -362,178 +288,14 @@ def _study_without_model(path: Path, top: _Reader, title: str) -> Study:
                                           path.parent, src))
 
 
-def _model_files(table: dict, base: Path, model_type: str) -> list[Path]:
-    """The files of a (validated) matrices or nastran model."""
-    if model_type == "nastran":
-        return [base / table["bdf"]]
-    if model_type != "matrices":
-        return []
-    files = [table["K0"], table["M0"]]
-    files += [t[k] for key in ("parameter", "term") for t in table.get(key, [])
-              for k in ("K", "M") if k in t]
-    return [base / f for f in files]
-
-
-def _parameter(r: _Reader, seen: dict[str, str], default_value: Any = ...) -> Parameter:
-    """A parameter table; ``seen`` maps the names read so far to where they were."""
-    name = r.get("name", "str")
-    if name in seen:
-        raise r.error("name", f"duplicate parameter name {name!r} (also {seen[name]})")
-    seen[name] = r._f("name")
-    value = r.get("value", "float", default_value)
-    std = r.get("std", "float", None)
-    update = r.get("update", "bool", True)
-    if value < 0:
-        raise r.error("value", f"must be >= 0, got {value}")
-    if std is not None and std <= 0:
-        raise r.error("std", f"must be > 0, got {std}")
-    return Parameter(name, value, std, update)
-
-
-def _positive(r: _Reader, p: Parameter) -> None:
-    if p.value <= 0:
-        raise r.error("value", f"must be > 0, got {p.value}")
-
-
-def _spring_mass(m: _Reader, _base: Path) -> ParametricModel:
-    masses, springs, seen = [], [], {}
-    for i, t in enumerate(m.get("mass", "tables", [])):
-        r = _Reader(t, f"model.mass[{i + 1}]", m.source)
-        p = _parameter(r, seen)
-        _positive(r, p)
-        c = r.get("coordinate", "int")
-        if c < 1:
-            raise r.error("coordinate", f"must be >= 1, got {c}")
-        r.finish()
-        masses.append(Mass(p, c))
-    for i, t in enumerate(m.get("spring", "tables", [])):
-        r = _Reader(t, f"model.spring[{i + 1}]", m.source)
-        p = _parameter(r, seen)
-        _positive(r, p)
-        cs = r.get("coordinates", "list")
-        if len(cs) != 2 or cs[0] == cs[1] or not all(
-                isinstance(c, int) and not isinstance(c, bool) and c >= 0 for c in cs):
-            raise r.error(
-                "coordinates", f"must be two different coordinates (0 = ground), got {cs}"
-            )
-        stray = sorted(set(cs) - {0} - {x.coordinate for x in masses})
-        if stray:
-            raise r.error("coordinates", f"coordinate(s) {stray} have no mass (every "
-                          "coordinate of a spring-mass model needs one)")
-        r.finish()
-        springs.append(Spring(p, (cs[0], cs[1])))
-    if not masses:
-        raise m.error("mass", "a spring-mass model needs at least one [[model.mass]]")
-    if not springs:  # K = 0: every mode is a rigid-body mode at 0 Hz
-        raise m.error("spring", "a spring-mass model needs at least one [[model.spring]]")
-    # coordinates are 1..n with a mass at each: n is the number of distinct coordinates,
-    # so a typo (coordinate = 100000) is found without building anything of its size
-    n = len({x.coordinate for x in masses})
-    for i, x in enumerate(masses):
-        if x.coordinate > n:
-            raise InputError(
-                f"{x.coordinate} is beyond the {n} coordinates of this model (coordinates are "
-                f"1..{n}, each with a mass)", source=m.source,
-                field=f"model.mass[{i + 1}].coordinate")
-    return spring_mass_model(masses, springs, n)
-
-
-def _beam(m: _Reader, _base: Path) -> ParametricModel:
-    nodes = m.floats("nodes")
-    if not isinstance(nodes, list):
-        raise m.error("nodes", "must be a list of node positions (m)")
-    pms = []
-    seen = {name: "an element parameter of the beam"
-            for names in element_parameter_names(len(nodes) - 1) for name in names}
-    for i, t in enumerate(m.get("point_mass", "tables", [])):
-        r = _Reader(t, f"model.point_mass[{i + 1}]", m.source)
-        p = _parameter(r, seen)
-        pms.append((p, r.get("coordinate", "int")))
-        r.finish()
-    restrained = m.get("restrained", "list", [])
-    if not all(isinstance(c, int) and not isinstance(c, bool) for c in restrained):
-        raise m.error("restrained", f"must be a list of coordinates, got {restrained}")
-    return beam_model(
-        nodes,
-        m.floats("EI"),
-        m.floats("mass_per_length"),
-        EI_std=m.floats("EI_std", None),
-        mass_per_length_std=m.floats("mass_per_length_std", None),
-        point_masses=pms,
-        restrained=restrained,
-        update_EI=m.get("update_EI", "bool", True),
-        update_mass_per_length=m.get("update_mass_per_length", "bool", True),
-    )
-
-
-def _matrices(m: _Reader, base: Path) -> ParametricModel:
-    k0 = base / m.get("K0", "str")
-    m0 = base / m.get("M0", "str")
-    params, seen = [], {}
-    for i, t in enumerate(m.get("parameter", "tables")):
-        r = _Reader(t, f"model.parameter[{i + 1}]", m.source)
-        p = _parameter(r, seen)
-        kf, mf = r.get("K", "str", None), r.get("M", "str", None)
-        if kf is None and mf is None and not any(
-                isinstance(x, dict) and p.name in (x.get("powers") or {})
-                for x in m.data.get("term", [])):
-            raise r.error("K", "a parameter needs a K and/or an M file, or a "
-                               "[[model.term]] whose powers name it")
-        r.finish()
-        params.append((p, None if kf is None else base / kf, None if mf is None else base / mf))
-    index = {p.name: j for j, (p, _, _) in enumerate(params)}
-    terms = []
-    for i, t in enumerate(m.get("term", "tables", [])):
-        r = _Reader(t, f"model.term[{i + 1}]", m.source)
-        kf, mf = r.get("K", "str", None), r.get("M", "str", None)
-        if kf is None and mf is None:
-            raise r.error("K", "a term needs a K and/or an M file")
-        powers = r.get("powers", "table")
-        if not powers:
-            raise r.error("powers", "must name at least one parameter, e.g. { t = 3 }")
-        pw = []
-        for name, a in powers.items():
-            if name not in index:
-                raise r.error("powers", f"unknown parameter {name!r} (parameters: "
-                                        f"{sorted(index)})")
-            if isinstance(a, bool) or not isinstance(a, int | float) or a == 0 \
-                    or not abs(a) <= 100:
-                raise r.error(f"powers.{name}", f"must be a non-zero number of magnitude up "
-                                                f"to 100, got {a!r}")
-            pw.append((index[name], float(a)))
-        coef = r.get("coefficient", "float", 1.0)
-        r.finish()
-        terms.append((tuple(pw), coef, None if kf is None else base / kf,
-                      None if mf is None else base / mf))
-    return read_matrix_model(k0, m0, params, terms)
-
-
-def _nastran(m: _Reader, base: Path):
-    """[model] type = "nastran": a BDF and parameters named by card, id and field."""
-    from eigenupdate.io.nastran import CardField, read_nastran
-
-    bdf = base / m.get("bdf", "str")
-    params, seen = [], {}
-    for i, t in enumerate(m.get("parameter", "tables", [])):
-        r = _Reader(t, f"model.parameter[{i + 1}]", m.source)
-        if "value" in t:
-            raise r.error("value", "the value is the card's; edit the BDF to change it")
-        p = _parameter(r, seen, default_value=0.0)
-        where = CardField(r.get("card", "str").upper(), r.get("id", "int"),
-                          r.get("field", "str").upper())
-        r.finish()
-        params.append((p, where))
-    return read_nastran(bdf, params)
-
-
-def _perturbation(r: _Reader, nastran=None) -> Configuration:
+def _perturbation(r: TableReader, nastran=None) -> Configuration:
     adds = []
     if "add" in r.data and {"coordinate", "grid", "mass", "stiffness"} & set(r.data):
         raise r.error("add", "give either coordinate with mass/stiffness or add = [...], "
                              "not both")
     if "add" in r.data:
         for j, t in enumerate(r.get("add", "tables")):
-            adds.append(_addition(_Reader(t, f"{r.where}.add[{j + 1}]", r.source),
+            adds.append(_addition(TableReader(t, f"{r.where}.add[{j + 1}]", r.source),
                                   nastran=nastran))
     if "coordinate" in r.data or "grid" in r.data:
         adds.append(_addition(r, finish=False, nastran=nastran))
@@ -549,7 +311,7 @@ def _perturbation(r: _Reader, nastran=None) -> Configuration:
     return Configuration(name, tuple(adds))
 
 
-def _addition(r: _Reader, finish: bool = True, nastran=None) -> Addition:
+def _addition(r: TableReader, finish: bool = True, nastran=None) -> Addition:
     if nastran is None:
         c = r.get("coordinate", "int")
     else:  # NASTRAN names a GRID and a component 1-6
@@ -588,7 +350,7 @@ def _frf_files(table: dict, names: list[str], base: Path, src: str) -> dict[str,
     return out
 
 
-def _design(r: _Reader, model: ParametricModel, model_type: str,
+def _design(r: TableReader, model: ParametricModel, model_type: str,
             study_modes: list[int]) -> DesignSpec:
     """The [design] table of ``eigenupdate design`` (see :class:`DesignSpec`)."""
     coords = r.data.get("coordinates")

@@ -73,3 +73,25 @@ def assert_eigenvalues_agree(got, ref, K, M, certified: float = 0.0) -> None:
     floor = eigenvalue_floor(K, M, lam, ref.modes)
     rel = np.abs(np.asarray(got, float) - lam) / np.abs(lam)
     assert np.all(rel <= 2 * floor + certified), (rel, floor)
+
+
+def assert_matrix_derivatives(model, rtol: float = 1e-7) -> None:
+    """dK/ds_j and dM/ds_j of ``model`` (its k_terms, m_terms) against central differences
+    of K(s), M(s) with h = 1e-5 s_j, entry by entry relative to the largest.
+
+    For K(s) smooth (polynomial or rational in s_j) the truncation is ~(h/s)^2 = 1e-10 and
+    the round-off eps |K| / (h/s) ~ 2e-11 relative: ``rtol`` 1e-7 leaves a wide margin and
+    still fails on a wrong power or a missing term (errors of order 1).
+    """
+    s = model.values
+    for j in range(s.size):
+        h = 1e-5 * s[j]
+        up, dn = s.copy(), s.copy()
+        up[j] += h
+        dn[j] -= h
+        for exact, fun in ((model.k_terms[j], model.stiffness), (model.m_terms[j], model.mass)):
+            fd = (fun(up) - fun(dn)) / (2 * h)
+            if exact is None:
+                assert abs(fd).max() == 0
+                continue
+            assert abs(exact - fd).max() <= rtol * abs(exact).max()

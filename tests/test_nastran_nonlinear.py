@@ -15,6 +15,7 @@ import warnings
 import numpy as np
 import pytest
 import scipy.linalg
+from bounds import assert_matrix_derivatives
 from nastran_frames import need, random_frame
 
 from eigenupdate.errors import EigenupdateWarning, InputError
@@ -129,20 +130,7 @@ def test_model_at_new_values_is_the_hand_edited_deck(tmp_path, which):
 def test_derivatives_match_central_differences(tmp_path, which):
     fields = {"dims": DIMS, "shear": SHEAR, "products": PRODUCTS}[which]
     model = read_nastran(_frame(tmp_path / "a.bdf", which), _spec(fields)).model
-    s = model.values
-    for j in range(len(fields)):
-        h = 1e-5 * s[j]
-        up, dn = s.copy(), s.copy()
-        up[j] += h
-        dn[j] -= h
-        # truncation (h / s)^2 = 1e-10 relative (the formulas are smooth rational
-        # functions of s_j); round-off eps |K| / (h / s) = 2e-11 relative
-        for exact, fun in ((model.k_terms[j], model.stiffness), (model.m_terms[j], model.mass)):
-            fd = (fun(up) - fun(dn)) / (2 * h)
-            if exact is None:
-                assert abs(fd).max() == 0
-                continue
-            assert abs(exact - fd).max() <= 1e-7 * abs(exact).max()
+    assert_matrix_derivatives(model)  # central differences (tests/bounds.py)
 
 
 def _plan(nm, tops):

@@ -12,6 +12,7 @@ import warnings
 
 import numpy as np
 import pytest
+from bounds import assert_matrix_derivatives
 from nastran_frames import need
 from plates import square_mesh
 
@@ -80,20 +81,7 @@ def test_model_at_new_values_is_the_hand_edited_deck(tmp_path, triangles):
 @pytest.mark.parametrize("triangles", [False, True], ids=["CQUAD4", "CTRIA3"])
 def test_derivatives_match_central_differences(tmp_path, triangles):
     model = _read(plate(tmp_path / "a.bdf", triangles=triangles), _spec()).model
-    s = model.values
-    for j in range(s.size):
-        h = 1e-5 * s[j]
-        up, dn = s.copy(), s.copy()
-        up[j] += h
-        dn[j] -= h
-        # cubic (rational on CTRIA3) in T: truncation ~(h/s)^2 = 1e-10 relative;
-        # round-off eps |K| / (h/s) = 2e-11 relative
-        for exact, fun in ((model.k_terms[j], model.stiffness), (model.m_terms[j], model.mass)):
-            fd = (fun(up) - fun(dn)) / (2 * h)
-            if exact is None:
-                assert abs(fd).max() == 0
-                continue
-            assert abs(exact - fd).max() <= 1e-7 * abs(exact).max()
+    assert_matrix_derivatives(model)  # central differences (tests/bounds.py)
 
 
 def test_bending_frequency_scales_with_thickness_as_navier(tmp_path):

@@ -328,12 +328,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         trip = type(k0)()
         _add(trip, mats[2 + len(kj) + len(mj) + i], 6)
         extra.append(("m" if part == "mass" else "k", trip, term))
-    _add(k0, mats[0], 6)
-    for j in range(len(kj)):
-        _add(kj[j], mats[1 + j], 6)
-    _add(m0, mats[1 + len(kj)], 6)
-    for j in range(len(mj)):
-        _add(mj[j], mats[2 + len(kj) + j], 6)
+    _add_all(mats, k0, kj, m0, mj, 6)
 
 
 MAX_SIZES = 64
@@ -449,13 +444,8 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
                 + [None if d is None or not np.any(d[s]) else d[s, None, None] * m
                    for d in dm])
 
-    out = assemble_many(nodes, blocks, 2 + len(kj) + len(mj), n_nodes, 3)
-    _add(k0, out[0], 3)
-    for j in range(len(kj)):
-        _add(kj[j], out[1 + j], 3)
-    _add(m0, out[1 + len(kj)], 3)
-    for j in range(len(mj)):
-        _add(mj[j], out[2 + len(kj) + j], 3)
+    _add_all(assemble_many(nodes, blocks, 2 + len(kj) + len(mj), n_nodes, 3),
+             k0, kj, m0, mj, 3)
 
 
 def _to_cd(blocks: np.ndarray, frames: np.ndarray, nodes: np.ndarray, per_node: int
@@ -484,3 +474,13 @@ def _add(trip, mat, per_node: int) -> None:
     coo = mat.tocoo()
     r, c = coo.row.astype(np.int64), coo.col.astype(np.int64)
     trip.add(6 * (r // per_node) + r % per_node, 6 * (c // per_node) + c % per_node, coo.data)
+
+
+def _add_all(mats, k0, kj, m0, mj, per_node: int) -> None:
+    """Add assembled [K0, K_1.., M0, M_1..] (``assemble_many``'s order) to their triplets."""
+    _add(k0, mats[0], per_node)
+    for j in range(len(kj)):
+        _add(kj[j], mats[1 + j], per_node)
+    _add(m0, mats[1 + len(kj)], per_node)
+    for j in range(len(mj)):
+        _add(mj[j], mats[2 + len(kj) + j], per_node)

@@ -26,7 +26,7 @@ the invariant:
 
 Usage: ``python tools/fuzz.py --cases 10000 [--seed 0] [--keep DIR]``; prints the count
 of each class of outcome, overall and by command (inputs mutated, runs, tracebacks, bad
-exits, hangs, NaN with exit 0, clobbered files). ``tests/test_fuzz.py`` runs a short
+exits, hangs, NaN with exit 0, clobbered files). ``tests/cli/test_fuzz.py`` runs a short
 seeded form in CI.
 """
 

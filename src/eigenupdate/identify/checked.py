@@ -56,7 +56,7 @@ STARTS = 8
 """Fits from draws of the prior that test a converged fit's uniqueness (dense models with
 a prior std on every updated parameter). A basin reached from a fraction q of the prior
 is missed with probability (1 - q)^STARTS. On a random 6-mass network with 10 % priors
-(tests/test_checked.py) the 6 converged trials of 200 farthest from the truth (4.2-16
+(tests/identify/test_checked.py) the 6 converged trials of 200 farthest from the truth (4.2-16
 reported std) were caught as second solutions by 16 starts, 5 of them by 8, none by 4."""
 
 ALPHA_SECOND = ALPHA_DISTINCT

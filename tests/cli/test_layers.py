@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-SRC = Path(__file__).resolve().parents[1] / "src" / "eigenupdate"
+SRC = Path(__file__).resolve().parents[2] / "src" / "eigenupdate"
 CORE = ("model", "solve", "identify", "measure", "design")
 BOUNDARY = ("io", "report", "plot", "cli", "workflow")
 

@@ -1,7 +1,7 @@
 """Shell and solid decks of ../shared/data/nastran/ against MSC Nastran's printed
 frequencies (ref.json), read through the normal path (read_nastran: CQUAD4 + PSHELL,
 RBE2 rings, CONM2, COUPMASS, WTMASS; CTETRA10 + PSOLID). Skipped when the shared data are
-not on this machine (failed under CI=true, as tests/test_nastran_decks.py)."""
+not on this machine (failed under CI=true, as tests/io/test_nastran_decks.py)."""
 
 from __future__ import annotations
 

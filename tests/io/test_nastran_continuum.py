@@ -68,7 +68,7 @@ def _converges_to(f8, f16, exact, model_bound):
 def test_navier_plate_through_the_deck(tmp_path):
     """Source: Navier's simply supported square plate, omega = 2 pi^2 / a^2
     sqrt(D / (rho h)), D = E h^3 / (12 (1 - nu^2)); a = 1, h = 0.001 (Mindlin-Kirchhoff
-    difference 4.4e-5 at a/h = 1000, see tests/test_shells.py; bound 1e-4); meshes 8 x 8
+    difference 4.4e-5 at a/h = 1000, see tests/model/test_shells.py; bound 1e-4); meshes 8 x 8
     and 16 x 16 CQUAD4 with PSHELL."""
     a, h = 1.0, 1e-3
     D = E * h**3 / (12 * (1 - NU**2))
@@ -308,7 +308,7 @@ def test_unsupported_solid_input_is_named(tmp_path):
 @pytest.mark.parametrize("kind", ["CHEXA8", "CHEXA20", "CPENTA6", "CPENTA15", "CTETRA4",
                                   "CTETRA10"])
 def test_solid_deck_is_the_element_library(tmp_path, kind):
-    """Source: the element library's own assembly (tests/test_solids.py checks the
+    """Source: the element library's own assembly (tests/model/test_solids.py checks the
     elements against closed forms); here the deck path (pyNastran's node order, PSOLID,
     MAT1, COUPMASS) must give the same free-free frequencies, to the eigen-solvers'
     rounding (1e-9 with room)."""

@@ -9,7 +9,7 @@ from eigenupdate.design.screen import screen_candidates
 from eigenupdate.model.configurations import Addition, Configuration, mass_at
 from eigenupdate.solve.eigen import solve_elastic
 from eigenupdate.solve.screening import screen_configurations
-from tests.test_perturbed import assert_matches, network, reference
+from test_perturbed import assert_matches, network, reference
 
 
 def dense_order(model, configs, modes):

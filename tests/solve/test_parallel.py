@@ -27,7 +27,7 @@ from eigenupdate.solve.eigen import (
     usable_shift,
 )
 from eigenupdate.solve.jacobian import linearise
-from tests.test_perturbed import CONFIGS, assert_matches, network, reference
+from test_perturbed import CONFIGS, assert_matches, network, reference
 
 
 def test_thread_count_from_the_environment(monkeypatch):

@@ -15,7 +15,7 @@ import pytest
 from eigenupdate.io.uff import read_frfs
 from eigenupdate.measure.survey import extract_test
 
-DATA = Path(__file__).parent / "data" / "beam_roving_hammer.uff"
+DATA = Path(__file__).parents[1] / "data" / "beam_roving_hammer.uff"
 
 
 @pytest.fixture(scope="module")

@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from bounds import eigenvalue_floor
 from conftest import EXAMPLES
+from test_perturbed import CONFIGS, assert_matches, network, reference
 
 import eigenupdate.solve.perturbed as perturbed
 from eigenupdate.errors import InputError
@@ -27,7 +28,6 @@ from eigenupdate.solve.eigen import (
     usable_shift,
 )
 from eigenupdate.solve.jacobian import linearise
-from test_perturbed import CONFIGS, assert_matches, network, reference
 
 
 def test_thread_count_from_the_environment(monkeypatch):

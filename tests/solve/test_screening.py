@@ -3,13 +3,13 @@ against independent dense re-solves of every configuration (eigenvalues, Fox-Kap
 sensitivities, next eigenvalue, and mode order by mass-weighted MAC from full modes)."""
 
 import numpy as np
+from test_perturbed import assert_matches, network, reference
 
 import eigenupdate.solve.perturbed as perturbed
 from eigenupdate.design.screen import screen_candidates
 from eigenupdate.model.configurations import Addition, Configuration, mass_at
 from eigenupdate.solve.eigen import solve_elastic
 from eigenupdate.solve.screening import screen_configurations
-from test_perturbed import assert_matches, network, reference
 
 
 def dense_order(model, configs, modes):

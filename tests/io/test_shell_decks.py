@@ -6,29 +6,14 @@ not on this machine (failed under CI=true, as tests/io/test_nastran_decks.py).""
 from __future__ import annotations
 
 import json
-import warnings
 
 import numpy as np
 import pytest
 from nastran_frames import need
-from test_nastran_decks import _ref
-
-from eigenupdate.errors import EigenupdateWarning
-from eigenupdate.solve.eigen import solve_elastic
+from test_nastran_decks import _errors, _ref
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
-from eigenupdate.io.nastran import read_nastran  # noqa: E402
-
-
-def _errors(case: str) -> tuple[np.ndarray, dict]:
-    deck, ref = _ref(case)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EigenupdateWarning)
-        model = read_nastran(deck).model
-    n = ref["compare_modes"]
-    got = solve_elastic(model.stiffness(), model.mass(), n).frequencies_hz
-    return got / np.array(ref["elastic_hz"][:n]) - 1, ref
 
 
 @pytest.fixture(scope="module")

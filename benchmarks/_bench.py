@@ -92,7 +92,7 @@ def instrumented(timers: Timers):
     Labels: factorisation (ShiftInvert: LU of K - sigma M), Woodbury set-up, LU solves
     (every A^-1 b; "LU solve columns" counts right-hand sides), eigsh
     (eigen.lowest_modes: ARPACK + mass normalisation + rigid-body test, including its LU
-    solves), Krylov subspaces (perturbed.Blocks.grow and .take and the projected matrices,
+    solves), Krylov subspaces (krylov.Blocks.grow and .take and the projected matrices,
     including the LU solves),
     Rayleigh-Ritz (perturbed.ritz: projected eigenproblem, certificate, Ritz vectors),
     sensitivities (Fox-Kapoor), assembly (K(s), M(s)). A stage the package no longer has

@@ -71,3 +71,10 @@ def test_package_graph():
     # model is the bottom of the core; solve uses only model
     assert graph.get("model", set()) <= {"errors", "budget", "choices", "schema"}
     assert graph.get("solve", set()) <= {"model", "errors", "budget", "choices", "schema"}
+
+
+def test_modules_of_one_idea_stay_short():
+    # issue 24: no module over 600 lines (a longer one holds two ideas: split it)
+    long = {str(p.relative_to(SRC)): n for p in sorted(SRC.rglob("*.py"))
+            if (n := len(p.read_text(encoding="utf-8").splitlines())) > 600}
+    assert not long, long

@@ -16,6 +16,7 @@ from bounds import eigenvalue_floor
 from conftest import EXAMPLES
 from test_perturbed import CONFIGS, assert_matches, network, reference
 
+import eigenupdate.solve.krylov as krylov
 import eigenupdate.solve.perturbed as perturbed
 from eigenupdate.errors import InputError
 from eigenupdate.model.configurations import mass_at
@@ -61,13 +62,13 @@ def test_threads_change_nothing_beyond_round_off(monkeypatch):
     model = network()
     modes = [1, 2, 3, 4]
     out, where = {}, set()
-    grow = perturbed.Blocks.grow
+    grow = krylov.Blocks.grow
 
     def spy(self, levels):
         where.add(threading.current_thread().name.split("_")[0])
         return grow(self, levels)
 
-    monkeypatch.setattr(perturbed.Blocks, "grow", spy)
+    monkeypatch.setattr(krylov.Blocks, "grow", spy)
     for threads in ("1", "3"):
         monkeypatch.setenv("EIGENUPDATE_THREADS", threads)
         out[threads] = linearise(model, CONFIGS, modes, dense=False)
@@ -144,12 +145,12 @@ def test_a_widened_subspace_continues_the_first_one():
     model = network()
     K, M = model.stiffness(), model.mass()
     op, sol = base_operator(K, M, 4)
-    base = perturbed.make_base(K, M, op, *sol.computed)
+    base = krylov.make_base(K, M, op, *sol.computed)
     rows = (model.index(45),)
     fam = perturbed.families(base, [rows])[rows]
     perturbed.widen(base, [fam])
-    fresh = perturbed.build_subspaces(base, [np.array(rows)],
-                                      perturbed.LEVELS + perturbed.EXTRA_LEVELS)[0]
+    fresh = krylov.build_subspaces(base, [np.array(rows)],
+                                      krylov.LEVELS + krylov.EXTRA_LEVELS)[0]
     a = perturbed.ritz(base, fam.wider, np.array(rows), [0.0], [5.0], 4)
     b = perturbed.ritz(base, fresh, np.array(rows), [0.0], [5.0], 4)
     assert fam.wider.Q.shape == fresh.Q.shape

@@ -15,6 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import eigenupdate.solve.jacobian as jacobian
+import eigenupdate.solve.krylov as krylov
 import eigenupdate.solve.perturbed as perturbed
 from eigenupdate.identify.updating import update
 from eigenupdate.measure.measurement import Measurement
@@ -166,12 +167,12 @@ def test_certificate_bounds_the_error_and_failures_fall_back(monkeypatch):
     model = network()
     K, M = model.stiffness(), model.mass()
     op, sol = base_operator(K, M, N_MODES)
-    base = perturbed.make_base(K, M, op, *sol.computed)
+    base = krylov.make_base(K, M, op, *sol.computed)
     rows = np.array([model.index(45)])
     dM = sp.csr_array(([5.0], (rows, rows)), shape=K.shape)
     exact = solve_elastic(K, M + dM, N_MODES, dense=True).eigenvalues
     for levels in (1, 2, 3):
-        sub = perturbed.build_subspaces(base, [rows], levels)[0]
+        sub = krylov.build_subspaces(base, [rows], levels)[0]
         r = perturbed.ritz(base, sub, rows, [0.0], [5.0], N_MODES)
         # Ritz values are upper bounds; the bound covers the error (floor: the dense
         # reference's own round-off, ~1e-12 here)

@@ -19,7 +19,7 @@ import numpy as np
 from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.model.configurations import Addition, Configuration
 from eigenupdate.model.parametric import ParametricModel
-from eigenupdate.solve import perturbed
+from eigenupdate.solve import krylov, perturbed
 from eigenupdate.solve.eigen import DENSE_LIMIT, base_operator
 from eigenupdate.solve.jacobian import modes_and_updated, solve_configurations, solve_one
 from eigenupdate.solve.restricted import ProjectedTerms, RestrictedTerms
@@ -177,7 +177,7 @@ def screen_configurations(
     except (InputError, NumericalError) as exc:
         raise type(exc)(str(exc), field="the bare structure") from None
     base_lam, base_J = derivatives(base_sol, "the bare structure")
-    base = perturbed.make_base(K, M, base_op, *base_sol.computed)
+    base = krylov.make_base(K, M, base_op, *base_sol.computed)
     projected = ProjectedTerms(terms, base.phi)
     elastic = base_sol.n_rigid + np.arange(n_modes)  # bare elastic modes among base.phi's
     groups: dict[tuple[int, ...], list[int]] = {}

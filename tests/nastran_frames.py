@@ -48,6 +48,8 @@ class Frame:
     masses: list[tuple[int, float]] = field(default_factory=list)  # CONM2: grid, mass
     springs: list[tuple[int, int, float]] = field(default_factory=list)  # CELAS2 to ground
     consistent: bool = True
+    G: float | None = None  # MAT1 G (None: blank, NASTRAN's E / (2 (1 + nu)))
+    shear_factors: dict[int, tuple[float, float]] = field(default_factory=dict)  # PBAR K1, K2
 
     def bdf(self) -> str:
         out = ["SOL 103", "CEND", "SUBCASE 1", "  SPC = 1", "BEGIN BULK"]
@@ -58,8 +60,11 @@ class Frame:
         for eid, a, b, v, pid in self.bars:
             out.append(f"CBAR*,{eid},{pid},{a},{b}\n*,{v[0]!r},{v[1]!r},{v[2]!r}")
         for pid, (A, i1, i2, j) in sorted(self.sections.items()):
-            out.append(f"PBAR*,{pid},1,{A!r},{i1!r}\n*,{i2!r},{j!r}")
-        out.append(f"MAT1*,1,{self.E!r},,{self.nu!r}\n*,{self.rho!r}")
+            k = self.shear_factors.get(pid)
+            tail = "" if k is None else f"\n*,,,,\n*,,,,\n*,{k[0]!r},{k[1]!r}"
+            out.append(f"PBAR*,{pid},1,{A!r},{i1!r}\n*,{i2!r},{j!r}{',,' if k else ''}{tail}")
+        g = "" if self.G is None else repr(self.G)
+        out.append(f"MAT1*,1,{self.E!r},{g},{self.nu!r}\n*,{self.rho!r}")
         for n in self.fixed:  # one card each: a free-field line holds 8 data fields
             out.append(f"SPC1,1,123456,{n}")
         for i, (n, m) in enumerate(self.masses):

@@ -41,6 +41,9 @@ SHEAR = [("rod_r", "PBARL", 1, "DIM1"), ("bar_h", "PBARL", 3, "DIM2"), ("E", "MA
          ("rho", "MAT1", 1, "RHO")]
 # the PBAR frame: E with the A of one section and I1 of another (products E A, E I1)
 PRODUCTS = [("E", "MAT1", 1, "E"), ("A4", "PBAR", 4, "A"), ("I5", "PBAR", 5, "I1")]
+# the same on shear-flexible PBARs (K1, K2) with MAT1 G given apart from E: E, A and I1 are
+# all in phi = 12 E I / (K A G L^2)
+FIELDS = {"dims": DIMS, "shear": SHEAR, "products": PRODUCTS, "pbar_shear": PRODUCTS}
 
 
 def _spec(fields):
@@ -58,7 +61,10 @@ def _frame(path, which: str, values=None):
     frame.bars = [(eid, a, b, v, used[eid % len(used)]) for eid, a, b, v, _ in frame.bars]
     dims = {pid: list(d) for pid, (_, d) in SECTIONS.items()}
     frame.sections = {pid: list(closed_form(*SECTIONS[pid])) for pid in SECTIONS}
-    fields = {"dims": DIMS, "shear": SHEAR, "products": PRODUCTS}[which]
+    if which == "pbar_shear":  # stubby enough that phi matters: 0.85 x the section's factor
+        frame.shear_factors = {pid: (0.85, 0.7) for pid in SECTIONS}
+        frame.G = 7.9e10  # not E / (2 (1 + nu)): G stays when E moves
+    fields = FIELDS[which]
     for (_, card, cid, f), v in zip(fields, [] if values is None else values, strict=False):
         if card == "MAT1":
             setattr(frame, {"E": "E", "RHO": "rho"}[f], float(v))
@@ -67,7 +73,7 @@ def _frame(path, which: str, values=None):
         else:
             frame.sections[cid][{"A": 0, "I1": 1}[f]] = float(v)
     text = frame.bdf()
-    if which != "products":
+    if which in ("dims", "shear"):
         lines = text.splitlines()
         kept = [x for i, x in enumerate(lines) if not x.startswith("PBAR*")
                 and not (i and lines[i - 1].startswith("PBAR*"))]
@@ -113,9 +119,9 @@ def ell(tmp_path):
     return _ell(tmp_path / "ell.bdf")
 
 
-@pytest.mark.parametrize("which", ["dims", "shear", "products"])
+@pytest.mark.parametrize("which", ["dims", "shear", "products", "pbar_shear"])
 def test_model_at_new_values_is_the_hand_edited_deck(tmp_path, which):
-    fields = {"dims": DIMS, "shear": SHEAR, "products": PRODUCTS}[which]
+    fields = FIELDS[which]
     nm = read_nastran(_frame(tmp_path / "a.bdf", which), _spec(fields))
     assert nm.model.nonlinear
     new = nm.model.values * np.array([1.05, 0.97, 1.1, 1.03, 0.98][:len(fields)])
@@ -126,9 +132,9 @@ def test_model_at_new_values_is_the_hand_edited_deck(tmp_path, which):
         assert abs(a - b).max() <= 1e-12 * abs(b).max()
 
 
-@pytest.mark.parametrize("which", ["dims", "shear", "products"])
+@pytest.mark.parametrize("which", ["dims", "shear", "products", "pbar_shear"])
 def test_derivatives_match_central_differences(tmp_path, which):
-    fields = {"dims": DIMS, "shear": SHEAR, "products": PRODUCTS}[which]
+    fields = FIELDS[which]
     model = read_nastran(_frame(tmp_path / "a.bdf", which), _spec(fields)).model
     assert_matrix_derivatives(model)  # central differences (tests/bounds.py)
 

@@ -169,18 +169,15 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     pkeys = [r[10] for r in rows]
     shear = (phi1 != 0) | (phi2 != 0)
 
-    def linear_only(mask, fld, card, cid, planes):
-        hit = np.flatnonzero(mask & planes)
-        if hit.size:
-            raise InputError(f"{card} {cid} field {fld}: not a parameter of the shear-flexible "
-                             f"{label[hit[0]]} (K1/K2 make K not linear in it; E with G "
-                             f"blank and RHO are)")
+    # a parameter in phi = 12 E I / (K A G L^2) makes a shear-flexible element's K not
+    # linear in it: that element goes to function terms (E with G blank and RHO stay linear)
+    in_phi = np.zeros(n, bool)
 
     for (card, cid), slots in pindex.items():
         if card == "MAT1":
             mask = mids == cid
             if "E" in slots:
-                linear_only(mask, "E", card, cid, shear & ~tied)
+                in_phi |= mask & shear & ~tied
                 j = slots["E"]
                 for part, c in (("k_axial", A), ("k_bend1", I1), ("k_bend2", I2)):
                     d(j, part, c, mask)
@@ -198,10 +195,11 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
                                 ("J", (("k_torsion", G),))):
                 if fld in slots:
                     planes = {"A": shear, "I1": phi1 != 0, "I2": phi2 != 0, "J": np.zeros(n, bool)}
-                    linear_only(mask, fld, card, cid, planes[fld])
+                    in_phi |= mask & planes[fld]
                     for part, c in parts_:
                         d(slots[fld], part, c, mask)
-    nonlin = _nonlinear_elements(deriv, pindex, pkeys, label, shear & np.array(pins).any(1))
+    nonlin = _nonlinear_elements(deriv, pindex, pkeys, label, shear & np.array(pins).any(1),
+                                 in_phi)
     for dj in deriv:  # those elements' parts all go to their function terms
         for arr in dj.values():
             arr[nonlin] = 0.0
@@ -355,20 +353,22 @@ def pbarl_section(prop) -> tuple:
     return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, 0.0
 
 
-def _nonlinear_elements(deriv, pindex, pkeys, label, shear) -> np.ndarray:
-    # shear: the shear-flexible elements with pin flags (condensed with phi: refused)
+def _nonlinear_elements(deriv, pindex, pkeys, label, shear, in_phi) -> np.ndarray:
     """Mask of the elements whose K or M is not linear in the parameters: a section
-    dimension is one, or two parameters scale one of their quantities (E A)."""
+    dimension is one, two parameters scale one of their quantities (E A), or one is in a
+    shear-flexible element's phi (``in_phi``). ``shear``: the shear-flexible elements
+    with pin flags (condensed with phi: refused)."""
     dims = {k for k in pindex if k[0] in ("PBARL", "PBEAML")}
-    out = np.array([k in dims for k in pkeys], dtype=bool)
+    out = np.array([k in dims for k in pkeys], dtype=bool) | in_phi
     for part in {p for dj in deriv for p in dj}:
         count = sum((dj[part] != 0).astype(int) for dj in deriv if part in dj)
         out |= count > 1
     hit = np.flatnonzero(out & shear)
     if hit.size:
         raise InputError(f"{label[hit[0]]}: its parameters enter K nonlinearly (a section "
-                         f"dimension, or a product such as MAT1 E with PBAR A), which is "
-                         f"not supported with pin flags on a shear-flexible section")
+                         f"dimension, a product such as MAT1 E with PBAR A, or a quantity in "
+                         f"the shear parameter phi), which is not supported with pin flags "
+                         f"on a shear-flexible section")
     return out
 
 

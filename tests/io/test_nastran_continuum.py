@@ -329,3 +329,22 @@ def test_solid_deck_is_the_element_library(tmp_path, kind):
     K, M = solid_matrices(xyz, el, E, NU, RHO)
     want = solve_elastic(K, M, 8).frequencies_hz
     assert np.allclose(got, want, rtol=1e-9, atol=0)
+
+
+def test_e_with_nu_blank_refused_on_shells_and_solids(tmp_path):
+    """NASTRAN's MAT1 rule: with NU blank and G given, NU = E / (2 G) - 1 follows E, so
+    the plane-stress and solid moduli are not linear in E (refused); RHO stays linear.
+    MAT1 1 with its NU given and G blank (G follows E) is accepted."""
+    mats = {m: dict(v) for m, v in MATERIALS.items()}
+    path = tmp_path / "mixed.bdf"
+    text = mixed_deck(1, mats)
+    g = mats[1]["E"] / 2.5
+    line = next(x for x in text.splitlines() if x.startswith("MAT1,1,"))
+    path.write_text(text.replace(line, f"MAT1,1,{mats[1]['E']!r},{g!r},,{mats[1]['RHO']!r}"))
+    with pytest.raises(InputError, match="MAT1 1 field E: not a parameter .* NU blank"):
+        _read(path, [(Parameter("p", 0.0), CardField("MAT1", 1, "E"))])
+    assert _read(path, [(Parameter("p", 0.0), CardField("MAT1", 1, "RHO"))]).model.m_terms[0] \
+        is not None
+    path.write_text(text)
+    assert _read(path, [(Parameter("p", 0.0), CardField("MAT1", 1, "E"))]).model.k_terms[0] \
+        is not None

@@ -209,3 +209,20 @@ def test_refusals(tmp_path):
     nm = read_nastran(pbarl, [(Parameter("t", 0.0), CardField("PBARL", 4, "DIM3"))])
     with pytest.raises(InputError, match="section BOX needs DIM2 > 2 DIM3"):
         nm.model.stiffness([0.15])
+
+
+def test_mat1_with_nu_blank_keeps_g_when_e_moves(tmp_path):
+    """NASTRAN's MAT1 rule: G given and NU blank, NU = E / (2 G) - 1 follows E and G
+    stays, so a bar's torsion GJ does not move with E. Source: the hand-edited deck (as
+    above); pyNastran fills NU in, so only the card's blank field tells the two apart."""
+    def deck(path, e):
+        text = _frame(path, "pbar_shear").read_text()
+        line = next(x for x in text.splitlines() if x.startswith("MAT1*"))
+        path.write_text(text.replace(line, f"MAT1*,1,{e!r},{7.9e10!r},"))
+        return path
+
+    e0 = 2.1e11
+    nm = read_nastran(deck(tmp_path / "a.bdf", e0), _spec(PRODUCTS[:1]))
+    ref = read_nastran(deck(tmp_path / "b.bdf", 1.1 * e0)).model
+    a, b = nm.model.stiffness([1.1 * e0]), ref.stiffness()
+    assert abs(a - b).max() <= 1e-12 * abs(b).max()

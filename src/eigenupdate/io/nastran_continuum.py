@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.nastran_fields import in_range
+from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
 from eigenupdate.model import laminate, shells, solids
 from eigenupdate.model.assembly import assemble_many
 from eigenupdate.model.parametric import FunctionTerm, Term
@@ -82,8 +82,17 @@ def _mat1(bdf, mid, where: str):
 
 
 def _tied(mat) -> bool:
-    """MAT1 G blank: pyNastran filled in E / (2 (1 + NU)), which follows E."""
-    return mat.g is not None and math.isclose(mat.g, mat.e / (2 * (1 + mat.nu)), rel_tol=1e-12)
+    """MAT1 G blank (NU given): pyNastran filled in E / (2 (1 + NU)), which follows E."""
+    return tied_shear_modulus(mat)
+
+
+def _linear_in_e(mat, slots) -> None:
+    """Refuse E as a parameter of a MAT1 with NU blank and G given: NASTRAN's NU =
+    E / (2 G) - 1 then follows E, and a shell's or solid's K is not linear in E."""
+    if "E" in slots and "NU" in getattr(mat, "blank", ()) and "G" not in mat.blank:
+        raise InputError(f"MAT1 {mat.mid} field E: not a parameter of a shell or solid "
+                         f"material with NU blank (NASTRAN's NU = E / (2 G) - 1 follows E, "
+                         f"so K is not linear in E); give NU on the card, or leave G blank")
 
 
 def _pshell(bdf, prop) -> dict:
@@ -270,6 +279,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     for (card, cid), slots in pindex.items():
         if card != "MAT1":
             continue
+        if any(np.any(m == cid) for m in mids.values()):
+            _linear_in_e(bdf.materials[cid], slots)
         mixed = sorted({e.pid for e, p in zip(elems, rows, strict=True)
                         if cid in p.get("plies", ()) and p["mid1"] != cid})
         if mixed and "E" in slots:
@@ -421,6 +432,7 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
     dm = [None for _ in mj]
     for (card, cid), slots in pindex.items():
         if card == "MAT1" and cid in mats:
+            _linear_in_e(mats[cid], slots)
             if "E" in slots:
                 dk[slots["E"]] = np.where(mid == cid, 1.0, 0.0)
             if "RHO" in slots:

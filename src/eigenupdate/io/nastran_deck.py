@@ -97,7 +97,24 @@ def _quiet_bdf():
                          "(see the README)") from None
     from cpylog import SimpleLogger  # pyNastran's logger; errors are ours to report
 
-    return BDF(log=SimpleLogger(level="critical"))
+    bdf = BDF(log=SimpleLogger(level="critical"))
+    bdf._card_parser["MAT1"] = (_MAT1Blanks, bdf._card_parser["MAT1"][1])
+    return bdf
+
+
+class _MAT1Blanks:
+    """pyNastran's MAT1 reader, remembering which of G and NU the card left blank (as
+    ``mat.blank``): pyNastran fills in the missing one from the other two, and which one
+    follows E when E is updated is NASTRAN's rule for the blank field, not a number."""
+
+    @staticmethod
+    def add_card(card, comment=""):
+        from pyNastran.bdf.cards.materials import MAT1
+
+        mat = MAT1.add_card(card, comment=comment)
+        mat.blank = frozenset(name for name, i in (("G", 3), ("NU", 4))
+                              if card.field(i) in (None, ""))
+        return mat
 
 
 _INCLUDE = re.compile(r"^\s*INCLUDE\s*(.*)$", re.IGNORECASE)

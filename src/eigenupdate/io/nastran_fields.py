@@ -93,3 +93,16 @@ def in_range(value, what: str) -> float:
     if not math.isfinite(v) or (v != 0 and not 1e-100 <= abs(v) <= 1e100):
         raise InputError(f"{what} = {v:g} is out of range (0 or magnitude 1e-100 to 1e100)")
     return v
+
+
+def tied_shear_modulus(mat) -> bool:
+    """True when a MAT1's G follows its E: G blank and NU given (NASTRAN's G =
+    E / (2 (1 + NU))). With NU blank and G given it is NU that follows (G stays); with both
+    blank G is 0. ``mat.blank`` (the fields the card left blank) is recorded by
+    :func:`eigenupdate.io.nastran_deck.load_deck`; a MAT1 made otherwise is judged by its
+    numbers (G equal to E / (2 (1 + NU)) to 1e-12 taken as G blank)."""
+    blank = getattr(mat, "blank", None)
+    if blank is not None:
+        return "G" in blank and "NU" not in blank
+    g, nu = mat.g or 0.0, mat.nu
+    return nu is not None and g > 0 and math.isclose(g, mat.e / (2 * (1 + nu)), rel_tol=1e-12)

@@ -10,7 +10,7 @@ import warnings
 import numpy as np
 
 from eigenupdate.errors import EigenupdateWarning, InputError
-from eigenupdate.io.nastran_fields import in_range
+from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
 from eigenupdate.model import frame3d, sections
 from eigenupdate.model.parametric import FunctionTerm
 from eigenupdate.model.sections import PARTS, SectionPart
@@ -400,8 +400,5 @@ def _material(bdf, mid: int, where: str):
 
 
 def _tied(mat) -> bool:
-    """True when MAT1's G was left blank: pyNastran filled in E / (2 (1 + NU)), so G
-    follows E."""
-    g = mat.g or 0.0
-    return mat.nu is not None and g > 0 and math.isclose(g, mat.e / (2 * (1 + mat.nu)),
-                                                         rel_tol=1e-12)
+    """True when MAT1's G follows E (G blank, NU given: :func:`tied_shear_modulus`)."""
+    return tied_shear_modulus(mat)

@@ -1,4 +1,5 @@
-"""Solid elements CTETRA (4, 10 nodes), CPENTA (6) and CHEXA (8), vectorised over elements.
+"""Solid elements CTETRA (4, 10 nodes), CPYRAM (5), CPENTA (6, 15) and CHEXA (8, 20),
+vectorised over elements.
 
 Isoparametric displacement elements with NASTRAN's node order (corners first, then the
 mid-edge nodes of CTETRA10 on edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4); three translations per
@@ -12,7 +13,9 @@ condensed out element by element: in bending it does not lock in shear as the pl
 trilinear brick does, as NASTRAN's CHEXA avoids it by default. CPENTA6 and CTETRA4 are
 the plain linear elements (stiff in bending; no bubble functions here); CTETRA10 is
 quadratic, its stiffness integrated with the 5-point rule as NASTRAN's (exact on
-straight edges; :func:`_tet5_rule`).
+straight edges; :func:`_tet5_rule`). CPYRAM5 (base G1-G4, apex G5) is Bedrosian's
+rational pyramid, linear on its faces (conforming with CHEXA8 and CTETRA4 neighbours),
+integrated on the collapsed cube, where its shape functions are polynomials.
 
 Stiffness is per unit modulus matrix (PSOLID + MAT1: :func:`isotropic_elasticity`), so
 dK/dE is K / E; mass is per unit density, consistent (shape functions' products) or
@@ -29,8 +32,8 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 
-NODES = {"CTETRA4": 4, "CTETRA10": 10, "CPENTA6": 6, "CHEXA8": 8, "CHEXA20": 20,
-         "CPENTA15": 15}
+NODES = {"CTETRA4": 4, "CPYRAM5": 5, "CTETRA10": 10, "CPENTA6": 6, "CHEXA8": 8,
+         "CHEXA20": 20, "CPENTA15": 15}
 
 _TET_EDGES = np.array([[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]])
 _HEX = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
@@ -140,8 +143,28 @@ def _wedge15_rule() -> list[tuple[np.ndarray, float]]:
     return out
 
 
+def _pyramid_rule(n: int) -> list[tuple[np.ndarray, float]]:
+    """Gauss-Legendre n x n x n on CPYRAM5's collapsed cube (a, b) in [-1, 1]^2, c in
+    [0, 1]; the (1 - c)^2 of the collapse is in the Jacobian of :func:`_shape`."""
+    x, w = _gauss(n)
+    c, wc = (x + 1) / 2, w / 2
+    return [(np.array([a, b, z]), wa * wb * wz) for a, wa in zip(x, w, strict=True)
+            for b, wb in zip(x, w, strict=True) for z, wz in zip(c, wc, strict=True)]
+
+
 def _shape(kind: str, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Shape functions N (k,) and natural gradients (3, k) at natural point p."""
+    if kind == "CPYRAM5":
+        # Bedrosian's rational pyramid (1992): with xi = (1 - c) a, eta = (1 - c) b,
+        # zeta = c, N_i = (1 - zeta + xi_i xi)(1 - zeta + eta_i eta) / (4 (1 - zeta)) for
+        # the base corners and zeta for the apex, polynomial in (a, b, c)
+        a, b, c = p
+        fa, fb = 1 + _HEX[:4, 0] * a, 1 + _HEX[:4, 1] * b
+        N = np.append((1 - c) * fa * fb / 4, c)
+        dN = np.array([np.append((1 - c) * _HEX[:4, 0] * fb / 4, 0.0),
+                       np.append((1 - c) * fa * _HEX[:4, 1] / 4, 0.0),
+                       np.append(-fa * fb / 4, 1.0)])
+        return N, dN
     if kind in ("CHEXA20", "CPENTA15"):
         # gradients by the complex step: exact to rounding for these polynomials
         h = 1e-30
@@ -175,6 +198,8 @@ def _shape(kind: str, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _rule(kind: str, mass: bool) -> list[tuple[np.ndarray, float]]:
     if kind == "CTETRA4":
         return _tet_rule(2 if not mass else 3)
+    if kind == "CPYRAM5":
+        return _pyramid_rule(3)  # exact for a parallelogram base's stiffness and mass
     if kind == "CTETRA10":
         return _tet5_rule() if not mass else _tet_rule(4)
     if kind == "CPENTA6":
@@ -191,7 +216,7 @@ def _kind(xyz: np.ndarray) -> str:
     for name, nodes in NODES.items():
         if nodes == k:
             return name
-    raise ValueError(f"{k} nodes: solids have 4, 6, 8, 10, 15 or 20")
+    raise ValueError(f"{k} nodes: solids have 4, 5, 6, 8, 10, 15 or 20")
 
 
 def _jacobians(kind: str, xyz: np.ndarray, rule, labels) -> list[tuple]:
@@ -230,8 +255,9 @@ def _strain(g: np.ndarray) -> np.ndarray:
 
 def solid_stiffness(xyz: np.ndarray, elasticity: np.ndarray,
                     labels: list[str] | None = None) -> np.ndarray:
-    """Stiffness (n, 3k, 3k) of solids with nodes xyz (n, k, 3) (k = 4, 6, 8, 10:
-    CTETRA4, CPENTA6, CHEXA8, CTETRA10) and moduli (n, 6, 6) or (6, 6).
+    """Stiffness (n, 3k, 3k) of solids with nodes xyz (n, k, 3) (k = 4, 5, 6, 8, 10, 15, 20:
+    CTETRA4, CPYRAM5, CPENTA6, CHEXA8, CTETRA10, CPENTA15, CHEXA20) and moduli (n, 6, 6) or
+    (6, 6).
 
     Examples
     --------

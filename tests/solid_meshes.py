@@ -24,7 +24,7 @@ _FACES = np.array([[0, 1, 2, 3], [4, 7, 6, 5], [0, 4, 5, 1], [1, 5, 6, 2], [2, 6
 def box_mesh(size, cells, kind: str, move=None):
     """Nodes (N, 3) and elements of the box [0, size] cut into ``cells`` hexahedra, each
     one CHEXA8, two CPENTA6, six CTETRA4/10 (Kuhn's conforming subdivision) or six
-    CPYRAM5 (one per face, apex at a node added at the cell's centre); ``move`` maps the
+    CPYRAM5/13 (one per face, apex at a node added at the cell's centre); ``move`` maps the
     corner nodes (N, 3) to distorted ones (mid-edge nodes stay mid-edge). ``"MIXED"``
     gives a list of element arrays: CHEXA8 and six-pyramid cells alternating like a
     chequerboard, the pyramids whose bases lie on the box's y = 0 face split into two
@@ -39,12 +39,14 @@ def box_mesh(size, cells, kind: str, move=None):
     hexa = np.column_stack([nid[i + a, j + b, k + c] for (a, b, c) in _CORNER])
     if kind == "CHEXA8":
         return xyz, hexa
-    if kind in ("CPYRAM5", "MIXED"):
+    if kind in ("CPYRAM5", "CPYRAM13", "MIXED"):
         centre = xyz.shape[0] + np.arange(hexa.shape[0])
         xyz = np.vstack([xyz, xyz[hexa].mean(axis=1)])
         pyr = np.stack([np.column_stack([hexa[:, f], centre]) for f in _FACES], axis=1)
         if kind == "CPYRAM5":
             return xyz, pyr.reshape(-1, 5)
+        if kind == "CPYRAM13":
+            return _mid_edges(xyz, pyr.reshape(-1, 5), solids.PYRAM_EDGES)
         odd = (i + j + k) % 2 == 1
         pyr = pyr[odd].reshape(-1, 5)
         base = xyz[pyr[:, :4]]

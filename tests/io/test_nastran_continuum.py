@@ -306,7 +306,7 @@ def test_unsupported_solid_input_is_named(tmp_path):
 
 
 @pytest.mark.parametrize("kind", ["CHEXA8", "CHEXA20", "CPENTA6", "CPENTA15", "CTETRA4",
-                                  "CTETRA10", "CPYRAM5", "MIXED"])
+                                  "CTETRA10", "CPYRAM5", "CPYRAM13", "MIXED"])
 def test_solid_deck_is_the_element_library(tmp_path, kind):
     """Source: the element library's own assembly (tests/model/test_solids.py checks the
     elements against closed forms); here the deck path (pyNastran's node order, PSOLID,

@@ -1,8 +1,10 @@
-"""CTETRA4/10, CPYRAM5, CPENTA6/15, CHEXA8 (incompatible modes) and CHEXA20, and a mesh of
+"""CTETRA4/10, CPYRAM5/13, CPENTA6/15, CHEXA8 (incompatible modes) and CHEXA20, and a mesh of
 CHEXA8 + CPYRAM5 + CTETRA4: rigid-body modes, patch tests, mass, free bar axial and bending
 modes with mesh convergence, no shear locking."""
 
 from __future__ import annotations
+
+import itertools
 
 import numpy as np
 import pytest
@@ -15,9 +17,10 @@ from eigenupdate.model import solids
 from eigenupdate.model.assembly import node_dofs
 
 E, NU, RHO = 200e9, 0.3, 7850.0
-KINDS = ["CHEXA8", "CPENTA6", "CTETRA4", "CTETRA10", "CHEXA20", "CPENTA15", "CPYRAM5"]
+KINDS = ["CHEXA8", "CPENTA6", "CTETRA4", "CTETRA10", "CHEXA20", "CPENTA15", "CPYRAM5",
+         "CPYRAM13"]
 WITH_MIXED = [*KINDS, "MIXED"]  # CHEXA8, CPYRAM5 and CTETRA4 in one mesh
-QUADRATIC = ("CTETRA10", "CHEXA20", "CPENTA15")
+QUADRATIC = ("CTETRA10", "CHEXA20", "CPENTA15", "CPYRAM13")
 
 
 def _distort(xyz):
@@ -167,18 +170,44 @@ def test_pyramid_mass_volume_and_centroid_are_exact():
     quarter of the height above the base's centroid (closed form), for a parallelogram
     base and an apex anywhere above it. The consistent mass must give both within the
     sum's rounding; the lumped one keeps the volume. A flat pyramid (apex in the base's
-    plane) is refused, naming the element."""
+    plane) is refused, naming the element. CPYRAM13: mid-edge nodes at the middles."""
     base = np.array([[0.0, 0, 0], [2, 0, 0], [2.6, 1.5, 0], [0.6, 1.5, 0]])
     apex = np.array([3.1, -0.4, 1.2])  # outside the base's footprint
     xyz = np.vstack([base, apex])[None]
     volume, centroid = 2 * 1.5 * 1.2 / 3, base.mean(axis=0) * 0.75 + apex * 0.25
-    for lumped in (False, True):
-        m = solids.solid_mass(xyz, lumped)[0, 0::3, 0::3]
+    e = solids.PYRAM_EDGES
+    xyz13 = np.concatenate([xyz, (xyz[:, e[:, 0]] + xyz[:, e[:, 1]]) / 2], axis=1)
+    for nodes, lumped in itertools.product((xyz, xyz13), (False, True)):
+        m = solids.solid_mass(nodes, lumped)[0, 0::3, 0::3]
         assert abs(m.sum() / volume - 1) <= 100 * EPS
-        if not lumped:
-            got = m.sum(axis=1) @ xyz[0] / m.sum()
+        if lumped:
+            assert np.all(np.diag(m) > 0)
+        else:
+            got = m.sum(axis=1) @ nodes[0] / m.sum()
             assert np.linalg.norm(got - centroid) <= 100 * EPS * np.linalg.norm(centroid)
     flat = xyz.copy()
     flat[0, 4, 2] = 0.0
     with pytest.raises(InputError, match="pyr 7: zero or changing-sign Jacobian"):
         solids.solid_stiffness(flat, solids.isotropic_elasticity(E, NU), ["pyr 7"])
+
+
+def test_pyramid13_faces_are_ctetra10_and_chexa20_faces():
+    """Source: conformity. On a triangular face CPYRAM13's shape functions must be the
+    quadratic triangle's (those of a CTETRA10 face: L_i (2 L_i - 1), 4 L_i L_j), on its
+    base CHEXA20's 8-node serendipity face, and the other nodes' functions must vanish
+    there; checked at random points to rounding."""
+    rng = np.random.default_rng(2)
+    for a, c in rng.uniform([-1, 0], [1, 0.95], (20, 2)):
+        N, _ = solids._shape("CPYRAM13", np.array([a, -1.0, c]))  # face G1 G2 G5
+        x = (1 - c) * a
+        L = np.array([(1 - x - c) / 2, (1 + x - c) / 2, c])
+        want = np.zeros(13)
+        want[[0, 1, 4]] = L * (2 * L - 1)
+        want[[5, 9, 10]] = 4 * L[[0, 0, 1]] * L[[1, 2, 2]]
+        assert np.allclose(N, want, rtol=0, atol=1e-14)
+    for a, b in rng.uniform(-1, 1, (20, 2)):
+        N, _ = solids._shape("CPYRAM13", np.array([a, b, 0.0]))
+        hexa, _ = solids._shape("CHEXA20", np.array([a, b, -1.0]))
+        want = np.zeros(13)
+        want[[0, 1, 2, 3, 5, 6, 7, 8]] = hexa[[0, 1, 2, 3, 8, 9, 10, 11]]
+        assert np.allclose(N, want, rtol=0, atol=1e-14)

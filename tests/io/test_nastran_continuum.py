@@ -306,21 +306,24 @@ def test_unsupported_solid_input_is_named(tmp_path):
 
 
 @pytest.mark.parametrize("kind", ["CHEXA8", "CHEXA20", "CPENTA6", "CPENTA15", "CTETRA4",
-                                  "CTETRA10"])
+                                  "CTETRA10", "CPYRAM5", "CPYRAM13", "MIXED"])
 def test_solid_deck_is_the_element_library(tmp_path, kind):
     """Source: the element library's own assembly (tests/model/test_solids.py checks the
     elements against closed forms); here the deck path (pyNastran's node order, PSOLID,
     MAT1, COUPMASS) must give the same free-free frequencies, to the eigen-solvers'
-    rounding (1e-9 with room)."""
+    rounding (1e-9 with room). MIXED: CHEXA, CPYRAM and CTETRA in one deck."""
     xyz, el = box_mesh((1.0, 0.3, 0.2), (3, 1, 1), kind)
-    card = kind.rstrip("0123456789")
+    cards = ["CHEXA", "CPYRAM", "CTETRA"] if kind == "MIXED" else [kind.rstrip("0123456789")]
     lines = [f"GRID,{i + 1},,{x!r},{y!r},{z!r}" for i, (x, y, z) in enumerate(xyz)]
-    for k, e in enumerate(el):
-        ids = [str(n + 1) for n in e]
-        text = f"{card},{k + 1},2," + ",".join(ids[:6])
-        for j in range(6, len(ids), 8):
-            text += "\n," + ",".join(ids[j:j + 8])
-        lines.append(text)
+    k = 0
+    for card, part in zip(cards, el if kind == "MIXED" else [el], strict=True):
+        for e in part:
+            k += 1
+            ids = [str(n + 1) for n in e]
+            text = f"{card},{k},2," + ",".join(ids[:6])
+            for j in range(6, len(ids), 8):
+                text += "\n," + ",".join(ids[j:j + 8])
+            lines.append(text)
     path = tmp_path / "solid.bdf"
     path.write_text("BEGIN BULK\nPARAM,COUPMASS,1\nPSOLID,2,1\n" + STEEL + "\n".join(lines)
                     + "\nENDDATA\n")

@@ -1,7 +1,10 @@
-"""CTETRA4/10, CPENTA6/15, CHEXA8 (incompatible modes) and CHEXA20: rigid-body modes, patch tests,
-mass, free bar axial and bending modes with mesh convergence, no shear locking."""
+"""CTETRA4/10, CPYRAM5/13, CPENTA6/15, CHEXA8 (incompatible modes) and CHEXA20, and a mesh of
+CHEXA8 + CPYRAM5 + CTETRA4: rigid-body modes, patch tests, mass, free bar axial and bending
+modes with mesh convergence, no shear locking."""
 
 from __future__ import annotations
+
+import itertools
 
 import numpy as np
 import pytest
@@ -14,8 +17,10 @@ from eigenupdate.model import solids
 from eigenupdate.model.assembly import node_dofs
 
 E, NU, RHO = 200e9, 0.3, 7850.0
-KINDS = ["CHEXA8", "CPENTA6", "CTETRA4", "CTETRA10", "CHEXA20", "CPENTA15"]
-QUADRATIC = ("CTETRA10", "CHEXA20", "CPENTA15")
+KINDS = ["CHEXA8", "CPENTA6", "CTETRA4", "CTETRA10", "CHEXA20", "CPENTA15", "CPYRAM5",
+         "CPYRAM13"]
+WITH_MIXED = [*KINDS, "MIXED"]  # CHEXA8, CPYRAM5 and CTETRA4 in one mesh
+QUADRATIC = ("CTETRA10", "CHEXA20", "CPENTA15", "CPYRAM13")
 
 
 def _distort(xyz):
@@ -46,7 +51,7 @@ def test_free_element_and_patch_have_six_rigid_body_modes(kind):
     assert solids.solid_stiffness(xyz[el], C).shape[1] == 3 * el.shape[1]
 
 
-@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("kind", WITH_MIXED)
 def test_patch_test_reproduces_constant_strain(kind):
     """Source: the patch test. The distorted unit-cube patch's boundary nodes get a
     linear displacement field (all six strains nonzero); the solved inner nodes must
@@ -66,7 +71,7 @@ def test_patch_test_reproduces_constant_strain(kind):
     assert err <= 10 * solve_floor(Kii), err
 
 
-@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("kind", WITH_MIXED)
 @pytest.mark.parametrize("lumped", [False, True])
 def test_mass_is_the_volume_times_density(kind, lumped):
     """Source: the box's volume (1 x 0.5 x 0.25, distorted inside only). Mass per
@@ -93,7 +98,7 @@ def _free_modes(kind, cells, size, count, scale):
     return lam[order], X[:, order], M
 
 
-@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("kind", WITH_MIXED)
 def test_free_bar_axial_mode_converges_to_love(kind):
     """Source: a free-free bar's first axial mode, omega = pi / L sqrt(E / rho), with
     Love's lateral-inertia correction (1 - nu^2 pi^2 r_p^2 / (2 L^2)), r_p^2 = 2 b^2 / 12
@@ -158,3 +163,51 @@ def test_bad_solid_geometry_is_named():
     k2 = solids.solid_stiffness(mirrored, C)
     perm = node_dofs(np.array([[4, 5, 6, 7, 0, 1, 2, 3]]), 3)[0]
     assert np.allclose(k2, k1[:, perm][:, :, perm], rtol=0, atol=1e3 * EPS * abs(k1).max())
+
+
+def test_pyramid_mass_volume_and_centroid_are_exact():
+    """Source: a pyramid's volume is base area x height / 3 and its centroid lies a
+    quarter of the height above the base's centroid (closed form), for a parallelogram
+    base and an apex anywhere above it. The consistent mass must give both within the
+    sum's rounding; the lumped one keeps the volume. A flat pyramid (apex in the base's
+    plane) is refused, naming the element. CPYRAM13: mid-edge nodes at the middles."""
+    base = np.array([[0.0, 0, 0], [2, 0, 0], [2.6, 1.5, 0], [0.6, 1.5, 0]])
+    apex = np.array([3.1, -0.4, 1.2])  # outside the base's footprint
+    xyz = np.vstack([base, apex])[None]
+    volume, centroid = 2 * 1.5 * 1.2 / 3, base.mean(axis=0) * 0.75 + apex * 0.25
+    e = solids.PYRAM_EDGES
+    xyz13 = np.concatenate([xyz, (xyz[:, e[:, 0]] + xyz[:, e[:, 1]]) / 2], axis=1)
+    for nodes, lumped in itertools.product((xyz, xyz13), (False, True)):
+        m = solids.solid_mass(nodes, lumped)[0, 0::3, 0::3]
+        assert abs(m.sum() / volume - 1) <= 100 * EPS
+        if lumped:
+            assert np.all(np.diag(m) > 0)
+        else:
+            got = m.sum(axis=1) @ nodes[0] / m.sum()
+            assert np.linalg.norm(got - centroid) <= 100 * EPS * np.linalg.norm(centroid)
+    flat = xyz.copy()
+    flat[0, 4, 2] = 0.0
+    with pytest.raises(InputError, match="pyr 7: zero or changing-sign Jacobian"):
+        solids.solid_stiffness(flat, solids.isotropic_elasticity(E, NU), ["pyr 7"])
+
+
+def test_pyramid13_faces_are_ctetra10_and_chexa20_faces():
+    """Source: conformity. On a triangular face CPYRAM13's shape functions must be the
+    quadratic triangle's (those of a CTETRA10 face: L_i (2 L_i - 1), 4 L_i L_j), on its
+    base CHEXA20's 8-node serendipity face, and the other nodes' functions must vanish
+    there; checked at random points to rounding."""
+    rng = np.random.default_rng(2)
+    for a, c in rng.uniform([-1, 0], [1, 0.95], (20, 2)):
+        N, _ = solids._shape("CPYRAM13", np.array([a, -1.0, c]))  # face G1 G2 G5
+        x = (1 - c) * a
+        L = np.array([(1 - x - c) / 2, (1 + x - c) / 2, c])
+        want = np.zeros(13)
+        want[[0, 1, 4]] = L * (2 * L - 1)
+        want[[5, 9, 10]] = 4 * L[[0, 0, 1]] * L[[1, 2, 2]]
+        assert np.allclose(N, want, rtol=0, atol=1e-14)
+    for a, b in rng.uniform(-1, 1, (20, 2)):
+        N, _ = solids._shape("CPYRAM13", np.array([a, b, 0.0]))
+        hexa, _ = solids._shape("CHEXA20", np.array([a, b, -1.0]))
+        want = np.zeros(13)
+        want[[0, 1, 2, 3, 5, 6, 7, 8]] = hexa[[0, 1, 2, 3, 8, 9, 10, 11]]
+        assert np.allclose(N, want, rtol=0, atol=1e-14)

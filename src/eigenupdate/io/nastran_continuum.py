@@ -1,5 +1,5 @@
 """CQUAD4 and CTRIA3 (PSHELL, PCOMP) and CHEXA (8, 20 nodes), CPENTA (6, 15), CTETRA
-(4, 10) (PSOLID) of a deck:
+(4, 10), CPYRAM (5, 13) (PSOLID) of a deck:
 properties, materials and the assembly of their (parameter) stiffness and mass with
 :mod:`eigenupdate.model.shells`, :mod:`eigenupdate.model.solids` and
 :mod:`eigenupdate.model.laminate`, a chunk of elements at a time
@@ -29,7 +29,8 @@ from eigenupdate.model.parametric import FunctionTerm, Term
 
 SHELLS = {"CQUAD4": 4, "CTRIA3": 3}
 SOLIDS = {("CHEXA", 8): "CHEXA8", ("CHEXA", 20): "CHEXA20", ("CPENTA", 6): "CPENTA6",
-          ("CPENTA", 15): "CPENTA15", ("CTETRA", 4): "CTETRA4", ("CTETRA", 10): "CTETRA10"}
+          ("CPENTA", 15): "CPENTA15", ("CTETRA", 4): "CTETRA4", ("CTETRA", 10): "CTETRA10",
+          ("CPYRAM", 5): "CPYRAM5", ("CPYRAM", 13): "CPYRAM13"}
 PARTS = shells.STIFFNESS_PARTS
 RIGID_SHEAR = 1e3
 """Transverse shear stiffness of a PSHELL with MID3 blank (shear-rigid in NASTRAN), as a
@@ -45,13 +46,13 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
     for eid, e in sorted(bdf.elements.items()):
         if e.type in SHELLS:
             groups.setdefault(("shell", SHELLS[e.type]), []).append(e)
-        elif e.type in ("CHEXA", "CPENTA", "CTETRA"):
+        elif e.type in ("CHEXA", "CPENTA", "CTETRA", "CPYRAM"):
             n = sum(1 for g in e.node_ids if g)
             kind = SOLIDS.get((e.type, n))
             if kind is None or any(not g for g in e.node_ids[:n]):
                 raise InputError(f"{e.type} {eid}: {n} nodes: only CHEXA 8 or 20, CPENTA 6 "
-                                 f"or 15 and CTETRA 4 or 10 (every mid-edge node or none) "
-                                 f"are supported")
+                                 f"or 15, CTETRA 4 or 10 (every mid-edge node or none) and "
+                                 f"CPYRAM 5 or 13 are supported")
             groups.setdefault(("solid", kind), []).append(e)
     for (family, k), elems in sorted(groups.items()):
         if family == "shell":

@@ -1,4 +1,5 @@
-"""Solid elements CTETRA (4, 10 nodes), CPENTA (6) and CHEXA (8), vectorised over elements.
+"""Solid elements CTETRA (4, 10 nodes), CPYRAM (5, 13), CPENTA (6, 15) and CHEXA (8, 20),
+vectorised over elements.
 
 Isoparametric displacement elements with NASTRAN's node order (corners first, then the
 mid-edge nodes of CTETRA10 on edges 1-2, 2-3, 3-1, 1-4, 2-4, 3-4); three translations per
@@ -11,7 +12,12 @@ centre-Jacobian gradients so that the patch test is passed on distorted elements
 condensed out element by element: in bending it does not lock in shear as the plain
 trilinear brick does, as NASTRAN's CHEXA avoids it by default. CPENTA6 and CTETRA4 are
 the plain linear elements (stiff in bending; no bubble functions here); CTETRA10 is
-quadratic.
+quadratic, its stiffness integrated with the 5-point rule as NASTRAN's (exact on
+straight edges; :func:`_tet5_rule`). CPYRAM5 (base G1-G4, apex G5) is Bedrosian's
+rational pyramid, linear on its faces (conforming with CHEXA8 and CTETRA4 neighbours),
+integrated on the collapsed cube, where its shape functions are polynomials; CPYRAM13
+(G6-G9 on the base's edges, G10-G13 on the edges to the apex) is Bedrosian's quadratic
+one, conforming with CHEXA20 on its base and CTETRA10 on its sides.
 
 Stiffness is per unit modulus matrix (PSOLID + MAT1: :func:`isotropic_elasticity`), so
 dK/dE is K / E; mass is per unit density, consistent (shape functions' products) or
@@ -28,8 +34,8 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 
-NODES = {"CTETRA4": 4, "CTETRA10": 10, "CPENTA6": 6, "CHEXA8": 8, "CHEXA20": 20,
-         "CPENTA15": 15}
+NODES = {"CTETRA4": 4, "CPYRAM5": 5, "CTETRA10": 10, "CPENTA6": 6, "CHEXA8": 8,
+         "CHEXA20": 20, "CPENTA15": 15, "CPYRAM13": 13}
 
 _TET_EDGES = np.array([[0, 1], [1, 2], [2, 0], [0, 3], [1, 3], [2, 3]])
 _HEX = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
@@ -40,6 +46,29 @@ HEX_EDGES = np.array([[0, 1], [1, 2], [2, 3], [3, 0], [0, 4], [1, 5], [2, 6], [3
 PENTA_EDGES = np.array([[0, 1], [1, 2], [2, 0], [0, 3], [1, 4], [2, 5], [3, 4], [4, 5],
                         [5, 3]])
 _HEX20 = np.vstack([_HEX, (_HEX[HEX_EDGES[:, 0]] + _HEX[HEX_EDGES[:, 1]]) / 2])
+# NASTRAN's CPYRAM13 mid-edge order: G6-G9 on the base's edges, G10-G13 up to the apex
+PYRAM_EDGES = np.array([[0, 1], [1, 2], [2, 3], [3, 0], [0, 4], [1, 4], [2, 4], [3, 4]])
+
+
+def _pyramid13_span(a, b, c) -> np.ndarray:
+    """Bedrosian's 13-node pyramid space, P2 in (x, y, z) = ((1 - c) a, (1 - c) b, c)
+    plus x^2 y / (1 - z), x y^2 / (1 - z), x y z / (1 - z): serendipity Q8 on the base,
+    P2 on the triangular faces; polynomial in (a, b, c)."""
+    x, y, z, r = (1 - c) * a, (1 - c) * b, c, 1 - c
+    return np.array([1 + 0 * a, x, y, z, x * x, y * y, z * z, x * y, y * z, z * x,
+                     r * r * a * a * b, r * r * a * b * b, r * a * b * c])
+
+
+def _pyramid13_coefficients() -> np.ndarray:
+    corners = np.vstack([np.column_stack([_HEX[:4, :2], np.zeros(4)]), [[0.5, 0.5, 1.0]]])
+    corners[4] = [0.0, 0.0, 1.0]
+    nodes = np.vstack([corners, (corners[PYRAM_EDGES[:, 0]] + corners[PYRAM_EDGES[:, 1]]) / 2])
+    # natural (a, b, c) of each node (the apex: any a, b)
+    abc = [(x / (1 - z), y / (1 - z), z) if z < 1 else (0.0, 0.0, 1.0) for x, y, z in nodes]
+    return np.linalg.inv(np.array([_pyramid13_span(*p) for p in abc]))
+
+
+_PYR13 = _pyramid13_coefficients()
 
 
 def isotropic_elasticity(E: np.ndarray, nu: np.ndarray) -> np.ndarray:
@@ -79,6 +108,17 @@ def _tet_rule(n: int) -> list[tuple[np.ndarray, float]]:
                 p = np.array([a, b * (1 - a), c * (1 - a) * (1 - b)])
                 out.append((p, wa * wb * wc * (1 - a) ** 2 * (1 - b)))
     return out
+
+
+def _tet5_rule() -> list[tuple[np.ndarray, float]]:
+    """Stroud's 5-point rule on the unit tetrahedron (weight -4/5 of the volume at the
+    centre, 9/20 at (1/6, 1/6, 1/6) and its permutations with one 1/2), exact for cubics:
+    NASTRAN's CTETRA10 stiffness (MSC's static displacements of pyn_tet10 within 1e-5,
+    tests/io/test_shell_decks.py); on straight-edged elements it is the exact integral."""
+    a, b = 1 / 6, 0.5
+    pts = [np.full(3, 0.25)] + [np.array(p) for p in ([a, a, a], [b, a, a], [a, b, a],
+                                                      [a, a, b])]
+    return list(zip(pts, [-2 / 15] + [3 / 40] * 4, strict=True))
 
 
 def _hex_rule(n: int) -> list[tuple[np.ndarray, float]]:
@@ -128,8 +168,33 @@ def _wedge15_rule() -> list[tuple[np.ndarray, float]]:
     return out
 
 
+def _pyramid_rule(n: int) -> list[tuple[np.ndarray, float]]:
+    """Gauss-Legendre n x n x n on CPYRAM5's collapsed cube (a, b) in [-1, 1]^2, c in
+    [0, 1]; the (1 - c)^2 of the collapse is in the Jacobian of :func:`_shape`."""
+    x, w = _gauss(n)
+    c, wc = (x + 1) / 2, w / 2
+    return [(np.array([a, b, z]), wa * wb * wz) for a, wa in zip(x, w, strict=True)
+            for b, wb in zip(x, w, strict=True) for z, wz in zip(c, wc, strict=True)]
+
+
 def _shape(kind: str, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Shape functions N (k,) and natural gradients (3, k) at natural point p."""
+    if kind == "CPYRAM13":
+        h = 1e-30
+        dN = np.array([_pyramid13_span(*(np.asarray(p, complex) + 1j * h * e)).imag / h
+                       for e in np.eye(3)]) @ _PYR13
+        return _pyramid13_span(*np.asarray(p, float)) @ _PYR13, dN
+    if kind == "CPYRAM5":
+        # Bedrosian's rational pyramid (1992): with xi = (1 - c) a, eta = (1 - c) b,
+        # zeta = c, N_i = (1 - zeta + xi_i xi)(1 - zeta + eta_i eta) / (4 (1 - zeta)) for
+        # the base corners and zeta for the apex, polynomial in (a, b, c)
+        a, b, c = p
+        fa, fb = 1 + _HEX[:4, 0] * a, 1 + _HEX[:4, 1] * b
+        N = np.append((1 - c) * fa * fb / 4, c)
+        dN = np.array([np.append((1 - c) * _HEX[:4, 0] * fb / 4, 0.0),
+                       np.append((1 - c) * fa * _HEX[:4, 1] / 4, 0.0),
+                       np.append(-fa * fb / 4, 1.0)])
+        return N, dN
     if kind in ("CHEXA20", "CPENTA15"):
         # gradients by the complex step: exact to rounding for these polynomials
         h = 1e-30
@@ -163,8 +228,12 @@ def _shape(kind: str, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def _rule(kind: str, mass: bool) -> list[tuple[np.ndarray, float]]:
     if kind == "CTETRA4":
         return _tet_rule(2 if not mass else 3)
+    if kind == "CPYRAM5":
+        return _pyramid_rule(3)  # exact for a parallelogram base's stiffness and mass
+    if kind == "CPYRAM13":
+        return _pyramid_rule(4)
     if kind == "CTETRA10":
-        return _tet_rule(3 if not mass else 4)
+        return _tet5_rule() if not mass else _tet_rule(4)
     if kind == "CPENTA6":
         return _wedge_rule(2 if not mass else 3)
     if kind == "CPENTA15":
@@ -179,7 +248,7 @@ def _kind(xyz: np.ndarray) -> str:
     for name, nodes in NODES.items():
         if nodes == k:
             return name
-    raise ValueError(f"{k} nodes: solids have 4, 6, 8, 10, 15 or 20")
+    raise ValueError(f"{k} nodes: solids have 4, 5, 6, 8, 10, 13, 15 or 20")
 
 
 def _jacobians(kind: str, xyz: np.ndarray, rule, labels) -> list[tuple]:
@@ -218,8 +287,9 @@ def _strain(g: np.ndarray) -> np.ndarray:
 
 def solid_stiffness(xyz: np.ndarray, elasticity: np.ndarray,
                     labels: list[str] | None = None) -> np.ndarray:
-    """Stiffness (n, 3k, 3k) of solids with nodes xyz (n, k, 3) (k = 4, 6, 8, 10:
-    CTETRA4, CPENTA6, CHEXA8, CTETRA10) and moduli (n, 6, 6) or (6, 6).
+    """Stiffness (n, 3k, 3k) of solids with nodes xyz (n, k, 3) (k = 4, 5, 6, 8, 10, 13, 15,
+    20: CTETRA4, CPYRAM5, CPENTA6, CHEXA8, CTETRA10, CPYRAM13, CPENTA15, CHEXA20) and moduli
+    (n, 6, 6) or (6, 6).
 
     Examples
     --------

@@ -350,7 +350,8 @@ def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m) -> lis
     """(pid, part, element mask, term) of every PSHELL whose T is a parameter: membrane
     and drilling E1 T, bending E2 T^3 (12I/T^3 in the moduli), shear G3 s(T) (T on a
     CQUAD4, per size on a CTRIA3, CTRIA6, CQUAD8), mass WTMASS RHO1 T (NSM stays fixed);
-    a MAT1 E or RHO that is a parameter too multiplies in. Clears those elements' linear derivatives."""
+    a MAT1 E or RHO that is a parameter too multiplies in. Clears those elements' linear
+    derivatives."""
     out = []
     pids = np.array([e.pid for e in elems])
     for (card, pid), slots in sorted(pindex.items()):
@@ -387,8 +388,9 @@ def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m) -> lis
                     continue
                 if len(np.unique(size[on])) > MAX_SIZES:
                     raise InputError(f"PSHELL {pid} field T: its CTRIA3, CTRIA6, CQUAD8 "
-                                     f"have more than {MAX_SIZES} different sizes (each size's shear part "
-                                     f"is a term); not supported as a parameter")
+                                     f"have more than {MAX_SIZES} different sizes (each "
+                                     f"size's shear part is a term); not supported as a "
+                                     f"parameter")
                 out.append((pid, "shear", mask, FunctionTerm(
                     None, (t, *(j for j, _ in pw)),
                     shells.ShearThickness(float(shells.ALPHA * h**2), float(c), bool(pw)))))

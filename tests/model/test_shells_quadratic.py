@@ -76,9 +76,10 @@ def test_free_elements_have_six_rigid_body_modes(k, seed):
     elastic ones (the drilling penalty, 1e-6 K6ROT G T, against membrane E T / h^2 of the
     smallest element) are 2e-10 ||K|| here, 100 times above. CQUAD8 is curved (a doubly
     curved surface), CTRIA6 flat (its projection). A flat CQUAD8 alone has one more
-    zero, the spurious membrane mode of 2 x 2 reduced integration (as Zienkiewicz's reduced-integration QUAD8), which its
-    neighbours suppress (the flat 3 x 3 patch has six); curvature holds it weakly (a
-    curved element alone: six zeros, then that mode at 1e-12 ||K||)."""
+    zero, the spurious membrane mode of 2 x 2 reduced integration (as in Zienkiewicz's
+    reduced-integration QUAD8), which its neighbours suppress (the flat 3 x 3 patch has
+    six); curvature holds it weakly (a curved element alone: six zeros, then that mode
+    at 1e-12 ||K||)."""
     if k == 8:
         xyz, el = _curved_quads(seed)
         flat = plate_mesh(3, 1.0, 0.7, False)

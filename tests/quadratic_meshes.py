@@ -3,6 +3,13 @@
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse.linalg as spla
+
+from eigenupdate.model import shells
+from eigenupdate.model import shells_quadratic as sq
+from eigenupdate.model.assembly import node_dofs, scatter
+
+E, NU, RHO = 200e9, 0.3, 7850.0
 
 
 def grid_mesh(nx: int, ny: int, triangles: bool):
@@ -46,3 +53,35 @@ def cylinder_mesh(nc: int, nl: int, radius: float, length: float, triangles: boo
     new = -np.ones(len(uv), int)
     new[keep] = np.arange(keep.size)
     return xyz[keep], new[ren[el]]
+
+
+def plate_fixed(xyz: np.ndarray, a: float, edge: str) -> np.ndarray:
+    """(N, 6) mask of the held coordinates of an a x a plate in z = 0: in-plane motion
+    and drilling everywhere (uncoupled from bending), w on the edges, and the rotation
+    about each edge's normal ("ss": hard simple support) or both rotations ("clamped")."""
+    x, y = xyz[:, 0], xyz[:, 1]
+    on_x = np.isclose(x, 0) | np.isclose(x, a)
+    on_y = np.isclose(y, 0) | np.isclose(y, a)
+    fixed = np.zeros((xyz.shape[0], 6), bool)
+    fixed[:, [0, 1, 5]] = True
+    fixed[on_x | on_y, 2] = True
+    if edge == "clamped":
+        fixed[on_x | on_y, 3:5] = True
+    else:
+        fixed[on_x, 3] = True
+        fixed[on_y, 4] = True
+    return fixed
+
+
+def plate_frequency(nx: int, a: float, h: float, edge: str, triangles: bool) -> float:
+    """Lowest angular frequency of a steel PSHELL square plate of nx x nx CQUAD8 (or
+    2 nx x nx CTRIA6), edges as :func:`plate_fixed`."""
+    xyz, el = plate_mesh(nx, a, a, triangles)
+    m = sq.pshell_matrices(xyz[el], h, *shells.pshell_moduli(E, NU), rho=RHO)
+    d, n = node_dofs(el, 6), 6 * xyz.shape[0]
+    K, M = scatter(d, m["K"], n), scatter(d, m["M"], n)
+    free = np.flatnonzero(~plate_fixed(xyz, a, edge).ravel())
+    K, M = K[free][:, free], M[free][:, free]
+    # M is singular (rotations carry no mass): the largest 1/lambda of M x = (1/lambda) K x
+    mu = spla.eigsh(M, 1, K, which="LA", return_eigenvectors=False)
+    return float(np.sqrt(1.0 / mu[0]))

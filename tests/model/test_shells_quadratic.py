@@ -10,7 +10,7 @@ import pytest
 import scipy.sparse.linalg as spla
 from bounds import BACKWARD, EPS, solve_floor
 from plates import NU, RHO, E
-from quadratic_meshes import cylinder_mesh, plate_mesh
+from quadratic_meshes import cylinder_mesh, plate_frequency, plate_mesh
 
 from eigenupdate.errors import InputError
 from eigenupdate.model import shells
@@ -176,27 +176,6 @@ def test_parallelogram_quad8_patch_bends_exactly():
     got = np.linalg.solve(Kii, -K[np.ix_(inner, outer)] @ u[outer])
     err = np.linalg.norm(got - u[inner]) / np.linalg.norm(u[inner])
     assert err <= solve_floor(Kii) * 10, err
-
-
-def plate_frequency(nx, a, h, edge, triangles):
-    """Lowest angular frequency of a square plate (hard simple support or clamped)."""
-    xyz, el = plate_mesh(nx, a, a, triangles)
-    K, M = _global(xyz, el, h)
-    x, y = xyz[:, 0], xyz[:, 1]
-    on_x = np.isclose(x, 0) | np.isclose(x, a)
-    on_y = np.isclose(y, 0) | np.isclose(y, a)
-    fixed = np.zeros((xyz.shape[0], 6), bool)
-    fixed[:, [0, 1, 5]] = True  # a flat plate's in-plane motion is uncoupled
-    fixed[on_x | on_y, 2] = True
-    if edge == "clamped":
-        fixed[on_x | on_y, 3:5] = True
-    else:
-        fixed[on_x, 3] = True
-        fixed[on_y, 4] = True
-    free = np.flatnonzero(~fixed.ravel())
-    K, M = K[free][:, free], M[free][:, free]
-    mu = spla.eigsh(M, 1, K, which="LA", return_eigenvectors=False)
-    return float(np.sqrt(1.0 / mu[0]))
 
 
 @pytest.mark.parametrize("triangles", [False, True], ids=["quad8", "tria6"])

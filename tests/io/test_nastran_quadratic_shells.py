@@ -185,3 +185,34 @@ def test_blank_mid_side_grid_is_refused(tmp_path):
     path.write_text("\n".join(text) + "\n")
     with pytest.raises(InputError, match="CQUAD8 1: blank mid-side grids"):
         _read(path)
+
+
+@pytest.mark.parametrize("card", ["CQUAD8", "CTRIA6"])
+def test_ply_angle_follows_the_element_axes(tmp_path, card):
+    """Source: THETA is measured from the element's xi line (CQUAD8 remark 3; CTRIA6:
+    from G1-G2). Numbering a square CQUAD8 from G2 instead of G1 turns that line by +90
+    degrees, so THETA - 90 gives the same material axes and the same K (a CTRIA6 with
+    right-angled corners numbered from G2: its G1-G2 line turns by +135 degrees). An
+    orthotropic MAT8 ply at 30 degrees, so a wrong angle changes K at order one. K6ROT
+    0: the drilling penalty takes the in-plane shear modulus in element axes, which for
+    an orthotropic ply changes with them (period 90 degrees: 2.5e-6 of K here)."""
+    base = ("BEGIN BULK\nPARAM,K6ROT,0.\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,1.,1.,0.\n"
+            "GRID,4,,0.,1.,0.\nGRID,5,,.5,0.,0.\nGRID,6,,1.,.5,0.\nGRID,7,,.5,1.,0.\n"
+            "GRID,8,,0.,.5,0.\nGRID,9,,.5,.5,0.\n"
+            "MAT8,2,1.4e11,9.e9,.3,5.e9,5.e9,3.e9,1600.\n")
+    if card == "CQUAD8":
+        order = [(1, 2, 3, 4, 5, 6, 7, 8), (2, 3, 4, 1, 6, 7, 8, 5)]
+        turn = 90.0
+    else:
+        order = [(1, 2, 4, 5, 9, 8), (2, 4, 1, 9, 8, 5)]
+        turn = 135.0
+    mats = []
+    for nodes, theta in zip(order, (30.0, 30.0 - turn), strict=True):
+        head, tail = nodes[:6], nodes[6:]
+        el = f"{card},1,1," + ",".join(map(str, head))
+        el += ("\n," + ",".join(map(str, tail)) if tail else "")
+        deck = tmp_path / f"{card}{len(mats)}.bdf"
+        deck.write_text(base + el + f"\nPCOMP,1\n,2,.01,{theta!r}\nENDDATA\n")
+        mats.append(_read(deck).model.stiffness())
+    a, b = mats
+    assert abs(a - b).max() <= 1e-12 * abs(a).max()

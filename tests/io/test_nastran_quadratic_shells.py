@@ -216,3 +216,19 @@ def test_ply_angle_follows_the_element_axes(tmp_path, card):
         mats.append(_read(deck).model.stiffness())
     a, b = mats
     assert abs(a - b).max() <= 1e-12 * abs(a).max()
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (lambda line: line + ",.004,.004,.005,.004", "corner thicknesses T1-T4"),
+    (lambda line: line + ",,,,,,.001", "ZOFFS = 0.001"),
+], ids=["T1-T4", "ZOFFS"])
+def test_unsupported_cquad8_fields_are_refused(tmp_path, edit, message):
+    """Source: as CQUAD4 (io/nastran_continuum.py): corner thicknesses differing from
+    the PSHELL's T and offsets are refused, naming the element."""
+    path = plate(tmp_path / "a.bdf", nx=2)
+    text = path.read_text().splitlines()
+    i = next(k for k, line in enumerate(text) if line.startswith("CQUAD8,1,"))
+    text[i + 1] = edit(text[i + 1])
+    path.write_text("\n".join(text) + "\n")
+    with pytest.raises(InputError, match=f"CQUAD8 1: {message}"):
+        _read(path)

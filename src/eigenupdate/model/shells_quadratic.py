@@ -281,14 +281,18 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                   for c in (membrane, bending, shear))
     gd = (1e-6 * k6rot * cm[:, 2, 2]).reshape(n, 1, 1)
     moduli = {"membrane": cm, "bending": cb, "shear": cs, "drilling": gd}
-    out = {name: np.zeros((n, 6 * k, 6 * k)) for name in STIFFNESS_PARTS}
+    rows: dict = {name: ([], []) for name in STIFFNESS_PARTS}  # B, w D B of every point
     for rule, names in RULE_PARTS:
         for p, q, weight in _RULES[k][rule]:
             N, R, G, det, Vp, dV = _point(xyz, V, k, p, q)
             b = _b_matrices(N, R, G, Vp, dV, V)
             w = (weight * det)[:, None, None]
             for name in names:
-                out[name] += np.einsum("nai,nab,nbj->nij", b[name], moduli[name], b[name]) * w
+                rows[name][0].append(b[name])
+                rows[name][1].append((moduli[name] @ b[name]) * w)
+    # one batched product per part over all its points (as shells.py)
+    out = {name: np.swapaxes(np.concatenate(bs, 1), 1, 2) @ np.concatenate(dbs, 1)
+           for name, (bs, dbs) in rows.items()}
     cols = np.arange(6 * k)
     return np.broadcast_to(np.eye(3), (n, 3, 3)), {q: (cols, _linked(out[q], T))
                                                    for q in out}

@@ -24,7 +24,8 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range
-from eigenupdate.model import laminate, shells, shells_quadratic, solids
+from eigenupdate.model import laminate, shells, solids
+from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model.assembly import assemble_many
 from eigenupdate.model.parametric import FunctionTerm, Term
 
@@ -195,7 +196,7 @@ def _material_angle(bdf, elems, xyz_e: np.ndarray, labels: list[str]) -> np.ndar
     the G1-G2 side (CQUAD8, CTRIA6: the xi line at the centre), or MCID's x axis
     projected on the element (rectangular MCID)."""
     if xyz_e.shape[1] in (6, 8):
-        R, out = shells_quadratic.material_axes(xyz_e, labels)
+        R, out = quadratic.material_axes(xyz_e, labels)
     else:
         R, local = shells.shell_axes(xyz_e, labels)
         side = local[:, 1] - local[:, 0]
@@ -219,7 +220,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             values, k0, m0, kj, mj, extra) -> None:
     props: dict = {}
     labels = [f"{e.type} {e.eid}" for e in elems]
-    elem = shells_quadratic if k in (6, 8) else shells
+    elem = quadratic if k in (6, 8) else shells
     for e, lab in zip(elems, labels, strict=True):
         if any(not g for g in e.node_ids):
             raise InputError(f"{lab}: blank mid-side grids are not supported (give all "

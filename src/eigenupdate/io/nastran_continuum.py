@@ -1,7 +1,8 @@
-"""CQUAD4 and CTRIA3 (PSHELL, PCOMP) and CHEXA (8, 20 nodes), CPENTA (6, 15), CTETRA
-(4, 10), CPYRAM (5, 13) (PSOLID) of a deck:
+"""CQUAD4, CTRIA3, CQUAD8 and CTRIA6 (PSHELL, PCOMP) and CHEXA (8, 20 nodes), CPENTA
+(6, 15), CTETRA (4, 10), CPYRAM (5, 13) (PSOLID) of a deck:
 properties, materials and the assembly of their (parameter) stiffness and mass with
-:mod:`eigenupdate.model.shells`, :mod:`eigenupdate.model.solids` and
+:mod:`eigenupdate.model.shells`, :mod:`~eigenupdate.model.shells_quadratic`,
+:mod:`eigenupdate.model.solids` and
 :mod:`eigenupdate.model.laminate`, a chunk of elements at a time
 (:func:`eigenupdate.model.assembly.assemble_many`).
 
@@ -24,10 +25,11 @@ import numpy as np
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
 from eigenupdate.model import laminate, shells, solids
+from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model.assembly import assemble_many
 from eigenupdate.model.parametric import FunctionTerm, Term
 
-SHELLS = {"CQUAD4": 4, "CTRIA3": 3}
+SHELLS = {"CQUAD4": 4, "CTRIA3": 3, "CQUAD8": 8, "CTRIA6": 6}
 SOLIDS = {("CHEXA", 8): "CHEXA8", ("CHEXA", 20): "CHEXA20", ("CPENTA", 6): "CPENTA6",
           ("CPENTA", 15): "CPENTA15", ("CTETRA", 4): "CTETRA4", ("CTETRA", 10): "CTETRA10",
           ("CPYRAM", 5): "CPYRAM5", ("CPYRAM", 13): "CPYRAM13"}
@@ -201,10 +203,14 @@ def _pcomp(bdf, prop) -> dict:
 
 def _material_angle(bdf, elems, xyz_e: np.ndarray, labels: list[str]) -> np.ndarray:
     """Angle (n,) of each element's material x axis from its element x axis: THETA from
-    the G1-G2 side, or MCID's x axis projected on the element (rectangular MCID)."""
-    R, local = shells.shell_axes(xyz_e, labels)
-    side = local[:, 1] - local[:, 0]
-    out = np.arctan2(side[:, 1], side[:, 0])
+    the G1-G2 side (CQUAD8, CTRIA6: the xi line at the centre), or MCID's x axis
+    projected on the element (rectangular MCID)."""
+    if xyz_e.shape[1] in (6, 8):
+        R, out = quadratic.material_axes(xyz_e, labels)
+    else:
+        R, local = shells.shell_axes(xyz_e, labels)
+        side = local[:, 1] - local[:, 0]
+        out = np.arctan2(side[:, 1], side[:, 0])
     for i, e in enumerate(elems):
         tm = e.theta_mcid
         if isinstance(tm, int):
@@ -224,6 +230,11 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             values, k0, m0, kj, mj, extra) -> None:
     props: dict = {}
     labels = [f"{e.type} {e.eid}" for e in elems]
+    elem = quadratic if k in (6, 8) else shells
+    for e, lab in zip(elems, labels, strict=True):
+        if any(not g for g in e.node_ids):
+            raise InputError(f"{lab}: blank mid-side grids are not supported (give all "
+                             f"{k})")
     nodes = np.array([[grid(g, lab) for g in e.node_ids] for e, lab in zip(elems, labels,
                                                                           strict=True)])
     rows = []
@@ -268,7 +279,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             p = props[pid]  # moduli per unit E1, E2, G3 (1 unless one MAT1)
             cm[sel], cb[sel] = A / (Tp * p["E1"]), D / (Tp**3 * p["E2"])
             cs[sel] = H / (Tp * p["G3"])
-    size = shells.stabilisation_size(xyz_e)
+    size = elem.stabilisation_size(xyz_e)
     total = {"membrane": E1 * T, "drilling": E1 * T, "bending": E2 * T**3,
              "shear": G3 * shells.shear_thickness(T, size)}
     mass = wtmass * np.array([sum(r * t for r, t in p["mass"].values()) + p["nsm"]
@@ -314,14 +325,14 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     lumped = not consistent
 
     def blocks(s: slice) -> list:
-        R, parts = shells.local_parts(xyz_e[s], cm[s], cb[s], cs[s], k6rot, labels[s])
+        R, parts = elem.local_parts(xyz_e[s], cm[s], cb[s], cs[s], k6rot, labels[s])
         hit = {p: c[s] for p, c in base.items() if np.any(c[s])}
         out = [_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6) if hit else None]
         for d in deriv_k:
             hit = {p: c[s] for p, c in d.items() if np.any(c[s])}
             out.append(_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6)
                        if hit else None)
-        m = shells.shell_mass(xyz_e[s], lumped, labels[s])  # rotation-invariant
+        m = elem.shell_mass(xyz_e[s], lumped, labels[s])  # rotation-invariant
         out.append(mbase[s, None, None] * m if np.any(mbase[s]) else None)
         out += [None if d is None or not np.any(d[s]) else d[s, None, None] * m
                 for d in deriv_m]
@@ -351,8 +362,9 @@ part T^3 / (T^2 + alpha h^2) is a term of its own."""
 def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m) -> list:
     """(pid, part, element mask, term) of every PSHELL whose T is a parameter: membrane
     and drilling E1 T, bending E2 T^3 (12I/T^3 in the moduli), shear G3 s(T) (T on a
-    CQUAD4, per size on a CTRIA3), mass WTMASS RHO1 T (NSM stays fixed); a MAT1 E or RHO
-    that is a parameter too multiplies in. Clears those elements' linear derivatives."""
+    CQUAD4, per size on a CTRIA3, CTRIA6, CQUAD8), mass WTMASS RHO1 T (NSM stays fixed);
+    a MAT1 E or RHO that is a parameter too multiplies in. Clears those elements' linear
+    derivatives."""
     out = []
     pids = np.array([e.pid for e in elems])
     for (card, pid), slots in sorted(pindex.items()):
@@ -388,9 +400,10 @@ def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m) -> lis
                     out.append((pid, "shear", mask, Term(None, ((t, 1.0),) + pw, c)))
                     continue
                 if len(np.unique(size[on])) > MAX_SIZES:
-                    raise InputError(f"PSHELL {pid} field T: its CTRIA3 have more than "
-                                     f"{MAX_SIZES} different sizes (each size's shear part "
-                                     f"is a term); not supported as a parameter")
+                    raise InputError(f"PSHELL {pid} field T: its CTRIA3, CTRIA6, CQUAD8 "
+                                     f"have more than {MAX_SIZES} different sizes (each "
+                                     f"size's shear part is a term); not supported as a "
+                                     f"parameter")
                 out.append((pid, "shear", mask, FunctionTerm(
                     None, (t, *(j for j, _ in pw)),
                     shells.ShearThickness(float(shells.ALPHA * h**2), float(c), bool(pw)))))

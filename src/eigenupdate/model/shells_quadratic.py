@@ -1,0 +1,373 @@
+"""Curved quadratic shells CQUAD8 (8-node serendipity) and CTRIA6 (6-node), vectorised.
+
+Formulation: the degenerated (continuum-based) shell of Ahmad, Irons & Zienkiewicz
+(Int. J. Numer. Meth. Eng. 2, 1970) linearised in the thickness coordinate z, so that
+it splits into the same *parts* as :mod:`eigenupdate.model.shells` (membrane T,
+drilling T, bending T^3, shear s(T)). The mid-surface x(xi, eta) and the displacement
+u are interpolated from the nodes; each node carries a unit director V_i (the element
+surface's normal at the node) and the rotation theta_i (three components, global
+axes), the fibre turning by beta = sum N_i theta_i x V_i. At each integration point,
+in the local Cartesian axes e_x, e_y (tangent), e_z (normal):
+
+* membrane strains  sym(e_a . u,b);
+* curvatures        sym(e_a . beta,b + V,a . u,b)  (the second term is the reference
+  surface's curvature: without it a curved element misses the coupling of rotations
+  with the changing director and converges to a wrong cylinder);
+* transverse shear  e_a . beta + V . u,a;
+* drilling          :mod:`~eigenupdate.model.shells`' penalty on
+  e_z . theta - (e_y . u,x - e_x . u,y) / 2 (PARAM K6ROT).
+
+Every term vanishes for a rigid motion u = t + theta x x, theta_i = theta, on any
+curved element. CQUAD8 is curved: per-point frames on its true surface (NASTRAN
+defines its element axes per point too). CTRIA6 is flat: its nodes are projected on
+the plane of its corners, with rigid links from the grids so rigid motions stay
+rigid, and a mid-side node off that plane by more than :data:`MAX_OFFSET` sqrt(area)
+is refused. Measured (tests/model): the curved 6-node triangle membrane-locks (a free
+cylinder's n = 2 ring mode, R/h = 1000, 48 x 8 x 2 elements: 50 % high), the flat one
+converges as the mesh size squared (0.26 % there).
+
+Element axes (NASTRAN's, per point): CQUAD8's x bisects, with y, the angle between the
+tangents of the lines of constant eta and xi ("double bisection"); CTRIA6's x is the
+tangent of the G1-G2 parameter line. Material angles (THETA/MCID of a PCOMP) are taken
+at the element centre (:func:`material_axes`) and held over the element.
+
+Integration and locking. CQUAD8: bending and drilling 3 x 3 Gauss points, membrane
+and shear 2 x 2 (reduced membrane: without it the curved element membrane-locks, a
+free cylinder's ring mode 65 % high at 24 x 4 elements; a single free element then has
+one spurious membrane mode, which an assembled mesh does not: six zero eigenvalues).
+CTRIA6: Dunavant's 6-point rule (degree 4), shear and membrane on the 3-point rule.
+Reduced integration alone leaves both locking in shear on thin plates (CQUAD8 with 2 x 2
+shear: a simply supported plate, a/h = 1e4, 8 x 8 elements, 22 % high), so the shear
+moduli get the Lyly-Stenberg factor of CTRIA3,
+:func:`eigenupdate.model.shells.shear_thickness`, with h_e half the longest corner-to-
+corner edge (the node spacing): the error becomes independent of the thickness and
+falls as the mesh size squared (0.1 % at 8 x 8 on that plate). MITC8/MITC6 (Bathe)
+would keep the quadratic elements' faster convergence; not done.
+
+Mass: translational (no rotary inertia, as :mod:`~eigenupdate.model.shells`),
+consistent ``sum w N_i N_j`` or lumped by the HRZ diagonal scaling (Hinton, Rock &
+Zienkiewicz, Earthq. Eng. Struct. Dyn. 4, 1976: positive nodal masses; the row sums of
+a quadratic element's consistent mass are negative at its corners).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from eigenupdate.errors import InputError
+from eigenupdate.model import shells
+
+STIFFNESS_PARTS = shells.STIFFNESS_PARTS
+K6ROT = shells.K6ROT
+NODES = {"CQUAD8": 8, "CTRIA6": 6}
+MAX_OFFSET = 0.05
+"""Largest distance of a CTRIA6's mid-side node from its corners' plane, over
+sqrt(area), that the flat projection accepts (as :data:`eigenupdate.model.shells.MAX_WARP`
+for CQUAD4)."""
+
+_QXI = np.array([-1.0, 1.0, 1.0, -1.0, 0.0, 1.0, 0.0, -1.0])
+_QETA = np.array([-1.0, -1.0, 1.0, 1.0, -1.0, 0.0, 1.0, 0.0])
+_TR = np.array([0.0, 1.0, 0.0, 0.5, 0.5, 0.0])
+_TS = np.array([0.0, 0.0, 1.0, 0.0, 0.5, 0.5])
+
+
+def _gauss(n: int) -> list[tuple[float, float, float]]:
+    x, w = np.polynomial.legendre.leggauss(n)
+    return [(float(x[i]), float(x[j]), float(w[i] * w[j])) for j in range(n) for i in range(n)]
+
+
+def _dunavant4() -> list[tuple[float, float, float]]:
+    """Dunavant's degree-4 rule, 6 points, weights summing to the area 1/2."""
+    out = []
+    for a, w in ((0.445948490915965, 0.223381589678011), (0.091576213509771,
+                                                           0.109951743655322)):
+        for r, s in ((a, a), (1 - 2 * a, a), (a, 1 - 2 * a)):
+            out.append((r, s, w / 2))
+    return out
+
+
+_RULES = {8: {"full": _gauss(3), "shear": _gauss(2)},
+          6: {"full": _dunavant4(), "shear": shells._TRIA_POINTS}}
+RULE_PARTS = (("full", ("bending", "drilling")), ("shear", ("shear", "membrane")))
+
+
+def shape(k: int, p: float, q: float) -> tuple[np.ndarray, np.ndarray]:
+    """Shape functions N (k,) and natural gradients (2, k) of CQUAD8 (k = 8, at xi, eta
+    in [-1, 1]) or CTRIA6 (k = 6, at r, s of the unit triangle), NASTRAN's node order.
+
+    >>> bool(np.isclose(shape(8, 0.3, -0.2)[0].sum(), 1.0))
+    True
+    >>> [abs(float(v)) for v in shape(6, 0.5, 0.0)[0]]
+    [0.0, 0.0, 0.0, 1.0, 0.0, 0.0]
+    """
+    if k == 8:
+        xi, eta = _QXI, _QETA
+        N, d = np.empty(8), np.empty((2, 8))
+        c = slice(0, 4)
+        N[c] = 0.25 * (1 + xi[c] * p) * (1 + eta[c] * q) * (xi[c] * p + eta[c] * q - 1)
+        d[0, c] = 0.25 * xi[c] * (1 + eta[c] * q) * (2 * xi[c] * p + eta[c] * q)
+        d[1, c] = 0.25 * eta[c] * (1 + xi[c] * p) * (xi[c] * p + 2 * eta[c] * q)
+        for i in (4, 6):  # xi_i = 0
+            N[i] = 0.5 * (1 - p * p) * (1 + eta[i] * q)
+            d[0, i], d[1, i] = -p * (1 + eta[i] * q), 0.5 * eta[i] * (1 - p * p)
+        for i in (5, 7):  # eta_i = 0
+            N[i] = 0.5 * (1 + xi[i] * p) * (1 - q * q)
+            d[0, i], d[1, i] = 0.5 * xi[i] * (1 - q * q), -q * (1 + xi[i] * p)
+        return N, d
+    if k == 6:
+        L = np.array([1 - p - q, p, q])
+        dL = np.array([[-1.0, 1.0, 0.0], [-1.0, 0.0, 1.0]])
+        N = np.concatenate([L * (2 * L - 1), 4 * L * np.roll(L, -1)])
+        d = np.concatenate([(4 * L - 1) * dL,
+                            4 * (dL * np.roll(L, -1) + L * np.roll(dL, -1, axis=1))], axis=1)
+        return N, d
+    raise ValueError(f"{k} nodes: a quadratic shell has 6 or 8")
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def _frame(a: np.ndarray, k: int) -> np.ndarray:
+    """Local axes (n, 3, 3) (rows x, y, z) from the natural tangents a (n, 2, 3)."""
+    z = _unit(np.cross(a[:, 0], a[:, 1]))
+    if k == 8:  # double bisection of the xi and eta lines
+        e1, e2 = _unit(a[:, 0]), _unit(a[:, 1])
+        b, c = _unit(e1 + e2), _unit(e2 - e1)
+        x = _unit(b - c)
+    else:
+        x = _unit(a[:, 0])
+    return np.stack([x, np.cross(z, x), z], axis=1)
+
+
+def _name(labels, i: int) -> str:
+    return labels[i] if labels else f"element {i}"
+
+
+def geometry(xyz: np.ndarray, labels: list[str] | None = None
+             ) -> tuple[np.ndarray, np.ndarray]:
+    """The nodes (n, k, 3) the element is integrated on and their unit directors
+    (n, k, 3): CQUAD8's own nodes and its surface's normals at them; CTRIA6's nodes
+    projected on the plane of its corners and that plane's normal (a mid-side node
+    further than :data:`MAX_OFFSET` from it is an :class:`InputError`)."""
+    xyz = np.asarray(xyz, float)
+    if xyz.shape[1] != 6:
+        return xyz, directors(xyz, labels)
+    c = xyz[:, :3]
+    z = np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0])
+    area2 = np.linalg.norm(z, axis=1)
+    size2 = np.max(np.sum((c - c.mean(axis=1, keepdims=True)) ** 2, axis=2), axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        bad = np.flatnonzero(~(area2 > 1e-10 * size2))
+        z = z / area2[:, None]
+    if bad.size:
+        raise InputError(f"{_name(labels, bad[0])}: zero area (corners coincide or lie on a "
+                         f"line)")
+    off = np.einsum("nkj,nj->nk", xyz - c[:, :1], z)
+    rel = np.max(np.abs(off), axis=1) / np.sqrt(area2 / 2)
+    bad = np.flatnonzero(rel > MAX_OFFSET)
+    if bad.size:
+        raise InputError(f"{_name(labels, bad[0])}: curved (a mid-side node {rel[bad[0]]:.3g} "
+                         f"sqrt(area) off the corners' plane; at most {MAX_OFFSET}): curved "
+                         f"CTRIA6 are not supported (use CQUAD8 or more elements)")
+    flat = xyz - off[:, :, None] * z[:, None]
+    directors(flat, labels)  # the Jacobian checks
+    return flat, np.broadcast_to(z[:, None], flat.shape)
+
+
+def _offset_links(real: np.ndarray, used: np.ndarray) -> np.ndarray | None:
+    """T (n, 6k, 6k) with u_used = T u_real: rigid links from the grids to the projected
+    nodes (u + theta x d, d = used - real), so that rigid motions stay rigid; None
+    when no node moved."""
+    d = used - real
+    if not np.any(d):
+        return None
+    n, k = d.shape[:2]
+    T = np.broadcast_to(np.eye(6 * k), (n, 6 * k, 6 * k)).copy()
+    for i in range(k):
+        r = 6 * i
+        x, y, z = d[:, i, 0], d[:, i, 1], d[:, i, 2]
+        # theta x d = -[d]x theta
+        T[:, r, r + 4], T[:, r, r + 5] = z, -y
+        T[:, r + 1, r + 3], T[:, r + 1, r + 5] = -z, x
+        T[:, r + 2, r + 3], T[:, r + 2, r + 4] = y, -x
+    return T
+
+
+def _linked(blocks: np.ndarray, T: np.ndarray | None) -> np.ndarray:
+    return blocks if T is None else np.swapaxes(T, 1, 2) @ blocks @ T
+
+
+def directors(xyz: np.ndarray, labels: list[str] | None = None) -> np.ndarray:
+    """Unit normals (n, k, 3) of the elements' surfaces at their nodes. A zero or
+    reversed Jacobian at a node or an integration point (nodes out of order, a
+    mid-side node outside the middle half of its edge, a zero area) is an
+    :class:`InputError` naming the element."""
+    xyz = np.asarray(xyz, float)
+    n, k = xyz.shape[:2]
+    if k == 8:
+        nat = list(zip(_QXI, _QETA, strict=True))
+        centre = (0.0, 0.0)
+    else:
+        nat = list(zip(_TR, _TS, strict=True))
+        centre = (1 / 3, 1 / 3)
+    size2 = np.max(np.sum((xyz - xyz.mean(axis=1, keepdims=True)) ** 2, axis=2), axis=1)
+    n0 = np.cross(*np.einsum("ak,nkb->nab", shape(k, *centre)[1], xyz).transpose(1, 0, 2))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        n0 = n0 / np.linalg.norm(n0, axis=1, keepdims=True)
+    out = np.empty((n, k, 3))
+    checks = [(p, q) for p, q, _ in _RULES[k]["full"]] + nat
+    for j, (p, q) in enumerate(checks):
+        a = np.einsum("ak,nkb->nab", shape(k, p, q)[1], xyz)
+        c = np.cross(a[:, 0], a[:, 1])
+        with np.errstate(invalid="ignore"):
+            bad = np.flatnonzero(~(np.sum(c * n0, axis=1) > 1e-8 * size2))
+        if bad.size:
+            raise InputError(f"{_name(labels, bad[0])}: zero or negative Jacobian (zero "
+                             f"area, nodes not in order round it, or a mid-side node out "
+                             f"of place)")
+        if j >= len(checks) - k:
+            out[:, j - len(checks) + k] = _unit(c)
+    return out
+
+
+def _point(xyz, V, k, p, q):
+    """At one natural point: N (k,), the local axes (n, 3, 3), the local gradients
+    G (n, 2, k), det J (n,), the interpolated director and its gradients."""
+    N, dn = shape(k, p, q)
+    a = np.einsum("ak,nkb->nab", dn, xyz)
+    R = _frame(a, k)
+    J = np.einsum("nab,ncb->nac", a, R[:, :2])  # J[a, b] = a_a . e_b
+    det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+    G = np.linalg.solve(J, np.broadcast_to(dn, (xyz.shape[0],) + dn.shape))
+    return N, R, G, det, np.einsum("k,nkb->nb", N, V), np.einsum("nak,nkb->nab", G, V)
+
+
+def _b_matrices(N, R, G, Vp, dV, V):
+    """B (n, rows, 6k) of membrane, bending, shear, drilling in global coordinates."""
+    n, _, k = G.shape
+    ex, ey, ez = R[:, 0], R[:, 1], R[:, 2]
+    gx, gy = G[:, 0, :, None], G[:, 1, :, None]  # (n, k, 1)
+    vx, vy = np.cross(V, ex[:, None]), np.cross(V, ey[:, None])  # (n, k, 3)
+    bm, bb = np.zeros((n, 3, k, 6)), np.zeros((n, 3, k, 6))
+    bs, bd = np.zeros((n, 2, k, 6)), np.zeros((n, 1, k, 6))
+    bm[:, 0, :, :3] = gx * ex[:, None]
+    bm[:, 1, :, :3] = gy * ey[:, None]
+    bm[:, 2, :, :3] = gy * ex[:, None] + gx * ey[:, None]
+    bb[:, 0, :, 3:], bb[:, 0, :, :3] = gx * vx, gx * dV[:, None, 0]
+    bb[:, 1, :, 3:], bb[:, 1, :, :3] = gy * vy, gy * dV[:, None, 1]
+    bb[:, 2, :, 3:] = gy * vx + gx * vy
+    bb[:, 2, :, :3] = gy * dV[:, None, 0] + gx * dV[:, None, 1]
+    bs[:, 0, :, 3:], bs[:, 0, :, :3] = N[:, None] * vx, gx * Vp[:, None]
+    bs[:, 1, :, 3:], bs[:, 1, :, :3] = N[:, None] * vy, gy * Vp[:, None]
+    bd[:, 0, :, 3:] = N[:, None] * ez[:, None]
+    bd[:, 0, :, :3] = -0.5 * (gx * ey[:, None] - gy * ex[:, None])
+    return {name: b.reshape(n, b.shape[1], 6 * k) for name, b in
+            (("membrane", bm), ("bending", bb), ("shear", bs), ("drilling", bd))}
+
+
+def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
+                shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None):
+    """As :func:`eigenupdate.model.shells.local_parts` for CQUAD8 (xyz (n, 8, 3)) or
+    CTRIA6 (n, 6, 3): axes R and ``{part: (columns, (n, 6k, 6k) block)}`` per unit
+    thickness power. The blocks are already in global axes (R is the identity: the
+    element axes change from point to point), so :func:`eigenupdate.model.shells.combine`
+    applies unchanged. The moduli are in the element axes of :func:`material_axes`."""
+    real = np.asarray(xyz, float)
+    n, k = real.shape[:2]
+    xyz, V = geometry(real, labels)
+    T = _offset_links(real, xyz)
+    cm, cb, cs = (np.broadcast_to(np.asarray(c, float), (n,) + np.shape(c)[-2:])
+                  for c in (membrane, bending, shear))
+    gd = (1e-6 * k6rot * cm[:, 2, 2]).reshape(n, 1, 1)
+    moduli = {"membrane": cm, "bending": cb, "shear": cs, "drilling": gd}
+    rows: dict = {name: ([], []) for name in STIFFNESS_PARTS}  # B, w D B of every point
+    for rule, names in RULE_PARTS:
+        for p, q, weight in _RULES[k][rule]:
+            N, R, G, det, Vp, dV = _point(xyz, V, k, p, q)
+            b = _b_matrices(N, R, G, Vp, dV, V)
+            w = (weight * det)[:, None, None]
+            for name in names:
+                rows[name][0].append(b[name])
+                rows[name][1].append((moduli[name] @ b[name]) * w)
+    # one batched product per part over all its points (as shells.py)
+    out = {name: np.swapaxes(np.concatenate(bs, 1), 1, 2) @ np.concatenate(dbs, 1)
+           for name, (bs, dbs) in rows.items()}
+    cols = np.arange(6 * k)
+    return np.broadcast_to(np.eye(3), (n, 3, 3)), {q: (cols, _linked(out[q], T))
+                                                   for q in out}
+
+
+def material_axes(xyz: np.ndarray, labels: list[str] | None = None
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Element axes at the centre (n, 3, 3; rows x, y, z) and the angle (n,) from x to
+    the line THETA is measured from (the xi line: constant eta; CTRIA6's G1-G2 line)."""
+    xyz = np.asarray(xyz, float)
+    k = xyz.shape[1]
+    xyz = geometry(xyz, labels)[0]
+    centre = (0.0, 0.0) if k == 8 else (1 / 3, 1 / 3)
+    a = np.einsum("ak,nkb->nab", shape(k, *centre)[1], xyz)
+    R = _frame(a, k)
+    t = np.einsum("nij,nj->ni", R, a[:, 0])
+    return R, np.arctan2(t[:, 1], t[:, 0])
+
+
+def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None) -> np.ndarray:
+    """Translational mass (n, 6k, 6k) per unit mass per area: consistent or HRZ-lumped.
+
+    Examples
+    --------
+    Both keep a 2 x 1 rectangle's area; HRZ gives CQUAD8 corners 3/76 of it each:
+
+    >>> x = np.array([[[0., 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0], [1, 0, 0], [2, .5, 0],
+    ...                [1, 1, 0], [0, .5, 0]]])
+    >>> [round(float(shell_mass(x, c)[0, 0::6, 0::6].sum()), 12) for c in (False, True)]
+    [2.0, 2.0]
+    >>> round(float(shell_mass(x, True)[0, 0, 0] * 76 / 2), 12)
+    3.0
+    """
+    xyz = np.asarray(xyz, float)
+    n, k = xyz.shape[:2]
+    xyz, V = geometry(xyz, labels)
+    m = np.zeros((n, k, k))
+    for p, q, weight in _RULES[k]["full"]:
+        N, _, _, det, _, _ = _point(xyz, V, k, p, q)
+        m += (weight * det)[:, None, None] * np.outer(N, N)
+    if lumped:
+        d = np.einsum("nii->ni", m)
+        d = d * (m.sum(axis=(1, 2)) / d.sum(axis=1))[:, None]
+        m = np.einsum("ni,ij->nij", d, np.eye(k))
+    out = np.zeros((n, 6 * k, 6 * k))
+    for c in range(3):
+        out[:, c::6, c::6] = m
+    return out  # at the grids: a CTRIA6's projection changes only its stiffness
+
+
+def stabilisation_size(xyz: np.ndarray) -> np.ndarray:
+    """h_e (n,) of :func:`eigenupdate.model.shells.shear_thickness`: a CTRIA6's longest
+    corner-to-corner edge, 0 for a CQUAD8 (reduced shear integration needs none)."""
+    xyz = np.asarray(xyz, float)
+    c = xyz[:, :xyz.shape[1] // 2]
+    return np.max(np.linalg.norm(c - np.roll(c, 1, axis=1), axis=2), axis=1) / 2
+
+
+def pshell_matrices(xyz: np.ndarray, T: np.ndarray, membrane: np.ndarray,
+                    bending: np.ndarray, shear: np.ndarray, rho: np.ndarray,
+                    nsm: np.ndarray = 0.0, lumped: bool = False, k6rot: float = K6ROT,
+                    labels: list[str] | None = None) -> dict[str, np.ndarray]:
+    """K, M, dK/dT, dM/dT (n, 6k, 6k), global axes, as
+    :func:`eigenupdate.model.shells.pshell_matrices`, for CQUAD8 and CTRIA6."""
+    xyz = np.asarray(xyz, float)
+    n = xyz.shape[0]
+    T = np.broadcast_to(np.asarray(T, float), (n,))
+    size = stabilisation_size(xyz)
+    R, p = local_parts(xyz, membrane, bending, shear, k6rot, labels)
+    k = {"membrane": T, "drilling": T, "bending": T**3,
+         "shear": shells.shear_thickness(T, size)}
+    dk = {"membrane": np.ones(n), "drilling": np.ones(n), "bending": 3 * T**2,
+          "shear": shells.shear_thickness_derivative(T, size)}
+    m = shell_mass(xyz, lumped, labels)
+    rho = np.broadcast_to(np.asarray(rho, float), (n,))[:, None, None]
+    nsm = np.broadcast_to(np.asarray(nsm, float), (n,))[:, None, None]
+    return {"K": shells.combine(R, p, k), "dK": shells.combine(R, p, dk),
+            "M": (rho * T[:, None, None] + nsm) * m, "dM": rho * m}

@@ -14,7 +14,6 @@ import io
 import os
 import shlex
 import sys
-import time
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
@@ -119,7 +118,6 @@ def cmd_design(args) -> int:
 
 
 def cmd_montecarlo(args) -> int:
-    from eigenupdate.design.executor import executor_for
     from eigenupdate.io.montecarlo import FILES, write_montecarlo
 
     check_dir(args.output, "-o")
@@ -130,18 +128,15 @@ def cmd_montecarlo(args) -> int:
         truth = eu.load_study(args.truth).inputs() if args.truth else []
         check_files_in(args.output, FILES, "-o",
                        [*study.inputs(measurements=True, frf=True), *truth])
-    bar = text.progress_bar if sys.stderr.isatty() else None
-    start = time.perf_counter()
-    with executor_for(args.scheduler, args.in_process, args.workers) as ex:
-        res = eu.montecarlo(study, args.trials, truth=args.truth, seed=args.seed,
-                            executor=ex, progress=bar)
-        where = repr(ex)
-    wall = time.perf_counter() - start
-    doc = {**res.summary(), "executor": where, "wall_time_s": wall}
+    res = eu.montecarlo(study, args.trials, truth=args.truth, seed=args.seed,
+                        scheduler=args.scheduler, workers=args.workers,
+                        in_process=args.in_process,
+                        progress=text.progress_bar if sys.stderr.isatty() else None)
+    doc = {**res.summary(), **res.run_info()}
     if args.output:
-        write_montecarlo(res, args.output, study.title, {"executor": where, "wall_time_s": wall})
+        write_montecarlo(res, args.output, study.title, res.run_info())
     print(text.dumps(doc) if args.json else text.montecarlo_text(doc, study.title))
-    text.progress(f"{args.trials} trials in {wall:.1f} s ({where})"
+    text.progress(f"{args.trials} trials in {res.wall_time_s:.1f} s ({res.executor})"
                   + (f"; wrote {args.output}" if args.output else ""))
     if doc["statistics_refused"] is not None:
         raise NotConvergedError(f"no statistics: {doc['statistics_refused']}", field="--trials")

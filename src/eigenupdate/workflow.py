@@ -14,13 +14,15 @@ and returns a typed result, so a notebook does what ``eigenupdate <command>`` do
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from eigenupdate.design.montecarlo import MonteCarloResult  # its own imports are light
 from eigenupdate.errors import InputError
 from eigenupdate.identify.checked import checked_update
 from eigenupdate.identify.identifiability import IdentifiabilityReport, check
@@ -40,8 +42,7 @@ from eigenupdate.solve.jacobian import solve_configurations
 from eigenupdate.solve.response import receptance
 from eigenupdate.solve.sweep import MassSweep, mass_sweep
 
-if TYPE_CHECKING:  # design and report import Dask, jinja2, matplotlib: only when used
-    from eigenupdate.design.montecarlo import MonteCarloResult
+if TYPE_CHECKING:  # report imports jinja2, matplotlib: only when used
     from eigenupdate.design.plan import DesignResult
     from eigenupdate.design.validate import Validation
     from eigenupdate.report.data import ReportData
@@ -274,18 +275,47 @@ def design(study: Study, *, validate: int | None = None, seed: int | None = 0,
     return StudyDesign(res, val)
 
 
+@dataclass(frozen=True)
+class StudyMonteCarlo(MonteCarloResult):
+    """A study's Monte Carlo trials (:class:`MonteCarloResult`), and where and for how long
+    they ran (wall time including starting and closing a cluster)."""
+
+    executor: str = "in-process"
+    wall_time_s: float = 0.0
+
+    def run_info(self) -> dict:
+        """Where and how long, as ``eigenupdate montecarlo`` prints and saves them."""
+        return {"executor": self.executor, "wall_time_s": self.wall_time_s}
+
+
 def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
-               seed: int | None = None, executor=None,
-               progress: Callable[[int, int], None] | None = None) -> MonteCarloResult:
+               seed: int | None = None, executor=None, scheduler: str | None = None,
+               workers: int | None = None, in_process: bool | None = None,
+               progress: Callable[[int, int], None] | None = None) -> StudyMonteCarlo:
     """``trials`` virtual tests of the study's plan (``eigenupdate montecarlo``): the truth
     drawn from the priors, or the values of the study file ``truth``; noise as the study's
-    measurements or design say. ``executor`` as in :func:`design` (default: this process);
-    ``progress(done, total)`` after each batch."""
+    measurements or design say. ``progress(done, total)`` after each batch.
+
+    ``executor`` runs the trials (the caller closes it); else ``in_process`` runs them
+    here, or else they go to the Dask scheduler ``scheduler`` (or
+    ``$EIGENUPDATE_SCHEDULER``), a local cluster of ``workers`` processes, or the automatic
+    choice (:func:`eigenupdate.design.executor.executor_for`), closed here. ``in_process``
+    defaults to True unless ``scheduler`` or ``workers`` is given.
+    """
+    from eigenupdate.design.executor import executor_for
     from eigenupdate.design.montecarlo import montecarlo as run
     from eigenupdate.design.montecarlo import study_setup
 
     if trials < 1:
         raise InputError(f"must be >= 1, got {trials}", field="--trials")
+    if executor is None:
+        here = not (scheduler or workers) if in_process is None else in_process
+        start = time.perf_counter()
+        with executor_for(scheduler, here, workers) as ex:
+            res = montecarlo(study, trials, truth=truth, seed=seed, executor=ex,
+                             progress=progress)
+        return replace(res, wall_time_s=time.perf_counter() - start)
+    start = time.perf_counter()
     values = None
     if truth is not None:
         t = load_study(truth).model
@@ -294,7 +324,8 @@ def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
     res = run(setup, trials, seed, executor, progress)
     if res.counts()[2] == trials:  # nothing ran: the plan or its data are refused
         raise InputError(res.refusal(), source=str(study.path))
-    return res
+    return StudyMonteCarlo(**{f.name: getattr(res, f.name) for f in fields(res)},
+                           executor=repr(executor), wall_time_s=time.perf_counter() - start)
 
 
 _DEFAULT_LOSS_FACTOR = 0.01  # as `eigenupdate frf` without --damping
@@ -310,7 +341,6 @@ def report_data(study: Study, *, result: str | Path | None = None,
     not give is computed here: the plan's identifiability, the extraction from the
     study's FRF files, the update, the receptances of Fig. 7 and the sweeps of Fig. 4.
     With ``solve`` false nothing is solved (the report of saved results only)."""
-    from eigenupdate.design.montecarlo import MonteCarloResult
     from eigenupdate.design.plan import DesignResult
     from eigenupdate.io.report_inputs import read_extracted, read_summary
     from eigenupdate.report.data import ReportData

@@ -134,3 +134,40 @@ def test_help_starts_within_3x_of_numpy_and_scipy_sparse():
     base = _best_of_3(["-c", "import numpy, scipy.sparse"])
     help_ = _best_of_3(["-m", "eigenupdate.cli", "--help"])
     assert help_ <= 3.0 * base, (help_, base)
+
+
+def test_montecarlo_chooses_its_executor_and_says_where_and_how_long(fig2, monkeypatch):
+    # the workflow, not the CLI, builds (and closes) the executor; the result says where
+    # the trials ran and the wall time, as `eigenupdate montecarlo` prints them
+    from eigenupdate.design import executor
+
+    asked, closed = [], []
+
+    class Here(executor.InProcess):
+        def close(self):
+            closed.append(1)
+
+    def executor_for(scheduler=None, in_process=False, n_workers=None):
+        asked.append((scheduler, in_process, n_workers))
+        return Here()
+
+    monkeypatch.setattr(executor, "executor_for", executor_for)
+    truth = EXAMPLES / "paper_fig2" / "truth.toml"
+    t = time.perf_counter()
+    res = eu.montecarlo(fig2, 3, truth=truth, seed=4)
+    wall = time.perf_counter() - t
+    assert res.counts() == (3, 0, 0) and res.run_info() == {
+        "executor": "in-process", "wall_time_s": res.wall_time_s}
+    assert 0 < res.wall_time_s <= wall
+    # the same trials, bit for bit, whichever executor: here a scheduler is only asked for
+    again = eu.montecarlo(fig2, 3, truth=truth, seed=4, scheduler="tcp://127.0.0.1:1")
+    eu.montecarlo(fig2, 3, truth=truth, seed=4, workers=2)
+    eu.montecarlo(fig2, 3, truth=truth, seed=4, in_process=False)
+    assert asked == [(None, True, None), ("tcp://127.0.0.1:1", False, None),
+                     (None, False, 2), (None, False, None)] and len(closed) == 4
+    for x, y in zip(res.trials, again.trials, strict=True):
+        assert all(np.array_equal(x[k], y[k]) for k in ("truth", "estimate", "std"))
+    # an executor the caller gives is used, and left open
+    mine = Here()
+    assert eu.montecarlo(fig2, 3, truth=truth, seed=4, executor=mine).counts() == (3, 0, 0)
+    assert len(closed) == 4 and len(asked) == 4

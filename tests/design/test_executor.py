@@ -1,6 +1,7 @@
 """The batches the Dask executor sends (design/executor.py)."""
 
 import math
+from types import SimpleNamespace
 
 from hypothesis import given
 from hypothesis import strategies as st
@@ -29,3 +30,29 @@ def test_batches_cover_the_items_once_in_order_and_shrink(n, workers):
     if n:
         q = 1 - 1 / (SHARE * workers)
         assert len(sizes) <= math.ceil(math.log(n) / -math.log(q)) + SHARE * workers + 1
+
+
+def test_automatic_starts_one_cluster_for_every_map(monkeypatch):
+    # a design screens its candidates and then runs its validation trials on the same
+    # executor: the second map must reuse the cluster the first one started
+    from eigenupdate.design import executor
+
+    started, closed = [], []
+
+    class Cluster(executor.InProcess):  # a local cluster without the processes
+        def __init__(self, address=None, n_workers=None):
+            started.append(n_workers)
+            self.client = SimpleNamespace(scheduler=SimpleNamespace(address="tcp://here:1"))
+
+        def close(self):
+            closed.append(1)
+
+    monkeypatch.setattr(executor, "DaskExecutor", Cluster)
+    monkeypatch.setattr(executor, "PARALLEL_MIN_S", 0.0)
+    seen = []
+    with executor.Automatic(n_workers=2) as ex:
+        assert ex.map(lambda x, s: x + s, 10, [1, 2, 3]) == [11, 12, 13]
+        assert ex.map(lambda x, s: x * s, 10, [1, 2],
+                      lambda i, n: seen.append((i, n))) == [10, 20]
+        assert ex.map(lambda x, s: x, 0, []) == []
+    assert started == [2] and closed == [1] and seen == [(1, 2), (2, 2)]

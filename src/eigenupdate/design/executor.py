@@ -139,7 +139,8 @@ class Automatic:
     """In this process or on a local cluster, whichever the study's size calls for: the
     first task runs here and is timed; the rest go to a local cluster of ``n_workers``
     processes only if they would take at least PARALLEL_MIN_S here and there is more than
-    one core. ``str(self)`` says which it chose and why."""
+    one core. Once started, that cluster runs every later map (a design's screening, then
+    its validation trials). ``str(self)`` says which it chose and why."""
 
     def __init__(self, n_workers: int | None = None):
         self.n_workers = n_workers or os.cpu_count() or 1
@@ -151,6 +152,8 @@ class Automatic:
         items = list(items)
         if not items:
             return []
+        if self._dask is not None:  # an earlier map started a cluster: one is enough
+            return self._dask.map(fn, shared, items, progress)
         t = time.perf_counter()
         first = [fn(items[0], shared)]
         per_task = time.perf_counter() - t

@@ -7,7 +7,8 @@ equations it builds (:mod:`eigenupdate.identify.pairing`).
 * :func:`gauss_newton`: the paper's iteration, bounded and halved steps.
 
 Both work on :class:`Point` (a linearisation, its pairing, residuals f and df/dz) given
-by the caller's ``evaluate``.
+by the :class:`~eigenupdate.identify.fit.Fit` they are handed, which also holds the
+history, the pairing, the bounds and the stopping settings.
 """
 
 from __future__ import annotations
@@ -15,12 +16,15 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, replace
 from enum import Enum
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.optimize import least_squares, lsq_linear
 
-from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.solve.jacobian import Linearisation
+
+if TYPE_CHECKING:
+    from eigenupdate.identify.fit import Fit
 
 MAX_HALVINGS = 30
 TR_METHOD = "dogbox"
@@ -85,47 +89,52 @@ class Point:
     predicted: bool = False  # z is a last step taken without a solve (see finish_step)
 
 
-def gauss_newton(point, evaluate, attempt, stop_test, pairing, history, iterate, lower,
-                  max_iterations, say, t0):
-    """The paper's iteration: Gauss-Newton steps, bounded and halved when needed."""
+def gauss_newton(fit: Fit, point: Point, max_iterations: int, offset: int = 0
+                 ) -> tuple[int, str, Point]:
+    """The paper's iteration from ``point``: Gauss-Newton steps, bounded and halved when
+    needed, at most ``max_iterations``; the history numbers them from ``offset`` + 1.
+    Returns (status, message, final point)."""
     status, message = 0, f"iteration limit ({max_iterations}) reached"
     for it in range(1, max_iterations + 1):
         t = time.perf_counter()
-        stop = stop_test(point)
+        stop = fit.stop_test(point)
         if stop is not None:
             status, message, _ = stop
             break
-        dz, kind = gn_step(point.A, -point.f, point.z, lower)
-        alpha, refused = 1.0, []
-        trial = attempt(point.z + alpha * dz, point.obj, refused)
+        dz, kind = gn_step(point.A, -point.f, point.z, fit.lower)
+        alpha, refused = 1.0, None
+        trial = fit.attempt(point.z + alpha * dz, point.obj)
+        refused = fit.refusal or refused
         while (trial is None or not trial.obj < point.obj) and alpha > 0.5**MAX_HALVINGS:
             alpha *= 0.5  # NaN is not lower
             kind = Step.HALVED
-            trial = attempt(point.z + alpha * dz, point.obj, refused)
+            trial = fit.attempt(point.z + alpha * dz, point.obj)
+            refused = fit.refusal or refused
         if trial is None or not trial.obj < point.obj:
             status = 3
             message = (
                 f"iteration {it}: no step along the Gauss-Newton direction lowers the objective"
-                + (f" (a trial step was refused: {refused[-1]})" if refused else "")
+                + (f" (a trial step was refused: {refused})" if refused else "")
             )
-            history.append(iterate(it, point.z, point.obj, 0.0, Step.FAILED))
+            fit.record(offset + it, point.z, point.obj, 0.0, Step.FAILED)
             break
         point = trial
-        pairing.accept(point.perm, point.pending, point.lin.shapes, it)
-        history.append(iterate(it, point.z, point.obj, alpha, kind))
-        say(f"[{it}/{max_iterations}] iteration {it}: objective {point.obj:.6g}, "
-            f"step {alpha:g} x Gauss-Newton "
-            f"({kind.value}), largest change {np.max(np.abs(alpha * dz)):.2e}, "
-            f"{time.perf_counter() - t:.1f} s (total {time.perf_counter() - t0:.1f} s)")
+        fit.pairing.accept(point.perm, point.pending, point.lin.shapes, it)
+        fit.record(offset + it, point.z, point.obj, alpha, kind)
+        fit.say(f"[{it}/{max_iterations}] iteration {it}: objective {point.obj:.6g}, "
+                f"step {alpha:g} x Gauss-Newton "
+                f"({kind.value}), largest change {np.max(np.abs(alpha * dz)):.2e}, "
+                f"{time.perf_counter() - t:.1f} s (total {fit.elapsed():.1f} s)")
     return status, message, point
 
 
-def trust_region(point, evaluate, stop_test, pairing, history, iterate, lower,
-                  max_iterations, say, t0, xtol: float = 0.0):
-    """scipy.optimize.least_squares (dogbox) on the paired equations; our convergence
-    tests and the iteration limit run in its callback at every accepted point. Where the
-    Gauss-Newton steps contract fast enough, the last one is taken without a further
-    solve (:func:`finish_step`, with ``xtol``; 0 never)."""
+def trust_region(fit: Fit, point: Point) -> tuple[int, str, Point, bool]:
+    """scipy.optimize.least_squares (dogbox) on the paired equations from ``point``; our
+    convergence tests and the iteration limit (counted over the whole history) run in its
+    callback at every accepted point. Where the Gauss-Newton steps contract fast enough,
+    the last one is taken without a further solve (:func:`finish_step`, with the fit's
+    ``xtol``; 0 never). Returns (SciPy's status, message, final point, success)."""
+    max_iterations, xtol, lower, say = fit.max_iterations, fit.xtol, fit.lower, fit.say
     state = {"point": point, "why": None, "t": time.perf_counter(), "rejected": 0,
              "gn": None, "refused_since": 0, "previous": None, "finish": None}
     def worse(cur):
@@ -139,11 +148,9 @@ def trust_region(point, evaluate, stop_test, pairing, history, iterate, lower,
         if np.array_equal(z, cur.z):
             # the region shrank to round-off: after refused points that is no convergence
             return worse(cur) if state["refused_since"] else cur.f
-        try:
-            p = evaluate(z, above=cur.obj)
-        except (InputError, NumericalError) as exc:
-            p = None  # a point the eigen-solver refuses: the region shrinks
-            state["refused"] = str(exc)
+        p = fit.attempt(z, cur.obj)
+        if fit.refusal is not None:  # a point the eigen-solver refuses: the region shrinks
+            state["refused"] = fit.refusal
             state["refused_since"] += 1
         if p is None:
             state["rejected"] += 1
@@ -153,44 +160,44 @@ def trust_region(point, evaluate, stop_test, pairing, history, iterate, lower,
         return p.f
 
     def jac(z):
-        p = evaluate(z)
+        p = fit.evaluate(z)
         cur = state["point"]
         if not np.array_equal(z, cur.z):  # an accepted step
-            it = len(history)
-            pairing.accept(p.perm, p.pending, p.lin.shapes, it)
+            it = len(fit.history)
+            fit.pairing.accept(p.perm, p.pending, p.lin.shapes, it)
             gn = state["gn"]
             frac = float(np.linalg.norm(z - cur.z) / np.linalg.norm(gn)) if gn is not None \
                 and np.linalg.norm(gn) > 0 else 1.0
             kind = Step.SHRUNK if state["rejected"] else Step.TRUST
             full = gn is not None and np.linalg.norm(z - cur.z - gn) <= 1e-6 * np.linalg.norm(gn)
-            history.append(iterate(it, z, p.obj, frac, kind))
+            fit.record(it, z, p.obj, frac, kind)
             say(f"[{it}/{max_iterations}] iteration {it}: objective {p.obj:.6g}, "
                 f"step {frac:.3g} x Gauss-Newton "
                 f"({kind.value}), largest change {np.max(np.abs(z - cur.z)):.2e}, "
                 f"{time.perf_counter() - state['t']:.1f} s (total "
-                f"{time.perf_counter() - t0:.1f} s)")
+                f"{fit.elapsed():.1f} s)")
             state.update(point=p, rejected=0, t=time.perf_counter(), gn=None, refused_since=0,
                          previous=float(np.max(np.abs(z - cur.z))) if full else None)
         return p.A
 
     def callback(intermediate_result):  # SciPy passes the result under this name
         p = state["point"]
-        stop = stop_test(p)
+        stop = fit.stop_test(p)
         if stop is not None:
             state["why"] = stop[1]
             raise StopIteration
         state["gn"], kind = gn_step(p.A, -p.f, p.z, lower)
-        last = len(history) - 1 >= max_iterations
+        last = fit.iterations >= max_iterations
         done = None if kind is not Step.FULL or not xtol > 0 else \
             finish_step(p, state["gn"], state["previous"], xtol)
         if done is not None and not last:
             final, after = done
-            it = len(history)
-            history.append(iterate(it, final.z, final.obj, 1.0, Step.FINAL))
+            it = len(fit.history)
+            fit.record(it, final.z, final.obj, 1.0, Step.FINAL)
             say(f"[{it}/{max_iterations}] iteration {it}: objective {final.obj:.6g} "
                 f"(predicted), {Step.FINAL.value}, largest change "
                 f"{np.max(np.abs(state['gn'])):.2e}; the step after it predicted "
-                f"{after:.1e} (total {time.perf_counter() - t0:.1f} s)")
+                f"{after:.1e} (total {fit.elapsed():.1f} s)")
             state["why"] = (f"converged: largest normalised step {after:.1e} predicted "
                             f"after the last one ({np.max(np.abs(state['gn'])):.1e}, taken "
                             f"without a further solve; contraction "
@@ -201,20 +208,20 @@ def trust_region(point, evaluate, stop_test, pairing, history, iterate, lower,
             state["why"] = f"iteration limit ({max_iterations}) reached"
             raise StopIteration
 
-    stop = stop_test(point)
+    stop = fit.stop_test(point)
     if stop is not None:
         return -2, f"{stop[1]} (at the initial point)", point, True
     if np.any(point.z <= lower):  # trf starts strictly inside its bounds (as SciPy would)
-        point = evaluate(np.where(point.z <= lower, lower + 1e-10 * np.maximum(1, lower),
-                                  point.z))
-        pairing.accept(point.perm, point.pending, point.lin.shapes, 0)
+        point = fit.evaluate(np.where(point.z <= lower, lower + 1e-10 * np.maximum(1, lower),
+                                      point.z))
+        fit.pairing.accept(point.perm, point.pending, point.lin.shapes, 0)
         state["point"] = point
     state["gn"] = gn_step(point.A, -point.f, point.z, lower)[0]
     res = least_squares(fun, point.z, jac=jac, bounds=(lower, np.inf), method=TR_METHOD,
                         x_scale=1.0, max_nfev=4 * max_iterations + 10, callback=callback)
     final = state["finish"]
     if final is None:
-        final = evaluate(res.x) if not np.array_equal(res.x, state["point"].z) \
+        final = fit.evaluate(res.x) if not np.array_equal(res.x, state["point"].z) \
             else state["point"]
     message = res.message if state["why"] is None else f"{state['why']} ({res.message})"
     success = res.status in (1, 2, 3, 4) or message.startswith("converged")

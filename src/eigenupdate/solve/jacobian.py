@@ -207,9 +207,10 @@ def linearise(
     dense: bool | None = None,
     warm: WarmStart | None = None,
     reject: RejectTest | None = None,
-) -> Linearisation:
+) -> Linearisation | None:
     """Eigenvalues and the sensitivity matrix J at ``values`` (default: the model's);
-    ``warm``, ``reject``: see :func:`solve_configurations`.
+    ``warm``, ``reject``: see :func:`solve_configurations`; None if ``reject`` turned
+    the point down.
 
     Examples
     --------
@@ -234,8 +235,11 @@ def linearise(
     report = CertificateReport() if sparse else None
     # the restricted parameter matrices do not depend on the solution: made meanwhile
     terms = parallel.in_background(RestrictedTerms, kt, mt) if sparse else None
-    sols = solve_configurations(model, configurations, modes[-1], values, dense, report, warm,
-                                reject)
+    try:
+        sols = solve_configurations(model, configurations, modes[-1], values, dense, report,
+                                    warm, reject)
+    except Rejected:
+        return None
     idx = np.asarray(modes) - 1
     rows, lam, blocks = [], [], []
     phi = tuple(s.modes if s.modes.shape[1] == idx.size else s.modes[:, idx] for s in sols)

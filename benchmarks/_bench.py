@@ -30,9 +30,11 @@ from frame import (
 )
 from scipy.optimize import least_squares
 
+import eigenupdate.identify.pairing as pairing_mod
 import eigenupdate.identify.updating as upd
 import eigenupdate.solve.eigen as eig
 import eigenupdate.solve.jacobian as jac
+import eigenupdate.solve.krylov as kry
 import eigenupdate.solve.perturbed as pert
 from eigenupdate.identify.updating import update
 from eigenupdate.measure.measurement import Measurement
@@ -131,6 +133,7 @@ def instrumented(timers: Timers):
                (pert.Blocks, "grow", lambda f: timed("Krylov subspaces", f)),
                (pert.Blocks, "take", lambda f: timed("Krylov subspaces", f)),
                (pert, "_assemble", lambda f: timed("Krylov subspaces", f)),
+               (kry, "_assemble", lambda f: timed("Krylov subspaces", f)),
                (pert, "ritz", lambda f: timed("Rayleigh-Ritz", f)),
                (ParametricModel, "stiffness", lambda f: timed("assembly", f)),
                (ParametricModel, "mass", lambda f: timed("assembly", f))]
@@ -750,7 +753,8 @@ def bench_whole(size_key: str) -> dict:
     cpu: list = []  # CPU seconds (all threads): less at the mercy of the machine's load
     bases = [base_solve_time(model, cpu)]
     calls = [0]
-    with counting(upd, "linearise", calls):
+    timers = Timers()
+    with counting(upd, "linearise", calls), phases(timers):
         t, c0 = time.perf_counter(), time.process_time()
         res = update(model, configs, modes, prob.measurements,
                      progress=lambda line: print(f"(whole)   {line}", flush=True))
@@ -765,7 +769,8 @@ def bench_whole(size_key: str) -> dict:
            "initial_max_rel_error": initial, "optimizer": res.optimizer,
            "status": res.status, "message": res.message, "pairing": res.pairing,
            "solver": res.solver, "peak_rss_gib": peak_rss_gib(), "cpu_ratio": cpu_ratio,
-           "cpu_s": c_upd, "base_solve_cpu_s": cpu, "load_average": os.getloadavg()[0]}
+           "cpu_s": c_upd, "base_solve_cpu_s": cpu, "load_average": os.getloadavg()[0],
+           "phases": timers.as_dict()}
     print(f"(whole) update() {t_upd:.1f} s = {out['ratio']:.2f} base eigen-solves (base solve "
           f"median {base:.2f} s of {np.round(bases, 2).tolist()}; CPU time {c_upd:.1f} s = "
           f"{cpu_ratio:.2f} base solves' CPU time, load {os.getloadavg()[0]:.1f}); "
@@ -773,6 +778,87 @@ def bench_whole(size_key: str) -> dict:
           f"{calls[0]} linearisations; converged {res.success} ({res.message}); "
           f"parameter error max {err['max_rel']:.1e}, rms {err['rms_rel']:.1e}; clusters "
           f"{res.pairing['clusters']}")
+    print("(whole) phases (seconds summed over threads; 'LU solves' is part of eigsh and the "
+          "Krylov subspaces): " + ", ".join(
+              f"{k} {v['seconds']:.2f} s ({v['calls']})" for k, v in sorted(
+                  out["phases"].items(), key=lambda kv: -kv[1]["seconds"])
+              if k != "LU solve columns"))
+    return out
+
+
+@contextmanager
+def phases(timers: Timers):
+    """:func:`instrumented`, plus the missed-mode check's inertia counts (Sturm) and the
+    mode tracking (pairing)."""
+    def timed(label, f):
+        def g(*a, **kw):
+            with timers(label):
+                return f(*a, **kw)
+        return g
+
+    count, match = eig.negative_count, pairing_mod.Pairing.match
+    with instrumented(timers):
+        eig.negative_count = jac.negative_count = timed("Sturm counts", count)
+        pairing_mod.Pairing.match = timed("pairing", match)
+        try:
+            yield
+        finally:
+            eig.negative_count = jac.negative_count = count
+            pairing_mod.Pairing.match = match
+
+
+# ----------------------------------------------------------------------------- stop
+
+STOP_SIZE = {"full": "stop", "small": "small"}
+STOP_NOISE = 1e-3  # relative std of the noisy frequencies
+STOP_SEED = 7
+
+
+def bench_stop(size_key: str) -> dict:
+    """Does the update stop promptly when it is done (issue 21 item 5)? The frame of
+    ``size_key`` with error-free data (least squares) and with frequencies carrying
+    ``STOP_NOISE`` relative Gaussian noise and that std (weighted least squares), from the
+    benchmark's start; a progress line per iteration, the time of each."""
+    prob = make_problem(size_key)
+    model, truth = prob.model, prob.frame.truth
+    n_eq, n_par = len(prob.measurements), int(model.updated.size)
+    print(f"(stop) frame {SIZES[size_key]}: {model.n} coordinates, {n_par} parameters, "
+          f"{n_eq} frequencies; start max {param_errors(model.values, truth)['max_rel']:.2%} "
+          f"off")
+    out = {"coordinates": model.n, "parameters": n_par, "equations": n_eq}
+    for label, noise in (("error_free", 0.0), ("noisy", STOP_NOISE)):
+        rng = np.random.default_rng(STOP_SEED)
+        meas = {key: Measurement(m.configuration, m.mode,
+                                 m.frequency_hz * (1 + noise * rng.standard_normal()),
+                                 noise * m.frequency_hz if noise else None)
+                for key, m in prob.measurements.items()}
+        method = "weighted-least-squares" if noise else "least-squares"
+        lines: list = []
+
+        def say(line, label=label, lines=lines):
+            lines.append((time.perf_counter(), line))
+            print(f"(stop) {label}: {line}", flush=True)
+
+        t = time.perf_counter()
+        res = update(model, prob.configurations, prob.modes, meas, method=method, progress=say)
+        sec = time.perf_counter() - t
+        x = np.array([res.parameters[n] for n in model.names])
+        err = param_errors(x, truth)
+        r = {"method": method, "converged": bool(res.success), "status": res.status,
+             "message": res.message, "iterations": res.nit, "seconds": sec,
+             "progress_lines": len(lines), "max_rel_error": err["max_rel"],
+             "objective": 2 * res.cost}
+        if noise:
+            std = np.array([res.std[n] or np.nan for n in res.names])
+            idx = [model.names.index(n) for n in res.names]
+            r["max_error_in_posterior_std"] = float(np.nanmax(np.abs(x[idx] - truth[idx]) / std))
+            r["expected_objective"] = n_eq - n_par  # chi-square degrees of freedom
+        out[label] = r
+        print(f"(stop) {label}: {method}, converged {res.success} (status {res.status}), "
+              f"{res.nit} iterations, {sec:.1f} s, max parameter error {err['max_rel']:.1e}"
+              + (f" = {r['max_error_in_posterior_std']:.2f} posterior std; objective "
+                 f"{r['objective']:.1f} against {r['expected_objective']} degrees of freedom"
+                 if noise else "") + f"; {res.message}")
     return out
 
 
@@ -809,6 +895,8 @@ def run(args) -> int:
         out["b"] = bench_b(b_size, cap, args.reference)
     if args.only in (None, "whole"):
         out["whole"] = bench_whole(a_size)
+    if args.only in (None, "stop"):
+        out["stop"] = bench_stop(STOP_SIZE[args.size])
     out["total_s"] = time.perf_counter() - t0
     print(f"total {out['total_s']:.0f} s, peak memory {peak_rss_gib():.2f} GiB")
     if args.json:

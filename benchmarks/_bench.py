@@ -30,9 +30,11 @@ from frame import (
 )
 from scipy.optimize import least_squares
 
+import eigenupdate.identify.pairing as pairing_mod
 import eigenupdate.identify.updating as upd
 import eigenupdate.solve.eigen as eig
 import eigenupdate.solve.jacobian as jac
+import eigenupdate.solve.krylov as kry
 import eigenupdate.solve.perturbed as pert
 from eigenupdate.identify.updating import update
 from eigenupdate.measure.measurement import Measurement
@@ -131,6 +133,7 @@ def instrumented(timers: Timers):
                (pert.Blocks, "grow", lambda f: timed("Krylov subspaces", f)),
                (pert.Blocks, "take", lambda f: timed("Krylov subspaces", f)),
                (pert, "_assemble", lambda f: timed("Krylov subspaces", f)),
+               (kry, "_assemble", lambda f: timed("Krylov subspaces", f)),
                (pert, "ritz", lambda f: timed("Rayleigh-Ritz", f)),
                (ParametricModel, "stiffness", lambda f: timed("assembly", f)),
                (ParametricModel, "mass", lambda f: timed("assembly", f))]
@@ -750,7 +753,8 @@ def bench_whole(size_key: str) -> dict:
     cpu: list = []  # CPU seconds (all threads): less at the mercy of the machine's load
     bases = [base_solve_time(model, cpu)]
     calls = [0]
-    with counting(upd, "linearise", calls):
+    timers = Timers()
+    with counting(upd, "linearise", calls), phases(timers):
         t, c0 = time.perf_counter(), time.process_time()
         res = update(model, configs, modes, prob.measurements,
                      progress=lambda line: print(f"(whole)   {line}", flush=True))
@@ -765,7 +769,8 @@ def bench_whole(size_key: str) -> dict:
            "initial_max_rel_error": initial, "optimizer": res.optimizer,
            "status": res.status, "message": res.message, "pairing": res.pairing,
            "solver": res.solver, "peak_rss_gib": peak_rss_gib(), "cpu_ratio": cpu_ratio,
-           "cpu_s": c_upd, "base_solve_cpu_s": cpu, "load_average": os.getloadavg()[0]}
+           "cpu_s": c_upd, "base_solve_cpu_s": cpu, "load_average": os.getloadavg()[0],
+           "phases": timers.as_dict()}
     print(f"(whole) update() {t_upd:.1f} s = {out['ratio']:.2f} base eigen-solves (base solve "
           f"median {base:.2f} s of {np.round(bases, 2).tolist()}; CPU time {c_upd:.1f} s = "
           f"{cpu_ratio:.2f} base solves' CPU time, load {os.getloadavg()[0]:.1f}); "
@@ -773,7 +778,33 @@ def bench_whole(size_key: str) -> dict:
           f"{calls[0]} linearisations; converged {res.success} ({res.message}); "
           f"parameter error max {err['max_rel']:.1e}, rms {err['rms_rel']:.1e}; clusters "
           f"{res.pairing['clusters']}")
+    print("(whole) phases (seconds summed over threads; 'LU solves' is part of eigsh and the "
+          "Krylov subspaces): " + ", ".join(
+              f"{k} {v['seconds']:.2f} s ({v['calls']})" for k, v in sorted(
+                  out["phases"].items(), key=lambda kv: -kv[1]["seconds"])
+              if k != "LU solve columns"))
     return out
+
+
+@contextmanager
+def phases(timers: Timers):
+    """:func:`instrumented`, plus the missed-mode check's inertia counts (Sturm) and the
+    mode tracking (pairing)."""
+    def timed(label, f):
+        def g(*a, **kw):
+            with timers(label):
+                return f(*a, **kw)
+        return g
+
+    count, match = eig.negative_count, pairing_mod.Pairing.match
+    with instrumented(timers):
+        eig.negative_count = jac.negative_count = timed("Sturm counts", count)
+        pairing_mod.Pairing.match = timed("pairing", match)
+        try:
+            yield
+        finally:
+            eig.negative_count = jac.negative_count = count
+            pairing_mod.Pairing.match = match
 
 
 # ----------------------------------------------------------------------------- main
@@ -809,6 +840,10 @@ def run(args) -> int:
         out["b"] = bench_b(b_size, cap, args.reference)
     if args.only in (None, "whole"):
         out["whole"] = bench_whole(a_size)
+    if args.only in (None, "stop"):
+        from _stop import STOP_SIZE, bench_stop  # imports this module
+
+        out["stop"] = bench_stop(STOP_SIZE[args.size])
     out["total_s"] = time.perf_counter() - t0
     print(f"total {out['total_s']:.0f} s, peak memory {peak_rss_gib():.2f} GiB")
     if args.json:

@@ -9,14 +9,16 @@
 (screen) screening 1,000 single-mass candidates (100 coordinates x 10 masses);
 (scaling) one iteration against one eigen-solve as the mesh is refined (25k-200k);
 (whole) the whole update at about 100k coordinates (default optimiser, start 2.5-5 % off,
-    error-free data) against one base eigen-solve;
+    error-free data) against one base eigen-solve, with the time of each phase;
+(stop) whether the update stops promptly when done, at 13k coordinates, with error-free
+    and with noisy (0.1 %) frequencies;
 (b) the whole update (:func:`eigenupdate.identify.updating.update`) against
     ``scipy.optimize.least_squares`` with a finite-difference Jacobian whose every
     residual solves each configuration with SciPy's ``eigsh`` (shift-invert, its own
     factorisation), at a size where the baseline finishes in minutes.
 
-Run ``python benchmarks/bench_update.py [--size small|full] [--only a|many|screen|scaling|b|whole]
-[--json PATH]``
+Run ``python benchmarks/bench_update.py [--size small|full]
+[--only a|many|screen|scaling|b|whole|stop] [--json PATH]``
 (``--help`` for the other options).
 See benchmarks/README.md.
 
@@ -39,7 +41,7 @@ def parse(argv=None) -> argparse.Namespace:
     p.add_argument("--size", choices=("small", "full"), default="full",
                    help="full: (a) at 103k coordinates, (b) at 2k (default, ~4 min); "
                         "small: a quick run (~20 s), (a) at 6k, (b) at 600")
-    p.add_argument("--only", choices=("a", "many", "screen", "scaling", "b", "whole"),
+    p.add_argument("--only", choices=("a", "many", "screen", "scaling", "b", "whole", "stop"),
                    help="run only one of the benchmarks")
     p.add_argument("--colamd", action="store_true",
                    help="(a) also repeat it with SuperLU's default COLAMD ordering (~1 min)")

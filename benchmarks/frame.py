@@ -57,6 +57,7 @@ SIZES = {
     "mesh4": (7, 5, 18, 4),  # 47,304
     "mesh16": (7, 5, 18, 16),  # 215,784
     "small-mesh2": (4, 3, 6, 2),  # quick run
+    "stop": (5, 4, 8, 4),  # 12,816 coordinates: stopping on time (issue 21 item 5)
 }
 
 X_BAYS = np.array([6.0, 7.2, 5.4, 8.1, 6.6, 5.7, 7.5, 6.3])  # m, cycled

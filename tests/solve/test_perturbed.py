@@ -243,3 +243,41 @@ def test_update_reports_the_fast_path(monkeypatch):
         assert res.parameters[truth.names[i]] == pytest.approx(truth.values[i], rel=1e-8)
     assert res.solver is not None and res.solver["fallback_lanczos"] == 0
     assert res.solver["certified"] == 2 * res.solver["linearisations"]
+
+
+def test_krylov_level_norms_by_pythagoras():
+    """Each Krylov level's |W|_M (W = A^-1 rhs before orthogonalisation) is taken from its
+    Gram-Schmidt coefficients C and remainder R (|W|_M^2 = |C|^2 + |R|^2, V M-orthonormal)
+    rather than from M W; it decides which levels get explicit products (rho > RHO_MAX).
+    Reference: W solved and its M-norm formed directly. Each term is an inner product of
+    n terms (relative rounding <= n eps, Higham's gamma_n) and a sum of m of them, so the
+    two agree to (n + m) eps up to a small constant (4 here)."""
+    model = network()
+    K, M = model.stiffness(), model.mass()
+    op, sol = base_operator(K, M, N_MODES)
+    base = krylov.make_base(K, M, op, *sol.computed)
+    n, kb = base.phi.shape
+    rows = np.array([[10, 70], [30, 60], [44, 45]])
+    blocks = krylov.Blocks(base, rows, krylov.LEVELS + 1)
+    blocks.grow(krylov.LEVELS + 1)
+    k = rows.shape[1]
+    eps = np.finfo(float).eps
+    explicit_seen = []
+    for j in range(blocks.done):
+        for g in range(rows.shape[0]):
+            if j == 0:
+                rhs = np.zeros((n, k))
+                rhs[rows[g], np.arange(k)] = 1.0
+            else:
+                rhs = M @ blocks.QT[g, (j - 1) * k:j * k].T
+            W = op.solve(rhs)
+            direct = np.sqrt(np.einsum("ij,ij->j", W, M @ W))
+            C, R = blocks.C[j][g], blocks.R[j][g]
+            pyth = np.sqrt(np.sum(C**2, axis=0) + np.sum(R**2, axis=0))
+            m = C.shape[0] + k
+            np.testing.assert_allclose(pyth, direct, rtol=4 * (n + m) * eps)
+            rho = direct.max() / np.linalg.svd(R, compute_uv=False).min()
+            if rho > 10 * krylov.RHO_MAX or rho < krylov.RHO_MAX / 10:  # clear cases
+                assert blocks.explicit[j][g] == (rho > krylov.RHO_MAX)
+                explicit_seen.append(bool(blocks.explicit[j][g]))
+    assert True in explicit_seen and False in explicit_seen  # both kinds of level occur

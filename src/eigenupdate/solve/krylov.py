@@ -213,20 +213,16 @@ class Blocks:
         WT = W.T.reshape(ns, k, n)  # a view of W
         MQT = self.MQT[:, :jk]
         C = np.zeros((ns, kb + jk, k))
-        # classical Gram-Schmidt in the M inner product, twice. Against the bare modes
-        # a second time only if the first pass removed a noticeable part: after level 0
-        # Q_{j-1} is M-orthogonal to them, so A^-1 M Q_{j-1} holds only their residual's
-        # share. The updates are BLAS products into W (beta = 1): no temporary of W's
-        # size (W and its column blocks are Fortran-contiguous, so dgemm writes in place).
-        size = np.sqrt(np.einsum("ij,ij->j", W, M @ W))
-        again = True
-        for p in range(2):
-            if p == 0 or again:
-                cp = Mphi.T @ W
-                again = bool(np.any(np.linalg.norm(cp, axis=0) > 1e-3 * size))
-                out = blas.dgemm(-1.0, phi, cp, 1.0, W, overwrite_c=True)
-                assert np.shares_memory(out, W)
-                C[:, :kb] += cp.T.reshape(ns, k, kb).transpose(0, 2, 1)
+        # classical Gram-Schmidt in the M inner product, twice ("twice is enough"). The
+        # second pass against the bare modes costs two dense products with them, less
+        # than the sparse product M W that deciding whether it is needed would take. The
+        # updates are BLAS products into W (beta = 1): no temporary of W's size (W and its
+        # column blocks are Fortran-contiguous, so dgemm writes in place).
+        for _ in range(2):
+            cp = Mphi.T @ W
+            out = blas.dgemm(-1.0, phi, cp, 1.0, W, overwrite_c=True)
+            assert np.shares_memory(out, W)
+            C[:, :kb] += cp.T.reshape(ns, k, kb).transpose(0, 2, 1)
             if jk:
                 c_own = MQT @ WT.transpose(0, 2, 1)  # (ns, j k, k)
                 for g in range(ns):
@@ -239,8 +235,12 @@ class Blocks:
         del MW
         gram = WT @ MWT.transpose(0, 2, 1)
         ev, U = np.linalg.eigh((gram + gram.transpose(0, 2, 1)) / 2)
+        # |W|_M before the orthogonalisation, by Pythagoras (V is M-orthonormal): the
+        # removed coefficients C and what is left, diag(gram)
+        size = np.sqrt(np.einsum("gik,gik->gk", C, C)
+                       + np.maximum(np.einsum("gkk->gk", gram), 0.0))
         with np.errstate(divide="ignore"):
-            rho = size.reshape(ns, k).max(axis=1) / np.sqrt(np.maximum(ev[:, 0], 0.0))
+            rho = size.max(axis=1) / np.sqrt(np.maximum(ev[:, 0], 0.0))
         bad = ~(ev[:, 0] > 1e-24 * ev[:, -1])  # the Krylov space is exhausted
         self.alive &= ~bad
         ev[bad] = 1.0

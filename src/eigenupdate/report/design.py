@@ -28,7 +28,8 @@ def design_text(r: DesignResult, initial: dict[str, float], title: str) -> str:
                       "no draws: prior_draws = 0 or a parameter without a prior std):"]
     labels = [p.label for p in r.plans]
     rows = [[n, initial[n], *[_pm(p.std[n], p.std_error[n]) for p in r.plans]] for n in r.names]
-    rows.append([f"criterion {crit}", None, *[p.criterion for p in r.plans]])
+    rows.append([f"criterion {crit}" + (" / (1 - gross risk)" if r.draws else ""), None,
+                 *[p.criterion for p in r.plans]])
     rows.append(["perturbed configurations", None, *[len(p.configurations) for p in r.plans]])
     if r.draws:
         rows.append(["chance of a gross error", None,
@@ -42,7 +43,9 @@ def design_text(r: DesignResult, initial: dict[str, float], title: str) -> str:
                             for n in r.names]))
         lines.append("(a gross error: a draw in which a configuration reorders a used mode or "
                      "brings it within min_relative_gap of another; 'design --validate N' "
-                     "measures it and non-convergence by Monte Carlo)")
+                     "measures it and non-convergence by Monte Carlo; the search divides the "
+                     "criterion by 1 - gross risk, the share of tests that can be used, so it "
+                     "prefers the plan that risks less)")
     rejected = [c for c in r.candidates if not c.admissible]
     if rejected:
         lines += ["", "rejected candidates:"]

@@ -68,12 +68,19 @@ def validation_text(v) -> str:
     if v.empirical_std is None:
         lines.append("too few converged trials for an empirical std")
         return "\n".join(lines)
+    ci = v.ratio_interval()
     lines.append(table(
-        ["parameter", "predicted std", "+-", "empirical std", "empirical/predicted",
-         "at prior mean", "coverage 2 std"],
+        ["parameter", "predicted std", "+-", "empirical std", "+-", "empirical/predicted",
+         "95 % interval", "linear over prior", "at prior mean", "coverage 2 std"],
         [[n, v.predicted_std[i], v.predicted_error[i], v.empirical_std[i],
-          v.empirical_std[i] / v.predicted_std[i], v.linear_std[i], v.coverage_2std[i]]
+          v.empirical_error[i], ci[i, 0], f"{ci[i, 1]:.2f}-{ci[i, 2]:.2f}",
+          v.prior_std[i], v.linear_std[i], v.coverage_2std[i]]
          for i, n in enumerate(v.names)]))
+    source = (f"the spread of {v.virtual_tests} checked virtual tests at draws of the prior "
+              f"(another seed stream; they cost as much as the trials)" if v.virtual_tests
+              else "the linearised std averaged over the prior's draws")
+    lines.append(f"(predicted std: {source}; +-: standard errors from the kurtosis of the "
+                 f"errors; the interval: the ratio +- 1.96 standard errors)")
     return "\n".join(lines)
 
 
@@ -84,12 +91,15 @@ def validation_doc(v) -> dict:
     refused = int(sum(bool(x["refused"]) for x in t))
     out = {"trials": len(t), "converged": conv, "not_converged": len(t) - conv - refused,
            "refused": refused, "predicted_gross_risk": v.predicted_gross_risk,
-           "parameters": {}}
+           "predicted_by_virtual_tests": v.virtual_tests, "parameters": {}}
     for i, n in enumerate(v.names):
         out["parameters"][n] = {
             "predicted_std": float(v.predicted_std[i]),
             "predicted_std_error": float(v.predicted_error[i]),
+            "prior_std": None if v.prior_std is None else float(v.prior_std[i]),
             "linear_std": float(v.linear_std[i]),
+            "empirical_std_error": (None if v.empirical_error is None
+                                    else float(v.empirical_error[i])),
             "empirical_std": None if v.empirical_std is None else float(v.empirical_std[i]),
             "coverage_2std": None if v.coverage_2std is None else float(v.coverage_2std[i])}
     return out

@@ -237,8 +237,9 @@ def test_report_renders_the_design_document(tmp_path, run_cli):
 
 
 def test_montecarlo_json_reports_both_predictions(tmp_path, run_cli):
-    # montecarlo's summary puts the prediction over the prior (what the trials' spread is
-    # to match, with its error) beside the linearised one at the prior mean
+    # montecarlo's summary puts the predictions over the prior (the spread of the checked
+    # virtual tests, what the trials' spread is to match, with its error; the linearised
+    # std averaged over the prior) beside the linearised one at the prior mean
     s = fig2_study(tmp_path, 0.25)
     code, out, err = run_cli("montecarlo", s.path, "--trials", "8", "--in-process", "--json",
                              "--seed", "3")
@@ -247,14 +248,18 @@ def test_montecarlo_json_reports_both_predictions(tmp_path, run_cli):
     assert doc["prior_draws"] == 64
     names = list(doc["parameters"])
     for p in doc["parameters"].values():
-        assert {"predicted_std", "predicted_std_error", "linear_std", "empirical_std",
-                "mean_reported_std", "coverage_2std"} <= set(p)
+        assert {"predicted_std", "predicted_std_error", "prior_std", "linear_std",
+                "empirical_std", "empirical_std_error", "mean_reported_std",
+                "coverage_2std"} <= set(p)
+    # the 32 checked virtual tests' own spread (in the document with their trials' stats)
+    assert [doc["parameters"][n]["predicted_std"] for n in doc["parameters"]] == list(
+        doc["predicted_std_by_tests"].values())
     # the study's own plan (0.35 kg at 1, 2, 4; modes 1-3) and the stated noise of its
     # [design] table, predicted by the independent route of predict_plan
     configs = s.configurations
     std = {(c.name, k): 0.01 for c in configs for k in s.modes}
     pred = predict_plan(s.model, configs, s.modes, std, s.method, n_draws=64, seed=0)
-    np.testing.assert_allclose([doc["parameters"][n]["predicted_std"] for n in names],
+    np.testing.assert_allclose([doc["parameters"][n]["prior_std"] for n in names],
                                pred.std, rtol=1e-9)
     lin = np.array([doc["parameters"][n]["linear_std"] for n in names])
     assert np.max(np.abs(pred.std / lin - 1)) > 0.1  # at 25 % the two differ

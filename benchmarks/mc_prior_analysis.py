@@ -88,6 +88,15 @@ def main() -> None:
               f"{emp[i] / c_ok[i]:.2f} (all {emp[i] / c_all[i]:.2f})  robust "
               f"{mad[i] / v.predicted_std[i]:.2f}  kurt {kurt[i]:.1f}  "
               f"z {z[:, i].std(ddof=1):.2f}")
+    # trials far beyond the linearised std at their own truth: wrong solutions the
+    # checks let through, or the estimator's nonlinearity
+    far = np.max(np.abs(z), axis=1) > 4
+    rep = np.array([t["std"] for t in ok])
+    print(f"   converged trials with some |error| > 4 linearised std at their truth: "
+          f"{int(far.sum())} of {len(ok)}; their largest |error| / reported std "
+          f"{np.round(np.max(np.abs(err[far]) / rep[far], axis=1), 1).tolist()}; "
+          f"emp/pred without them "
+          f"{np.round(err[~far].std(axis=0, ddof=1) / v.predicted_std, 2).tolist()}")
     within = np.mean((ci[:, 0] >= 0.85) & (ci[:, 0] <= 1.15))
     resolved = np.mean((ci[:, 2] - ci[:, 1]) <= 0.3)
     print(f"   ratio within 15 %: {within:.0%} of the parameters; interval narrower than "

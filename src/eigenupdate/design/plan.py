@@ -64,7 +64,9 @@ class PlanSummary:
     linear_std : linearised posterior std at the prior mean.
     std_error : Monte Carlo standard error of ``std`` (0 without draws).
     gross_risk : fraction of the draws risking a gross error (None without draws).
-    criterion : the criterion of the covariance ``std`` comes from.
+    criterion : the criterion of the covariance ``std`` comes from; with draws divided by
+        1 - ``gross_risk`` (:class:`eigenupdate.design.prior.PriorScorer`), the value the
+        search minimised.
     """
 
     label: str

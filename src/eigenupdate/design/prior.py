@@ -63,11 +63,23 @@ class Draw:
 class PriorScorer:
     """Plan criterion on the covariance averaged over draws of the truth; the same
     interface as :class:`~eigenupdate.design.search.PlanScorer`, so the greedy, exchange
-    and exhaustive searches use it unchanged."""
+    and exhaustive searches use it unchanged.
+
+    A plan whose test ends in a gross error (a used mode reordered or crowded, so the
+    measured modes may be paired wrongly) in a fraction r of the draws delivers its
+    accuracy only in the other 1 - r: 1 / (1 - r) tests are needed on average for one
+    that can be used. The criterion is divided by 1 - r (:meth:`risk_factor`), so of two
+    plans equally accurate the one with the smaller risk wins, and a plan at risk in
+    every draw scores ``inf``."""
 
     draws: Sequence[Draw]
     criterion: str | Sequence[str]
     names: Sequence[str]
+    penalise_risk: bool = True
+
+    def __post_init__(self) -> None:
+        self._risk = np.array([d.risk for d in self.draws], dtype=bool)
+        self._bare = np.array([d.bare_risk for d in self.draws], dtype=bool)
 
     @property
     def prior(self) -> np.ndarray:
@@ -88,12 +100,22 @@ class PriorScorer:
         """(draws, p) diagonal of each draw's covariance."""
         return np.array([np.diag(d.scorer.covariance(plan)) for d in self.draws])
 
+    def risk_factor(self, plan: Sequence[int]) -> float:
+        """1 / (1 - gross risk of ``plan``): the criterion's multiplier (1 when
+        ``penalise_risk`` is off)."""
+        if not self.penalise_risk:
+            return 1.0
+        r = self.gross_risk(plan)
+        return np.inf if r >= 1.0 else 1.0 / (1.0 - r)
+
     def score(self, plan: Sequence[int]) -> float:
-        return criterion_value(self.covariance(plan), self.criterion, self.names)
+        crit = criterion_value(self.covariance(plan), self.criterion, self.names)
+        return crit * self.risk_factor(plan)
 
     def key(self, plan: Sequence[int]) -> tuple[float, float]:
         reg = criterion_value(self.covariance(plan, ridge=True), self.criterion, self.names)
-        return self.score(plan), reg
+        f = self.risk_factor(plan)
+        return self.score(plan), reg * f
 
     def keys_adding(self, plan: Sequence[int], candidates: Sequence[int]
                     ) -> list[tuple[float, float]]:
@@ -103,14 +125,15 @@ class PriorScorer:
             terms = [d.scorer.variance_terms(plan, candidates) for d in self.draws]
             if all(t is not None for t in terms):
                 v = self.draws[0].scorer._criterion_of_variances(np.mean(terms, axis=0))
-                return [(x, x) for x in v.tolist()]
+                f = [self.risk_factor([*plan, c]) for c in candidates]
+                return [(x * g, x * g) for x, g in zip(v.tolist(), f, strict=True)]
         return [self.key([*plan, c]) for c in candidates]
 
     def gross_risk(self, plan: Sequence[int]) -> float:
         """Fraction of the draws in which the bare structure or a configuration of the plan
         reorders a used mode or brings it too close to another."""
         idx = list(plan)
-        return float(np.mean([d.bare_risk or bool(d.risk[idx].any()) for d in self.draws]))
+        return float(np.mean(self._bare | self._risk[:, idx].any(axis=1)))
 
 
 @dataclass(frozen=True)
@@ -175,6 +198,30 @@ def _with_next(s) -> np.ndarray:
     return f
 
 
+def linear_variances(model: ParametricModel, configurations: Sequence[Configuration],
+                     modes: Sequence[int], std_hz: dict[tuple[str, int], float], method: str,
+                     truths: Sequence[np.ndarray]) -> np.ndarray:
+    """(len(truths), p) diagonal of the linearised posterior covariance (physical units)
+    of the plan at each truth (all parameter values), with a fixed noise std (Hz) per
+    (configuration, mode) row."""
+    return np.array([_linear_at(model, configurations, modes, std_hz, method, v)[0]
+                     for v in truths]).reshape(len(truths), model.updated.size)
+
+
+def _linear_at(model, configurations, modes, std_hz, method, values):
+    from eigenupdate.design.covariance import posterior_covariance
+    from eigenupdate.identify.weights import prior_weights
+    from eigenupdate.measure.measurement import eigenvalue_std
+    from eigenupdate.solve.jacobian import linearise
+
+    prior = prior_weights(model) if method == "bayesian" else np.zeros(model.updated.size)
+    lin = linearise(model, configurations, modes, values)
+    f = np.sqrt(np.maximum(lin.eigenvalues, 0.0)) / (2 * np.pi)
+    w = 1.0 / eigenvalue_std(f, np.array([std_hz[r] for r in lin.rows]))
+    var = np.diag(posterior_covariance(lin.normalised, w, prior, method)) * lin.scale**2
+    return var, f.reshape(len(configurations), -1)
+
+
 def predict_plan(model: ParametricModel, configurations: Sequence[Configuration],
                  modes: Sequence[int], std_hz: dict[tuple[str, int], float], method: str,
                  n_draws: int = 64, seed: int = 0, min_relative_gap: float = 0.02
@@ -183,27 +230,23 @@ def predict_plan(model: ParametricModel, configurations: Sequence[Configuration]
     noise std (Hz) per (configuration, mode) row, as a Monte Carlo of the plan draws it.
     The gross-error risk here counts draws in which two used modes of a configuration
     come within ``min_relative_gap`` (the modes between them are not solved)."""
-    from eigenupdate.design.covariance import posterior_covariance
-    from eigenupdate.identify.weights import prior_weights
-    from eigenupdate.measure.measurement import eigenvalue_std
-    from eigenupdate.solve.jacobian import linearise
-
     t0 = time.perf_counter()
     rng = np.random.default_rng(seed)
-    prior = prior_weights(model) if method == "bayesian" else np.zeros(model.updated.size)
-    var, risky, scale = [], 0, None
+    var, risky = [], 0
     for _ in range(n_draws):
-        values = draw_values(model, rng)
-        lin = linearise(model, configurations, modes, values)
-        f = np.sqrt(np.maximum(lin.eigenvalues, 0.0)) / (2 * np.pi)
-        w = 1.0 / eigenvalue_std(f, np.array([std_hz[r] for r in lin.rows]))
-        var.append(np.diag(posterior_covariance(lin.normalised, w, prior, method)))
-        scale = lin.scale
-        fc = f.reshape(len(configurations), -1)
+        v, fc = _linear_at(model, configurations, modes, std_hz, method,
+                           draw_values(model, rng))
+        var.append(v)
         risky += any(min_gap(x, range(1, x.size + 1)) < min_relative_gap for x in fc)
-    var = np.array(var)
-    mean = var.mean(axis=0)
-    std = np.sqrt(mean)
-    se = var.std(axis=0, ddof=1) / np.sqrt(n_draws) / (2 * std)
-    return PriorPrediction(std * scale, se * scale, risky / n_draws, n_draws,
-                           time.perf_counter() - t0)
+    std, se = _root_mean(np.array(var))
+    return PriorPrediction(std, se, risky / n_draws, n_draws, time.perf_counter() - t0)
+
+
+def _root_mean(var: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """sqrt of the mean of the rows of ``var`` and its standard error (delta method:
+    se(sqrt(mean)) = se(mean) / (2 sqrt(mean)))."""
+    n = var.shape[0]
+    std = np.sqrt(var.mean(axis=0))
+    se = (var.std(axis=0, ddof=1) / np.sqrt(n) / (2 * std) if n > 1
+          else np.full_like(std, np.inf))
+    return std, se

@@ -28,7 +28,8 @@ def design_text(r: DesignResult, initial: dict[str, float], title: str) -> str:
                       "no draws: prior_draws = 0 or a parameter without a prior std):"]
     labels = [p.label for p in r.plans]
     rows = [[n, initial[n], *[_pm(p.std[n], p.std_error[n]) for p in r.plans]] for n in r.names]
-    rows.append([f"criterion {crit}", None, *[p.criterion for p in r.plans]])
+    rows.append([f"criterion {crit}" + (" / (1 - gross risk)" if r.draws else ""), None,
+                 *[p.criterion for p in r.plans]])
     rows.append(["perturbed configurations", None, *[len(p.configurations) for p in r.plans]])
     if r.draws:
         rows.append(["chance of a gross error", None,
@@ -42,7 +43,9 @@ def design_text(r: DesignResult, initial: dict[str, float], title: str) -> str:
                             for n in r.names]))
         lines.append("(a gross error: a draw in which a configuration reorders a used mode or "
                      "brings it within min_relative_gap of another; 'design --validate N' "
-                     "measures it and non-convergence by Monte Carlo)")
+                     "measures it and non-convergence by Monte Carlo; the search divides the "
+                     "criterion by 1 - gross risk, the share of tests that can be used, so it "
+                     "prefers the plan that risks less)")
     rejected = [c for c in r.candidates if not c.admissible]
     if rejected:
         lines += ["", "rejected candidates:"]
@@ -65,12 +68,19 @@ def validation_text(v) -> str:
     if v.empirical_std is None:
         lines.append("too few converged trials for an empirical std")
         return "\n".join(lines)
+    ci = v.ratio_interval()
     lines.append(table(
-        ["parameter", "predicted std", "+-", "empirical std", "empirical/predicted",
-         "at prior mean", "coverage 2 std"],
+        ["parameter", "predicted std", "+-", "empirical std", "+-", "empirical/predicted",
+         "95 % interval", "linear over prior", "at prior mean", "coverage 2 std"],
         [[n, v.predicted_std[i], v.predicted_error[i], v.empirical_std[i],
-          v.empirical_std[i] / v.predicted_std[i], v.linear_std[i], v.coverage_2std[i]]
+          v.empirical_error[i], ci[i, 0], f"{ci[i, 1]:.2f}-{ci[i, 2]:.2f}",
+          v.prior_std[i], v.linear_std[i], v.coverage_2std[i]]
          for i, n in enumerate(v.names)]))
+    source = (f"the spread of {v.virtual_tests} checked virtual tests at draws of the prior "
+              f"(another seed stream; they cost as much as the trials)" if v.virtual_tests
+              else "the linearised std averaged over the prior's draws")
+    lines.append(f"(predicted std: {source}; +-: standard errors from the kurtosis of the "
+                 f"errors; the interval: the ratio +- 1.96 standard errors)")
     return "\n".join(lines)
 
 
@@ -81,12 +91,15 @@ def validation_doc(v) -> dict:
     refused = int(sum(bool(x["refused"]) for x in t))
     out = {"trials": len(t), "converged": conv, "not_converged": len(t) - conv - refused,
            "refused": refused, "predicted_gross_risk": v.predicted_gross_risk,
-           "parameters": {}}
+           "predicted_by_virtual_tests": v.virtual_tests, "parameters": {}}
     for i, n in enumerate(v.names):
         out["parameters"][n] = {
             "predicted_std": float(v.predicted_std[i]),
             "predicted_std_error": float(v.predicted_error[i]),
+            "prior_std": None if v.prior_std is None else float(v.prior_std[i]),
             "linear_std": float(v.linear_std[i]),
+            "empirical_std_error": (None if v.empirical_error is None
+                                    else float(v.empirical_error[i])),
             "empirical_std": None if v.empirical_std is None else float(v.empirical_std[i]),
             "coverage_2std": None if v.coverage_2std is None else float(v.coverage_2std[i])}
     return out

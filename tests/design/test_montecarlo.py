@@ -173,11 +173,16 @@ def test_same_results_on_a_real_scheduler_and_two_worker_processes(tmp_path, run
             p.wait(timeout=30)
 
 
-def test_automatic_choice_keeps_a_small_study_in_process(tmp_path, run_cli):
+def test_automatic_choice_keeps_a_small_study_in_process(tmp_path, run_cli, monkeypatch):
     # 10 checked trials of the beam at a given truth (no tests of the gross-error chance)
     # take about 4 s of CPU (0.44 s each, up to 9 fits with the multi-start and the
     # exchange refits): no cluster is started, and the summary says which executor was
-    # chosen and why
+    # chosen and why. The threshold is raised to 1 h: the choice follows the estimate
+    # from the first trial, which a loaded or slow machine makes several times longer
+    # (6.6 s a trial measured at load 16), and the default 30 s is not under test here
+    from eigenupdate.design import executor
+
+    monkeypatch.setattr(executor, "PARALLEL_MIN_S", 3600.0)
     code, out, err = run_cli("montecarlo", BEAM, "--trials", 10, "--seed", 11, "--truth",
                              BEAM, "--json")
     assert code == 0, err

@@ -51,7 +51,8 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
               ) -> list:
     """(pid, part, element mask, term, moduli) of every PCOMP with a ply thickness
     parameter: part "stiffness" with ``moduli`` (cm, cb, cs) per element (unit basis
-    turned by ``phi``) and the parts they make, or "mass". Clears those elements' linear derivatives."""
+    turned by ``phi``) and the parts they make, or "mass". Clears those elements' linear
+    derivatives."""
     out = []
     pids = np.array([e.pid for e in elems])
     n = len(elems)

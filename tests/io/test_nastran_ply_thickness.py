@@ -15,6 +15,7 @@ import pytest
 from bounds import assert_matrix_derivatives
 from nastran_frames import need
 from plates import square_mesh
+from quadratic_meshes import plate_fixed, plate_mesh
 
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.identify.updating import update
@@ -150,3 +151,37 @@ def test_update_recovers_ply_thicknesses_and_writes_them_back(tmp_path):
     assert back.bdf.properties[2].thicknesses[2] == INIT["b2"]
     assert abs(back.model.stiffness() - nm.model.stiffness(res.x)).max() <= (
         1e-9 * abs(back.model.stiffness()).max())
+
+
+def quadratic_plate(path, props, nx=3, a=0.4, triangles=False, theta=20.0):
+    """The plate of :func:`plate` in CQUAD8 (CTRIA6), hard simple support, THETA given."""
+    xyz, el = plate_mesh(nx, a, a, triangles)
+    lines = [f"GRID,{i + 1},,{x!r},{y!r},0." for i, (x, y, _) in enumerate(xyz)]
+    for k, e in enumerate(el):
+        pid = 1 if xyz[e[:3], 0].mean() < a / 2 else 2
+        g = [str(n + 1) for n in e]
+        head = f"{'CTRIA6' if triangles else 'CQUAD8'},{k + 1},{pid}," + ",".join(g[:6])
+        lines.append(head + (f",{theta!r}" if triangles
+                             else f"\n,{g[6]},{g[7]},,,,,{theta!r}"))
+    for i, row in enumerate(plate_fixed(xyz, a, "ss")):
+        comps = "".join(str(c + 1) for c in range(6) if row[c])
+        if comps:
+            lines.append(f"SPC1,1,{comps},{i + 1}")
+    path.write_text("BEGIN BULK\nPARAM,COUPMASS,1\n" + props + "\n".join(lines)
+                    + "\nENDDATA\n")
+    return path
+
+
+@pytest.mark.parametrize("triangles", [False, True], ids=["CQUAD8", "CTRIA6"])
+def test_quadratic_shells_match_the_hand_edited_deck_and_differences(tmp_path, triangles):
+    """Source: the edited deck read again, and central differences (tests/bounds.py); the
+    shear stabilisation's T^2 / (T^2 + alpha h^2) per element size rides on H."""
+    names = ["a1", "a3", "b2"]
+    nm = _read(quadratic_plate(tmp_path / "a.bdf", laminates(), triangles=triangles), names)
+    new = dict(INIT, a1=0.55e-3, a3=0.37e-3, b2=0.9e-3)
+    ref = _read(quadratic_plate(tmp_path / "b.bdf", laminates(new, b3=INIT["b2"]),
+                                triangles=triangles)).model
+    s = [new[n] for n in names]
+    for a, b in ((nm.model.stiffness(s), ref.stiffness()), (nm.model.mass(s), ref.mass())):
+        assert abs(a - b).max() <= 1e-12 * abs(b).max()
+    assert_matrix_derivatives(nm.model)

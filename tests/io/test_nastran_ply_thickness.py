@@ -185,3 +185,11 @@ def test_quadratic_shells_match_the_hand_edited_deck_and_differences(tmp_path, t
     for a, b in ((nm.model.stiffness(s), ref.stiffness()), (nm.model.mass(s), ref.mass())):
         assert abs(a - b).max() <= 1e-12 * abs(b).max()
     assert_matrix_derivatives(nm.model)
+
+
+def test_ply_thickness_with_its_materials_modulus_is_refused(tmp_path):
+    deck = plate(tmp_path / "a.bdf", laminates())
+    with pytest.raises(InputError, match="PCOMP 2 field T2: not a parameter together with "
+                                         "MAT1 2"):
+        read_nastran(deck, [(Parameter("b2", 0.0), CardField("PCOMP", 2, "T2")),
+                            (Parameter("E", 0.0), CardField("MAT1", 2, "E"))])

@@ -346,14 +346,18 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         out.append(mbase[s, None, None] * m if np.any(mbase[s]) else None)
         out += [None if d is None or not np.any(d[s]) else d[s, None, None] * m
                 for d in deriv_m]
+        cache: dict = {}  # a PCOMP's basis moduli: their parts, once a chunk
         for _, part, mask, _, moduli in thick:
             if not mask[s].any():
                 out.append(None)
             elif part == "mass":
                 out.append(mask[s, None, None] * m)
             elif moduli is not None:  # a PCOMP's unit basis
-                Rb, pb = elem.local_parts(xyz_e[s], *(c[s] for c in moduli[:3]), k6rot,
-                                          labels[s])
+                key = tuple(id(c) for c in moduli[:3])
+                if key not in cache:
+                    cache[key] = elem.local_parts(xyz_e[s], *(c[s] for c in moduli[:3]),
+                                                  k6rot, labels[s])
+                Rb, pb = cache[key]
                 out.append(_to_cd(shells.combine(Rb, pb, {q: mask[s].astype(float)
                                                           for q in moduli[3]}),
                                   frames, nodes[s], 6))

@@ -94,27 +94,31 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
             return FunctionTerm(None, index, laminate.PlyStackEntry(q, t0, local, kind, entry,
                                                                     c))
 
-        def moduli(part, basis, on=on):
-            # unit moduli elsewhere: a CQUAD4's condensation needs them regular
-            out_ = [np.broadcast_to(np.eye(3), (n, 3, 3)).copy(), np.zeros((n, 3, 3)),
-                    np.zeros((n, 2, 2))]
-            rot = laminate.rotate_shear if part == 2 else laminate.rotate_plane
-            out_[part][on] = rot(basis, phi[on])
-            return (*out_, PARTS[part])
-
         same = np.abs(q0 - q0[:1]).max() <= 1e-12 * np.abs(q0).max()
-        if same:  # A0 = T q: one membrane term
-            out.append((pid, "stiffness", on, term("A", (0, 0), np.ones((len(sl), 1, 1))),
-                        moduli(0, q0[0])))
-        elif quad4:
+        if not same and quad4:
             raise InputError(f"{where}: not a parameter of CQUAD4 elements whose plies' "
                              f"plane moduli differ (the condensed membrane is not linear "
                              f"in A); use CTRIA3, CQUAD8 or CTRIA6")
+        # moduli of basis i: membrane, bending and shear entry i in one local_parts call
+        # (shared arrays: the assembly computes each set once); unit membrane moduli off
+        # this PCOMP, and A0's own shape when its plies agree (CQUAD4's condensation)
+        basis = []
+        for i, e in enumerate(_SYM3):
+            cm = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
+            cb, cs = np.zeros((n, 3, 3)), np.zeros((n, 2, 2))
+            cm[on] = laminate.rotate_plane(q0[0] if same else _unit(*e, 3), phi[on])
+            cb[on] = laminate.rotate_plane(_unit(*e, 3), phi[on])
+            if i < len(_SYM2):
+                cs[on] = laminate.rotate_shear(_unit(*_SYM2[i], 2), phi[on])
+            basis.append((cm, cb, cs))
+        if same:  # A0 = T q: one membrane term
+            out.append((pid, "stiffness", on, term("A", (0, 0), np.ones((len(sl), 1, 1))),
+                        (*basis[0], PARTS[0])))
         else:
-            out += [(pid, "stiffness", on, term("A", e, q0), moduli(0, _unit(*e, 3)))
-                    for e in _SYM3 if np.any(q0[:, e[0], e[1]])]
-        out += [(pid, "stiffness", on, term("D", e, q0), moduli(1, _unit(*e, 3)))
-                for e in _SYM3 if np.any(q0[:, e[0], e[1]])]
+            out += [(pid, "stiffness", on, term("A", e, q0), (*basis[i], PARTS[0]))
+                    for i, e in enumerate(_SYM3) if np.any(q0[:, e[0], e[1]])]
+        out += [(pid, "stiffness", on, term("D", e, q0), (*basis[i], PARTS[1]))
+                for i, e in enumerate(_SYM3) if np.any(q0[:, e[0], e[1]])]
         hs = np.unique(size[on])
         if len(hs) > MAX_SIZES:
             raise InputError(f"{where}: its CTRIA3, CTRIA6, CQUAD8 have more than "
@@ -123,8 +127,8 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
         for h in hs:
             mask = on & (size == h)
             out += [(pid, "stiffness", mask,
-                     term("H", e, g0, float(shells.ALPHA * h**2)), moduli(2, _unit(*e, 2)))
-                    for e in _SYM2 if np.any(g0[:, e[0], e[1]])]
+                     term("H", e, g0, float(shells.ALPHA * h**2)), (*basis[i], PARTS[2]))
+                    for i, e in enumerate(_SYM2) if np.any(g0[:, e[0], e[1]])]
         for s in used:
             rho = sum(st["rho"][i] for i, k in enumerate(sl) if k == s)
             if rho:

@@ -193,3 +193,20 @@ def test_ply_thickness_with_its_materials_modulus_is_refused(tmp_path):
                                          "MAT1 2"):
         read_nastran(deck, [(Parameter("b2", 0.0), CardField("PCOMP", 2, "T2")),
                             (Parameter("E", 0.0), CardField("MAT1", 2, "E"))])
+
+
+def test_small_field_pcomp_is_written_back_with_the_inherited_ply(tmp_path):
+    """Source: the written deck read back (pyNastran): a small-field PCOMP becomes large
+    field, the new T3 (SYM) and T2 in place, ply 3's blank T (NASTRAN: ply 2's) written
+    with its old value."""
+    small = ("PCOMP   1               .5                                      SYM\n"
+             "        1       .5-3    0.              1       .25-3   45.\n"
+             "        1       .4-3    90.\n"
+             "PCOMP   2\n        2       1.-3    0.              2       .8-3    0.\n"
+             "        2               0.              2       1.-3    0.\n" + MATS)
+    nm = _read(plate(tmp_path / "s.bdf", small), ["a3", "b2"])
+    assert nm.model.values.tolist() == [0.4e-3, 0.8e-3]
+    write_updated_bdf(nm, tmp_path / "out.bdf", {"a3": 0.45e-3, "b2": 0.7e-3})
+    back = _read(tmp_path / "out.bdf", ["a3", "b2"])
+    assert back.model.values.tolist() == [0.45e-3, 0.7e-3]  # short decimals: exact
+    assert back.bdf.properties[2].thicknesses == [1e-3, 0.7e-3, 0.8e-3, 1e-3]

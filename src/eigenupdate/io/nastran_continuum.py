@@ -24,6 +24,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
+from eigenupdate.io.nastran_plies import ply_terms
 from eigenupdate.model import laminate, shells, solids
 from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model.assembly import assemble_many
@@ -191,7 +192,11 @@ def _pcomp(bdf, prop) -> dict:
            "mid3": 0, "tied3": False, "mass": mass,
            "nsm": in_range(prop.nsm or 0.0, f"{where}: NSM"), "plies": set(mass),
            "laminate": (np.stack([p[0] for p in plies]), np.stack([p[1] for p in plies]),
-                        t, z0, np.radians(angles))}
+                        t, z0, np.radians(angles)),
+           "stack": {"q": np.stack([p[0] for p in plies]), "g": np.stack([p[1] for p in plies]),
+                     "t": t, "theta": np.radians(angles), "rho": [p[2] for p in plies],
+                     "n_card": len(prop.thicknesses),
+                     "card_ply": [prop._adjust_ply_id(i) for i in range(len(t))]}}
     one = bdf.materials[int(mids[0])]
     if len(mass) == 1 and one.type == "MAT1":
         # one isotropic material: A, D ~ E and H ~ G, so its E is a linear parameter
@@ -262,10 +267,12 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     for i, p in enumerate(rows):
         if flat[i]:
             cm[i], cb[i], cs[i] = p["cm"], p["cb"], p["cs"]
+    phi = np.zeros(n)
     if not flat.all():
         lam = np.flatnonzero(~flat)
         angle = _material_angle(bdf, [elems[i] for i in lam], xyz_e[lam],
                                 [labels[i] for i in lam])
+        phi[lam] = angle
         for pid in sorted({elems[i].pid for i in lam}):
             sel = lam[[elems[i].pid == pid for i in lam]]
             q, g, t, z0, theta = props[pid]["laminate"]
@@ -312,7 +319,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             thick = np.array([p["mass"].get(cid, (0.0, 0.0))[1] for p in rows])
             if thick.any():
                 deriv_m[slots["RHO"]] = wtmass * thick
-    thick = _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m)
+    thick = [(*t, None) for t in _thickness_terms(elems, rows, pindex, size, wtmass,
+                                                   deriv_k, deriv_m)]
+    thick += ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, k == 4)
     base = {part: tot - sum((values[j] * d[part] for j, d in enumerate(deriv_k) if part in d),
                             np.zeros(n)) for part, tot in total.items()}
     mbase = mass - sum((values[j] * d for j, d in enumerate(deriv_m) if d is not None),
@@ -321,7 +330,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         on = np.isin([e.pid for e in elems], list({t[0] for t in thick}))
         for c in base.values():
             c[on] = 0.0
-        mbase[on] = wtmass * np.array([p["nsm"] for p in rows])[on]
+        mbase[on] = wtmass * np.array([p["nsm"] + p.get("fixed_mass", 0.0)
+                                       for p in rows])[on]
     lumped = not consistent
 
     def blocks(s: slice) -> list:
@@ -336,18 +346,28 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         out.append(mbase[s, None, None] * m if np.any(mbase[s]) else None)
         out += [None if d is None or not np.any(d[s]) else d[s, None, None] * m
                 for d in deriv_m]
-        for _, part, mask, _ in thick:
+        cache: dict = {}  # a PCOMP's basis moduli: their parts, once a chunk
+        for _, part, mask, _, moduli in thick:
             if not mask[s].any():
                 out.append(None)
             elif part == "mass":
                 out.append(mask[s, None, None] * m)
+            elif moduli is not None:  # a PCOMP's unit basis
+                key = tuple(id(c) for c in moduli[:3])
+                if key not in cache:
+                    cache[key] = elem.local_parts(xyz_e[s], *(c[s] for c in moduli[:3]),
+                                                  k6rot, labels[s])
+                Rb, pb = cache[key]
+                out.append(_to_cd(shells.combine(Rb, pb, {q: mask[s].astype(float)
+                                                          for q in moduli[3]}),
+                                  frames, nodes[s], 6))
             else:
                 out.append(_to_cd(shells.combine(R, parts, {part: mask[s].astype(float)}),
                                   frames, nodes[s], 6))
         return out
 
     mats = assemble_many(nodes, blocks, 2 + len(kj) + len(mj) + len(thick), n_nodes, 6)
-    for i, (_, part, _, term) in enumerate(thick):
+    for i, (_, part, _, term, _) in enumerate(thick):
         trip = type(k0)()
         _add(trip, mats[2 + len(kj) + len(mj) + i], 6)
         extra.append(("m" if part == "mass" else "k", trip, term))

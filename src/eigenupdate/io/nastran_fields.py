@@ -29,6 +29,8 @@ FIELDS = {
     "PBEAML": {f"DIM{k + 1}": ("_dim", k) for k in range(10)},
     # thickness: membrane ~ T, bending ~ T^3, shear ~ T, mass ~ RHO T + NSM (nonlinear)
     "PSHELL": {"T": "t"},
+    # ply k's thickness (the card's k-th ply; LAM=SYM: and its mirror): A, D, H, mass
+    "PCOMP": {f"T{k + 1}": ("_ply", k) for k in range(99)},
 }
 
 NOT_LINEAR = {
@@ -43,7 +45,7 @@ def stores(bdf) -> dict:
             "PELAS": bdf.properties, "CELAS2": bdf.elements, "CELAS4": bdf.elements,
             "CMASS4": bdf.masses, "CONM2": bdf.masses, "CONM1": bdf.masses,
             "PBUSH": bdf.properties, "PBARL": bdf.properties, "PBEAML": bdf.properties,
-            "PSHELL": bdf.properties,
+            "PSHELL": bdf.properties, "PCOMP": bdf.properties,
             "CMASS2": bdf.masses, "PMASS": bdf.properties_mass}
 
 
@@ -54,6 +56,11 @@ def get_field(card, spec) -> float:
     attr, index = spec
     if attr == "_k":
         return float(pbush_k(card)[index])
+    if attr == "_ply":
+        if index >= len(card.thicknesses):
+            raise InputError(f"PCOMP {card.pid} field T{index + 1}: the card has plies "
+                             f"1-{len(card.thicknesses)}")
+        return float(card.thicknesses[index])
     if attr == "_dim":  # PBEAML: the first station's (constant sections only)
         return float(np.atleast_2d(np.asarray(card.dim, float))[0, index])
     return float(np.asarray(getattr(card, attr))[index])
@@ -70,6 +77,8 @@ def set_field(card, spec, value: float) -> None:
                 row[spec[1]] = value
         else:
             card.dim[spec[1]] = value
+    elif spec[0] == "_ply":
+        card.thicknesses[spec[1]] = value
     elif spec[0] == "_k":
         ki = list(card.Ki) + [None] * (6 - len(card.Ki))
         ki[spec[1]] = value

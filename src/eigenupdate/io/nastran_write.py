@@ -28,6 +28,8 @@ FIELD_INDEX = {
     ("PROD", "A"): 3, ("PROD", "J"): 4,
     ("CELAS2", "K"): 2, ("CELAS4", "K"): 2, ("CMASS2", "M"): 2, ("CMASS4", "M"): 2,
     ("CONM2", "M"): 4, ("PSHELL", "T"): 3,
+    # PCOMP PID Z0 NSM SB FT TREF GE LAM, then MIDk Tk THETAk SOUTk a ply
+    **{("PCOMP", f"T{k}"): 4 * k + 6 for k in range(1, 100)},
     # PBARL/PBEAML PID MID GROUP TYPE, then DIM1... on the continuation (one station)
     **{(c, f"DIM{k}"): 8 + k for c in ("PBARL", "PBEAML") for k in range(1, 11)},
 }
@@ -145,6 +147,7 @@ def write_updated_bdf(nm: NastranModel, out: str | Path, values: dict[str, float
     initial = dict(zip(nm.model.names, nm.model.values, strict=True))
     changed: dict[int, tuple[_Card, dict[int, float]]] = {}
     found: dict[str, list[_Card]] = {}
+    inherited: list = []
     for p, f in zip(nm.model.parameters, nm.fields, strict=True):
         if p.name not in values or float(values[p.name]) == initial[p.name]:
             continue
@@ -155,6 +158,14 @@ def write_updated_bdf(nm: NastranModel, out: str | Path, values: dict[str, float
             found[f.card] = _cards(text, f.card)
         card, index = _locate(found[f.card], f)
         changed.setdefault(card.start, (card, {}))[1][index] = float(values[p.name])
+        if f.card == "PCOMP":
+            inherited.append((card, index, initial[p.name]))
+    for card, index, old in inherited:
+        # a blank T of the next ply is the previous ply's: keep the old value there
+        nxt = index + 4
+        ply = card.fields[nxt - 1:nxt + 3]
+        if len(ply) == 4 and any(ply) and not ply[1]:
+            changed[card.start][1].setdefault(nxt, old)
     replace: dict[int, list[str]] = {}
     for card, new in changed.values():
         name = text[card.start].split(",")[0][:8].strip().rstrip("*").upper()

@@ -17,6 +17,8 @@ k = 5/6 (exact for one homogeneous ply, where it is PSHELL's default TS/T).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 SHEAR_FACTOR = 5.0 / 6.0
@@ -93,3 +95,54 @@ def abd(q: np.ndarray, g: np.ndarray, thickness: np.ndarray, z0: float,
     A, B, D = (np.einsum("p,npij->nij", wk, qbar) for wk in w)
     H = SHEAR_FACTOR * np.einsum("p,npij->nij", t, gbar)
     return A, B, D, H
+
+
+@dataclass(frozen=True, eq=False)
+class PlyStackEntry:
+    """One entry of a laminate's A, D or H (in its own axes) as a function of some ply
+    thicknesses, for a :class:`~eigenupdate.model.parametric.FunctionTerm`.
+
+    The stack (bottom to top) has moduli ``q`` (p, r, r) already turned by the plies'
+    angles and thicknesses ``thickness`` (p,); ply k takes ``x[slots[k]]`` when
+    ``slots[k] >= 0`` (a LAM=SYM ply and its mirror share a slot). The mid-plane stays
+    at the stack's centre (Z0 = -T/2 moves with T). ``kind`` is "A" (sum q t), "D"
+    (sum q (z_k+1^3 - z_k^3) / 3) or "H" (k sum g t, times T^2 / (T^2 + c) when c > 0: the
+    CTRIA3, CTRIA6, CQUAD8 shear stabilisation of :func:`eigenupdate.model.shells.
+    shear_thickness` divided by T). Complex-safe (complex-step derivatives).
+
+    Examples
+    --------
+    Two plies of unit moduli: A = t1 + t2, D = (t1 + t2)^3 / 12.
+
+    >>> q = np.ones((2, 1, 1))
+    >>> a = PlyStackEntry(q, np.array([1.0, 1.0]), (0, -1), "A", (0, 0))
+    >>> d = PlyStackEntry(q, np.array([1.0, 1.0]), (0, -1), "D", (0, 0))
+    >>> float(a(np.array([2.0]))), float(d(np.array([2.0])))
+    (3.0, 2.25)
+    """
+
+    q: np.ndarray
+    thickness: np.ndarray
+    slots: tuple[int, ...]
+    kind: str
+    entry: tuple[int, int]
+    c: float = 0.0
+
+    def thicknesses(self, x: np.ndarray) -> np.ndarray:
+        t = np.asarray(self.thickness, dtype=np.result_type(x, float)).copy()
+        for k, s in enumerate(self.slots):
+            if s >= 0:
+                t[k] = x[s]
+        return t
+
+    def __call__(self, x: np.ndarray):
+        t = self.thicknesses(np.asarray(x))
+        T = t.sum()
+        i, j = self.entry
+        if self.kind == "D":
+            z = -T / 2 + np.concatenate([np.zeros(1, t.dtype), np.cumsum(t)])
+            return np.sum(np.diff(z**3) / 3 * self.q[:, i, j])
+        v = np.sum(t * self.q[:, i, j])
+        if self.kind == "H":
+            v = SHEAR_FACTOR * v * (T**2 / (T**2 + self.c) if self.c else 1.0)
+        return v

@@ -1,0 +1,137 @@
+"""PCOMP ply thicknesses as parameters (``PCOMP pid Tk``, k the card's ply).
+
+A shell's stiffness is linear in the laminate's A, D and H in element axes, and those
+are the laminate's own A0(t), D0(t), H0(t) turned by the element's material angle phi:
+A = T(phi)^T A0 T(phi) (:func:`eigenupdate.model.laminate.rotate_plane`, congruent in
+each entry of A0). So K = sum_ij A0_ij(t) K^A_ij + D0_ij(t) K^D_ij + H0_ij(t) K^H_ij with
+fixed matrices assembled from unit moduli turned per element, and coefficient functions
+of the ply thicknesses (:class:`~eigenupdate.model.laminate.PlyStackEntry`; a Z0 of
+-T/2, blank or given (pyNastran fills it in), moves with T; any other Z0 is refused as
+membrane-bending coupling). The drilling penalty follows A's in-plane shear entry, so it rides with
+the membrane basis; the CTRIA3, CTRIA6, CQUAD8 shear stabilisation T^2 / (T^2 + alpha
+h^2) is a term per element size, as for a PSHELL's T. The mass per area WTMASS (sum
+RHO_k t_k + NSM) is linear in each t_k. A CQUAD4's membrane condenses Wilson's modes
+(not linear in A), so there the plies' plane moduli must be equal (A0 = T q): else the
+parameter is refused.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from eigenupdate.errors import InputError
+from eigenupdate.model import laminate, shells
+from eigenupdate.model.parametric import FunctionTerm, Term
+
+_SYM3 = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
+_SYM2 = ((0, 0), (0, 1), (1, 1))
+MAX_SIZES = 64
+PARTS = (("membrane", "drilling"), ("bending",), ("shear",))
+
+
+def _unit(i: int, j: int, r: int) -> np.ndarray:
+    e = np.zeros((r, r))
+    e[i, j] = e[j, i] = 1.0
+    return e
+
+
+def ply_slots(pid: int, stack: dict, slots: dict) -> tuple[int, ...]:
+    """Parameter index of each ply of the stack (-1: fixed) from ``{"Tk": j}``."""
+    n_card = stack["n_card"]
+    by_card = [-1] * n_card
+    for name, j in slots.items():
+        k = int(name[1:])
+        if not 1 <= k <= n_card:
+            raise InputError(f"PCOMP {pid} field {name}: the card has plies 1-{n_card}")
+        by_card[k - 1] = j
+    return tuple(by_card[c] for c in stack["card_ply"])
+
+
+def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: bool
+              ) -> list:
+    """(pid, part, element mask, term, moduli) of every PCOMP with a ply thickness
+    parameter: part "stiffness" with ``moduli`` (cm, cb, cs) per element (unit basis
+    turned by ``phi``) and the parts they make, or "mass". Clears those elements' linear
+    derivatives."""
+    out = []
+    pids = np.array([e.pid for e in elems])
+    n = len(elems)
+    for (card, pid), slots in sorted(pindex.items()):
+        on = pids == pid
+        if card != "PCOMP" or not on.any():
+            continue
+        p = rows[int(np.flatnonzero(on)[0])]
+        st = p["stack"]
+        where = f"PCOMP {pid} field {sorted(slots)[0]}"
+        shared = sorted(m for m in p["plies"] if pindex.get(("MAT1", m)))
+        if shared:
+            raise InputError(f"{where}: not a parameter together with MAT1 {shared[0]}'s "
+                             f"fields (a material of its plies)")
+        sl = ply_slots(pid, st, slots)
+        q0 = laminate.rotate_plane(st["q"], st["theta"])  # laminate axes
+        g0 = laminate.rotate_shear(st["g"], st["theta"])
+        t0 = st["t"]
+        used = sorted({s for s in sl if s >= 0})
+        for s in used:  # B must stay 0 at other thicknesses too
+            t = np.where(np.array(sl) == s, 1.5 * t0, t0)
+            z = -t.sum() / 2 + np.concatenate([[0.0], np.cumsum(t)])
+            B = np.einsum("p,pij->ij", np.diff(z**2) / 2, q0)
+            if np.abs(B).max() > 1e-9 * np.abs(q0).max() * t.sum() ** 2:
+                raise InputError(f"{where}: not a parameter: a thickness change makes the "
+                                 f"stack unsymmetric (membrane-bending coupling B != 0); "
+                                 f"use LAM=SYM")
+        for d in deriv_k:
+            for c in d.values():
+                c[on] = 0.0
+        for j, d in enumerate(deriv_m):
+            if d is not None:
+                deriv_m[j] = np.where(on, 0.0, d)
+        # the function of x = the used parameters' values, indexed 0..
+        index = tuple(used)
+        local = tuple(used.index(s) if s >= 0 else -1 for s in sl)
+
+        def term(kind, entry, q, c=0.0, index=index, t0=t0, local=local):
+            return FunctionTerm(None, index, laminate.PlyStackEntry(q, t0, local, kind, entry,
+                                                                    c))
+
+        same = np.abs(q0 - q0[:1]).max() <= 1e-12 * np.abs(q0).max()
+        if not same and quad4:
+            raise InputError(f"{where}: not a parameter of CQUAD4 elements whose plies' "
+                             f"plane moduli differ (the condensed membrane is not linear "
+                             f"in A); use CTRIA3, CQUAD8 or CTRIA6")
+        # moduli of basis i: membrane, bending and shear entry i in one local_parts call
+        # (shared arrays: the assembly computes each set once); unit membrane moduli off
+        # this PCOMP, and A0's own shape when its plies agree (CQUAD4's condensation)
+        basis = []
+        for i, e in enumerate(_SYM3):
+            cm = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
+            cb, cs = np.zeros((n, 3, 3)), np.zeros((n, 2, 2))
+            cm[on] = laminate.rotate_plane(q0[0] if same else _unit(*e, 3), phi[on])
+            cb[on] = laminate.rotate_plane(_unit(*e, 3), phi[on])
+            if i < len(_SYM2):
+                cs[on] = laminate.rotate_shear(_unit(*_SYM2[i], 2), phi[on])
+            basis.append((cm, cb, cs))
+        if same:  # A0 = T q: one membrane term
+            out.append((pid, "stiffness", on, term("A", (0, 0), np.ones((len(sl), 1, 1))),
+                        (*basis[0], PARTS[0])))
+        else:
+            out += [(pid, "stiffness", on, term("A", e, q0), (*basis[i], PARTS[0]))
+                    for i, e in enumerate(_SYM3) if np.any(q0[:, e[0], e[1]])]
+        out += [(pid, "stiffness", on, term("D", e, q0), (*basis[i], PARTS[1]))
+                for i, e in enumerate(_SYM3) if np.any(q0[:, e[0], e[1]])]
+        hs = np.unique(size[on])
+        if len(hs) > MAX_SIZES:
+            raise InputError(f"{where}: its CTRIA3, CTRIA6, CQUAD8 have more than "
+                             f"{MAX_SIZES} different sizes (each size's shear part is a "
+                             f"term); not supported as a parameter")
+        for h in hs:
+            mask = on & (size == h)
+            out += [(pid, "stiffness", mask,
+                     term("H", e, g0, float(shells.ALPHA * h**2)), (*basis[i], PARTS[2]))
+                    for i, e in enumerate(_SYM2) if np.any(g0[:, e[0], e[1]])]
+        for s in used:
+            rho = sum(st["rho"][i] for i, k in enumerate(sl) if k == s)
+            if rho:
+                out.append((pid, "mass", on, Term(None, ((s, 1.0),), wtmass * rho), None))
+        p["fixed_mass"] = sum(st["rho"][i] * t0[i] for i, k in enumerate(sl) if k < 0)
+    return out

@@ -441,11 +441,12 @@ def _check_fields(bdf, fields: list[CardField]) -> dict:
             raise InputError(f"{f.card} {f.id} field {f.field}: not a parameter: "
                              f"{NOT_LINEAR[(f.card, f.field)]}")
         if f.card not in FIELDS:
-            have = ", ".join(f"{c} {'/'.join(v)}" for c, v in FIELDS.items())
+            have = ", ".join(f"{c} {'/'.join(_series(v))}" for c, v in FIELDS.items())
             raise InputError(f"card {f.card} has no parameter fields (supported: {have})")
         if f.field not in FIELDS[f.card]:
-            raise InputError(f"{f.card} {f.id}: field {f.field!r} is not a parameter; K and M "
-                             f"are linear in {sorted(FIELDS[f.card])} only")
+            have = ", ".join(_series(FIELDS[f.card]))
+            raise InputError(f"{f.card} {f.id}: field {f.field!r} is not a parameter; the "
+                             f"parameter fields of {f.card} are {have}")
         card = cards[f.card].get(f.id)
         if card is None or card.type != f.card:
             raise InputError(f"{f.card} {f.id} is not in the file")
@@ -526,3 +527,20 @@ def _spc_rows(bdf, where, sid: int, seen: set) -> list[int]:
                 raise InputError(f"{card.type} {sid}: GRID {n} is referenced but not defined")
             rows += [6 * where[n] + int(c) - 1 for c in str(comps) if c != "0"]
     return rows
+
+
+def _series(names) -> list[str]:
+    """Field names with numbered runs shortened: T1, T2, ..., T99 -> T1-T99.
+
+    >>> _series(["A", "I1", "I2", "DIM1", "DIM2", "DIM3"])
+    ['A', 'I1-I2', 'DIM1-DIM3']
+    """
+    out: list[list] = []  # [prefix, first, last] or [name]
+    for n in names:
+        m = re.fullmatch(r"([A-Z]+)(\d+)", n)
+        if m and out and len(out[-1]) == 3 and out[-1][0] == m[1] and out[-1][2] + 1 == int(m[2]):
+            out[-1][2] += 1
+        else:
+            out.append([m[1], int(m[2]), int(m[2])] if m else [n])
+    return [f"{o[0]}{o[1]}" + (f"-{o[0]}{o[2]}" if o[2] > o[1] else "") if len(o) == 3
+            else o[0] for o in out]

@@ -115,6 +115,8 @@ def test_one_ply_pcomp_is_the_pshell(tmp_path, triangles):
     ("PCOMP,3\n,1,1.e-3,0.,,1,1.e-3,90.\n", "T1", True, "unsymmetric"),
     # Z0 off -T/2 (refused with or without parameters)
     ("PCOMP,3,-0.8e-3,,,,,,SYM\n,1,1.e-3,0.\n", "T1", True, "coupling"),
+    # Z0 = -T/2 given on the card: NASTRAN keeps it when the ply changes (then B != 0)
+    ("PCOMP,3,-1.e-3,,,,,,SYM\n,1,1.e-3,0.\n", "T1", True, "Z0 given on the card"),
     ("PCOMP,3,,,,,,,SYM\n,1,1.e-3,0.,,1,1.e-3,90.\n", "T1", False, "CQUAD4"),
     ("PCOMP,3,,,,,,,SYM\n,1,1.e-3,0.\n", "T2", True, "plies 1-1"),
 ])

@@ -196,6 +196,8 @@ def _pcomp(bdf, prop) -> dict:
            "stack": {"q": np.stack([p[0] for p in plies]), "g": np.stack([p[1] for p in plies]),
                      "t": t, "theta": np.radians(angles), "rho": [p[2] for p in plies],
                      "n_card": len(prop.thicknesses),
+                     # Z0 on the card stays when a ply changes; blank, it is -T/2 (moves)
+                     "z0_given": "Z0" not in getattr(prop, "blank", {"Z0"}),
                      "card_ply": [prop._adjust_ply_id(i) for i in range(len(t))]}}
     one = bdf.materials[int(mids[0])]
     if len(mass) == 1 and one.type == "MAT1":

@@ -99,23 +99,29 @@ def _quiet_bdf():
     from cpylog import SimpleLogger  # pyNastran's logger; errors are ours to report
 
     bdf = BDF(log=SimpleLogger(level="critical"))
-    bdf._card_parser["MAT1"] = (_MAT1Blanks, bdf._card_parser["MAT1"][1])
+    for card, fields in _BLANKS.items():
+        bdf._card_parser[card] = (_Blanks(bdf._card_parser[card][0], fields),
+                                  bdf._card_parser[card][1])
     return bdf
 
 
-class _MAT1Blanks:
-    """pyNastran's MAT1 reader, remembering which of G and NU the card left blank (as
-    ``mat.blank``): pyNastran fills in the missing one from the other two, and which one
-    follows E when E is updated is NASTRAN's rule for the blank field, not a number."""
+# fields whose being blank changes what follows a parameter (pyNastran fills them in):
+# MAT1 G or NU (which follows E), PCOMP Z0 (blank: -T/2, moving with the plies)
+_BLANKS = {"MAT1": (("G", 3), ("NU", 4)), "PCOMP": (("Z0", 2),)}
 
-    @staticmethod
-    def add_card(card, comment=""):
-        from pyNastran.bdf.cards.materials import MAT1
 
-        mat = MAT1.add_card(card, comment=comment)
-        mat.blank = frozenset(name for name, i in (("G", 3), ("NU", 4))
-                              if card.field(i) in (None, ""))
-        return mat
+class _Blanks:
+    """pyNastran's reader of one card, remembering which of ``fields`` (name, index) the
+    card left blank, as ``obj.blank``: NASTRAN's rule for a blank field (e.g. MAT1's G
+    follows E, a given G stays) cannot be read off the numbers pyNastran fills in."""
+
+    def __init__(self, cls, fields):
+        self.cls, self.fields = cls, fields
+
+    def add_card(self, card, comment=""):
+        obj = self.cls.add_card(card, comment=comment)
+        obj.blank = frozenset(name for name, i in self.fields if card.field(i) in (None, ""))
+        return obj
 
 
 _INCLUDE = re.compile(r"^\s*INCLUDE\s*(.*)$", re.IGNORECASE)

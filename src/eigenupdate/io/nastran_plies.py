@@ -5,9 +5,9 @@ are the laminate's own A0(t), D0(t), H0(t) turned by the element's material angl
 A = T(phi)^T A0 T(phi) (:func:`eigenupdate.model.laminate.rotate_plane`, congruent in
 each entry of A0). So K = sum_ij A0_ij(t) K^A_ij + D0_ij(t) K^D_ij + H0_ij(t) K^H_ij with
 fixed matrices assembled from unit moduli turned per element, and coefficient functions
-of the ply thicknesses (:class:`~eigenupdate.model.laminate.PlyStackEntry`; a Z0 of
--T/2, blank or given (pyNastran fills it in), moves with T; any other Z0 is refused as
-membrane-bending coupling). The drilling penalty follows A's in-plane shear entry, so it rides with
+of the ply thicknesses (:class:`~eigenupdate.model.laminate.PlyStackEntry`; a blank
+Z0 is -T/2 and moves with T; a Z0 given on the card stays, which a thickness change turns
+into membrane-bending coupling: refused). The drilling penalty follows A's in-plane shear entry, so it rides with
 the membrane basis; the CTRIA3, CTRIA6, CQUAD8 shear stabilisation T^2 / (T^2 + alpha
 h^2) is a term per element size, as for a PSHELL's T. The mass per area WTMASS (sum
 RHO_k t_k + NSM) is linear in each t_k. A CQUAD4's membrane condenses Wilson's modes
@@ -67,6 +67,10 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
         if shared:
             raise InputError(f"{where}: not a parameter together with MAT1 {shared[0]}'s "
                              f"fields (a material of its plies)")
+        if st.get("z0_given"):
+            raise InputError(f"{where}: not a parameter with Z0 given on the card (NASTRAN "
+                             f"keeps it when the plies change, which makes the stack "
+                             f"unsymmetric: B != 0); leave Z0 blank (-T/2)")
         sl = ply_slots(pid, st, slots)
         q0 = laminate.rotate_plane(st["q"], st["theta"])  # laminate axes
         g0 = laminate.rotate_shear(st["g"], st["theta"])

@@ -95,3 +95,19 @@ def assert_matrix_derivatives(model, rtol: float = 1e-7) -> None:
                 assert abs(fd).max() == 0
                 continue
             assert abs(exact - fd).max() <= rtol * abs(exact).max()
+
+
+def assert_thickness_derivatives(mats, T: np.ndarray) -> None:
+    """The exact dK/dT, dM/dT of ``mats(T)`` (a dict with K, M, dK, dM) against central
+    finite differences. Truncation error is estimated from steps h and 2h (|D_h - D_2h|
+    is 3/4 of D_2h's error, four times D_h's), rounding by 4 eps ||K|| / h; the exact
+    derivative must be within."""
+    exact = mats(T)
+    for name in ("K", "M"):
+        def central(step, name=name):
+            return (mats(T + step)[name] - mats(T - step)[name]) / (2 * step)
+        step = 1e-4 * T.min()
+        d1, d2 = central(step), central(2 * step)
+        scale = np.abs(exact[name]).max()
+        bound = np.abs(d1 - d2) + 4 * EPS * scale / step
+        assert np.all(np.abs(d1 - exact["d" + name]) <= bound + 1e-300)

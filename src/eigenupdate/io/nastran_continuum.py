@@ -24,7 +24,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
-from eigenupdate.io.nastran_plies import ply_terms
+from eigenupdate.io.nastran_plies import clear_linear, ply_terms
 from eigenupdate.model import laminate, shells, solids
 from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model.assembly import assemble_many
@@ -395,12 +395,7 @@ def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m) -> lis
             continue
         p = rows[int(np.flatnonzero(on)[0])]
         t = slots["T"]
-        for d in deriv_k:
-            for c in d.values():
-                c[on] = 0.0
-        for j, d in enumerate(deriv_m):
-            if d is not None:
-                deriv_m[j] = np.where(on, 0.0, d)
+        clear_linear(deriv_k, deriv_m, on)
 
         def times(mid, value, tied=True):
             """(powers, coefficient) of a material's modulus: its E a parameter or not."""

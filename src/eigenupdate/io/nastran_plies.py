@@ -5,14 +5,14 @@ are the laminate's own A0(t), D0(t), H0(t) turned by the element's material angl
 A = T(phi)^T A0 T(phi) (:func:`eigenupdate.model.laminate.rotate_plane`, congruent in
 each entry of A0). So K = sum_ij A0_ij(t) K^A_ij + D0_ij(t) K^D_ij + H0_ij(t) K^H_ij with
 fixed matrices assembled from unit moduli turned per element, and coefficient functions
-of the ply thicknesses (:class:`~eigenupdate.model.laminate.PlyStackEntry`; a blank
-Z0 is -T/2 and moves with T; a Z0 given on the card stays, which a thickness change turns
-into membrane-bending coupling: refused). The drilling penalty follows A's in-plane shear entry, so it rides with
-the membrane basis; the CTRIA3, CTRIA6, CQUAD8 shear stabilisation T^2 / (T^2 + alpha
-h^2) is a term per element size, as for a PSHELL's T. The mass per area WTMASS (sum
-RHO_k t_k + NSM) is linear in each t_k. A CQUAD4's membrane condenses Wilson's modes
-(not linear in A), so there the plies' plane moduli must be equal (A0 = T q): else the
-parameter is refused.
+of the ply thicknesses (:class:`~eigenupdate.model.laminate.PlyStackEntry`; a blank Z0
+is -T/2 and moves with T; a Z0 given on the card stays, which a thickness change turns
+into membrane-bending coupling: refused). The drilling penalty follows A's in-plane
+shear entry, so it rides with the membrane basis; the CTRIA3, CTRIA6, CQUAD8 shear
+stabilisation T^2 / (T^2 + alpha h^2) is a term per element size, as for a PSHELL's T.
+The mass per area WTMASS (sum RHO_k t_k + NSM) is linear in each t_k. A CQUAD4's
+membrane condenses Wilson's modes (not linear in A), so there the plies' plane moduli
+must be equal (A0 = T q): else the parameter is refused.
 """
 
 from __future__ import annotations
@@ -33,6 +33,17 @@ def _unit(i: int, j: int, r: int) -> np.ndarray:
     e = np.zeros((r, r))
     e[i, j] = e[j, i] = 1.0
     return e
+
+
+def clear_linear(deriv_k, deriv_m, on: np.ndarray) -> None:
+    """Drop the linear derivatives of the elements ``on``: their parameter enters through
+    function terms instead."""
+    for d in deriv_k:
+        for c in d.values():
+            c[on] = 0.0
+    for j, d in enumerate(deriv_m):
+        if d is not None:
+            deriv_m[j] = np.where(on, 0.0, d)
 
 
 def ply_slots(pid: int, stack: dict, slots: dict) -> tuple[int, ...]:
@@ -84,12 +95,7 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
                 raise InputError(f"{where}: not a parameter: a thickness change makes the "
                                  f"stack unsymmetric (membrane-bending coupling B != 0); "
                                  f"use LAM=SYM")
-        for d in deriv_k:
-            for c in d.values():
-                c[on] = 0.0
-        for j, d in enumerate(deriv_m):
-            if d is not None:
-                deriv_m[j] = np.where(on, 0.0, d)
+        clear_linear(deriv_k, deriv_m, on)
         # the function of x = the used parameters' values, indexed 0..
         index = tuple(used)
         local = tuple(used.index(s) if s >= 0 else -1 for s in sl)

@@ -236,6 +236,7 @@ def test_report_renders_the_design_document(tmp_path, run_cli):
     assert "averaged over 64 draws of the truth from the prior" in page
 
 
+@pytest.mark.slow  # 8 trials and the 32 checked virtual tests: about 45 s
 def test_montecarlo_json_reports_both_predictions(tmp_path, run_cli):
     # montecarlo's summary puts the predictions over the prior (the spread of the checked
     # virtual tests, what the trials' spread is to match, with its error; the linearised

@@ -37,18 +37,7 @@ def plate_frequency(nx: int, a: float, h: float, edge: str, triangles: bool) -> 
     the rotation about the edge's normal fixed, the hard support) or clamped."""
     xyz, el = square_mesh(nx, a, triangles)
     K, M = plate_matrices(xyz, el, h)
-    x, y = xyz[:, 0], xyz[:, 1]
-    on_x = np.isclose(x, 0) | np.isclose(x, a)
-    on_y = np.isclose(y, 0) | np.isclose(y, a)
-    fixed = np.zeros((xyz.shape[0], 6), bool)
-    fixed[:, [0, 1, 5]] = True  # a flat plate's in-plane motion is uncoupled
-    fixed[on_x | on_y, 2] = True
-    if edge == "clamped":
-        fixed[on_x | on_y, 3:5] = True
-    else:
-        fixed[on_x, 3] = True
-        fixed[on_y, 4] = True
-    free = np.flatnonzero(~fixed.ravel())
+    free = np.flatnonzero(~plate_fixed(xyz, a, edge).ravel())
     K, M = K[free][:, free], M[free][:, free]
     # M is singular (rotations carry no mass): the largest 1/lambda of M x = (1/lambda) K x
     mu = spla.eigsh(M, 1, K, which="LA", return_eigenvectors=False)
@@ -60,3 +49,38 @@ def navier(a: float, h: float, m: int = 1, n: int = 1) -> float:
     square Kirchhoff plate."""
     D = E * h**3 / (12 * (1 - NU**2))
     return np.pi**2 * (m**2 + n**2) / a**2 * np.sqrt(D / (RHO * h))
+
+
+def plate_fixed(xyz: np.ndarray, a: float, edge: str) -> np.ndarray:
+    """(N, 6) mask of the held coordinates of an a x a plate in z = 0: in-plane motion
+    and drilling everywhere (uncoupled from bending), w on the edges, and the rotation
+    about each edge's normal ("ss": hard simple support) or both rotations ("clamped")."""
+    x, y = xyz[:, 0], xyz[:, 1]
+    on_x = np.isclose(x, 0) | np.isclose(x, a)
+    on_y = np.isclose(y, 0) | np.isclose(y, a)
+    fixed = np.zeros((xyz.shape[0], 6), bool)
+    fixed[:, [0, 1, 5]] = True
+    fixed[on_x | on_y, 2] = True
+    if edge == "clamped":
+        fixed[on_x | on_y, 3:5] = True
+    else:
+        fixed[on_x, 3] = True
+        fixed[on_y, 4] = True
+    return fixed
+
+
+def constant_strain_state(xy: np.ndarray, which: str) -> np.ndarray:
+    """Exact nodal values (n, 6) in element axes of a constant-strain state: membrane
+    (u, v linear, rz their rotation) or Kirchhoff bending (w quadratic, rx = w,y,
+    ry = -w,x: constant curvature, no transverse shear)."""
+    x, y = xy[:, 0], xy[:, 1]
+    out = np.zeros((xy.shape[0], 6))
+    if which == "membrane":
+        out[:, 0] = 1e-3 * (1.0 + 2.0 * x + 0.5 * y)
+        out[:, 1] = 1e-3 * (-0.5 + 1.0 * x + 3.0 * y)
+        out[:, 5] = 0.5 * 1e-3 * (1.0 - 0.5)
+    else:
+        out[:, 2] = 1e-3 * (0.1 + x + 2 * x**2 + 1.5 * x * y + y**2)
+        out[:, 3] = 1e-3 * (1.5 * x + 2 * y)
+        out[:, 4] = -1e-3 * (1 + 4 * x + 1.5 * y)
+    return out

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse.linalg as spla
+from plates import plate_fixed
 
 from eigenupdate.model import shells
 from eigenupdate.model import shells_quadratic as sq
@@ -53,24 +54,6 @@ def cylinder_mesh(nc: int, nl: int, radius: float, length: float, triangles: boo
     new = -np.ones(len(uv), int)
     new[keep] = np.arange(keep.size)
     return xyz[keep], new[ren[el]]
-
-
-def plate_fixed(xyz: np.ndarray, a: float, edge: str) -> np.ndarray:
-    """(N, 6) mask of the held coordinates of an a x a plate in z = 0: in-plane motion
-    and drilling everywhere (uncoupled from bending), w on the edges, and the rotation
-    about each edge's normal ("ss": hard simple support) or both rotations ("clamped")."""
-    x, y = xyz[:, 0], xyz[:, 1]
-    on_x = np.isclose(x, 0) | np.isclose(x, a)
-    on_y = np.isclose(y, 0) | np.isclose(y, a)
-    fixed = np.zeros((xyz.shape[0], 6), bool)
-    fixed[:, [0, 1, 5]] = True
-    fixed[on_x | on_y, 2] = True
-    if edge == "clamped":
-        fixed[on_x | on_y, 3:5] = True
-    else:
-        fixed[on_x, 3] = True
-        fixed[on_y, 4] = True
-    return fixed
 
 
 def plate_frequency(nx: int, a: float, h: float, edge: str, triangles: bool) -> float:

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from bounds import assert_matrix_derivatives
 from nastran_frames import need
-from plates import square_mesh
-from quadratic_meshes import plate_fixed, plate_mesh
+from plates import plate_fixed, square_mesh
+from quadratic_meshes import plate_mesh
 
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.identify.updating import update

@@ -6,40 +6,25 @@ Runs in .venv-nastran (pyNastran)."""
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import pytest
 from bounds import assert_matrix_derivatives
 from nastran_frames import need
-from quadratic_meshes import NU, RHO, E, plate_fixed, plate_frequency, plate_mesh
+from plates import plate_fixed
+from quadratic_meshes import NU, RHO, E, plate_frequency, plate_mesh
 
-from eigenupdate.errors import EigenupdateWarning, InputError
-from eigenupdate.model.parameters import Parameter
+from eigenupdate.errors import InputError
 from eigenupdate.solve.eigen import solve_elastic
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
-from eigenupdate.io.nastran import CardField, read_nastran  # noqa: E402
+from test_nastran_shell_thickness import FIELDS, INIT, _read, _spec  # noqa: E402
+
 from eigenupdate.io.nastran_write import write_updated_bdf  # noqa: E402
-
-INIT = {"t1": 0.004, "t2": 0.006, "E": E, "rho": RHO}
-FIELDS = [("t1", "PSHELL", 1, "T"), ("t2", "PSHELL", 2, "T"), ("E", "MAT1", 1, "E"),
-          ("rho", "MAT1", 1, "RHO")]
-
-
-def _read(path, specs=()):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EigenupdateWarning)
-        return read_nastran(path, specs)
-
-
-def _spec(fields=FIELDS):
-    return [(Parameter(n, 0.0), CardField(c, i, f)) for n, c, i, f in fields]
 
 
 def _spc(xyz, a) -> list[str]:
-    """SPC1 cards of :func:`quadratic_meshes.plate_fixed`'s hard simple support."""
+    """SPC1 cards of :func:`plates.plate_fixed`'s hard simple support."""
     fixed = plate_fixed(xyz, a, "ss")
     out = []
     for i, row in enumerate(fixed):

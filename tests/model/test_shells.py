@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from bounds import BACKWARD, EPS, assert_thickness_derivatives, solve_floor
-from plates import NU, RHO, E, navier, plate_frequency
+from plates import NU, RHO, E, constant_strain_state, navier, plate_frequency
 
 from eigenupdate.errors import InputError
 from eigenupdate.model import shells
@@ -66,23 +66,6 @@ def test_free_element_and_patch_have_six_rigid_body_modes(elements, seed):
             assert np.linalg.norm(K @ u) <= BACKWARD * EPS * norm * np.linalg.norm(u) * 24
 
 
-def _linear_state(xy, which):
-    """Exact nodal values (n, 6) in element axes of a constant-strain state: membrane
-    (u, v linear, rz their rotation) or Kirchhoff bending (w quadratic, rx = w,y,
-    ry = -w,x: constant curvature, no transverse shear)."""
-    x, y = xy[:, 0], xy[:, 1]
-    out = np.zeros((xy.shape[0], 6))
-    if which == "membrane":
-        out[:, 0] = 1e-3 * (1.0 + 2.0 * x + 0.5 * y)
-        out[:, 1] = 1e-3 * (-0.5 + 1.0 * x + 3.0 * y)
-        out[:, 5] = 0.5 * 1e-3 * (1.0 - 0.5)
-    else:
-        out[:, 2] = 1e-3 * (0.1 + x + 2 * x**2 + 1.5 * x * y + y**2)
-        out[:, 3] = 1e-3 * (1.5 * x + 2 * y)
-        out[:, 4] = -1e-3 * (1 + 4 * x + 1.5 * y)
-    return out
-
-
 @pytest.mark.parametrize("elements", [PATCH_QUADS, PATCH_TRIAS], ids=["quad4", "tria3"])
 @pytest.mark.parametrize("which", ["membrane", "bending"])
 def test_patch_test_reproduces_constant_strain_states(elements, which):
@@ -93,7 +76,7 @@ def test_patch_test_reproduces_constant_strain_states(elements, which):
     secant slope is its mid-edge slope), so the stabilisation of CTRIA3 does not enter."""
     xyz, Q = _patch(elements, 3)
     K = _stiffness(xyz, elements, h=0.01)
-    local = _linear_state(PATCH_XY, which)
+    local = constant_strain_state(PATCH_XY, which)
     # to global axes: translations and rotations turn with Q (element axes = patch axes)
     u = np.column_stack([local[:, :3] @ Q.T, local[:, 3:] @ Q.T]).ravel()
     inner = node_dofs(INNER[:, None], 6).ravel()

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
 from bounds import BACKWARD, EPS, assert_thickness_derivatives, solve_floor
-from plates import NU, RHO, E
+from plates import NU, RHO, E, constant_strain_state
 from quadratic_meshes import cylinder_mesh, plate_frequency, plate_mesh
 
 from eigenupdate.errors import InputError
@@ -111,22 +111,6 @@ def test_free_elements_have_six_rigid_body_modes(k, seed):
             assert np.linalg.norm(K @ u) <= BACKWARD * EPS * norm * np.linalg.norm(u) * 48
 
 
-def _state(xy, which):
-    """Membrane (u, v linear) or Kirchhoff bending (w quadratic, rx = w,y, ry = -w,x:
-    constant curvature, zero transverse shear) nodal values (n, 6) in the patch's axes."""
-    x, y = xy[:, 0], xy[:, 1]
-    out = np.zeros((xy.shape[0], 6))
-    if which == "membrane":
-        out[:, 0] = 1e-3 * (1.0 + 2.0 * x + 0.5 * y)
-        out[:, 1] = 1e-3 * (-0.5 + 1.0 * x + 3.0 * y)
-        out[:, 5] = 0.5 * 1e-3 * (1.0 - 0.5)
-    else:
-        out[:, 2] = 1e-3 * (0.1 + x + 2 * x**2 + 1.5 * x * y + y**2)
-        out[:, 3] = 1e-3 * (1.5 * x + 2 * y)
-        out[:, 4] = -1e-3 * (1 + 4 * x + 1.5 * y)
-    return out
-
-
 @pytest.mark.parametrize(("corners", "which"), [(PATCH_QUADS, "membrane"),
                                                 (PATCH_TRIAS, "membrane"),
                                                 (PATCH_TRIAS, "bending")],
@@ -142,7 +126,7 @@ def test_patch_test_reproduces_constant_strain_states(corners, which):
     Q = _rotation(3)
     xyz = np.column_stack([xy, np.zeros(len(xy))]) @ Q.T + np.array([1.0, -2.0, 0.5])
     K = _global(xyz, el, 0.01)[0].toarray()
-    local = _state(xy, which)
+    local = constant_strain_state(xy, which)
     u = np.column_stack([local[:, :3] @ Q.T, local[:, 3:] @ Q.T]).ravel()
     inner = node_dofs(np.flatnonzero(~on)[:, None], 6).ravel()
     outer = np.setdiff1d(np.arange(u.size), inner)
@@ -168,7 +152,7 @@ def test_parallelogram_quad8_patch_bends_exactly():
     Q = _rotation(5)
     xyz = np.column_stack([xy, np.zeros(len(xy))]) @ Q.T
     K = _global(xyz, el, 0.01)[0].toarray()
-    local = _state(xy, "bending")
+    local = constant_strain_state(xy, "bending")
     u = np.column_stack([local[:, :3] @ Q.T, local[:, 3:] @ Q.T]).ravel()
     inner = node_dofs(np.flatnonzero(~on)[:, None], 6).ravel()
     outer = np.setdiff1d(np.arange(u.size), inner)

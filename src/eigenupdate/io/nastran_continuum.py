@@ -85,10 +85,6 @@ def _mat1(bdf, mid, where: str):
     return mat
 
 
-def _tied(mat) -> bool:
-    """MAT1 G blank (NU given): pyNastran filled in E / (2 (1 + NU)), which follows E."""
-    return tied_shear_modulus(mat)
-
 
 def _linear_in_e(mat, slots) -> None:
     """Refuse E as a parameter of a MAT1 with NU blank and G given: NASTRAN's NU =
@@ -138,7 +134,7 @@ def _pshell(bdf, prop) -> dict:
             "G3": 0.0 if m3 is None else m3.e / (2 * (1 + m3.nu)) if rigid else m3.g,
             "E3": 1.0 if m3 is None else m3.e, "mid1": m1.mid,
             "mid2": 0 if m2 is None else m2.mid, "mid3": 0 if m3 is None else m3.mid,
-            "tied3": m3 is not None and (rigid or _tied(m3)),
+            "tied3": m3 is not None and (rigid or tied_shear_modulus(m3)),
             "mass": {m1.mid: (m1.rho or 0.0, T)},
             "nsm": in_range(prop.nsm or 0.0, f"{where}: NSM"), "laminate": None}
 
@@ -204,7 +200,7 @@ def _pcomp(bdf, prop) -> dict:
         # one isotropic material: A, D ~ E and H ~ G, so its E is a linear parameter
         # as a PSHELL's (the laminate's moduli are divided by them below)
         out.update(E1=one.e, E2=one.e, G3=one.g or 1.0, E3=one.e, mid1=one.mid, mid2=one.mid,
-                   mid3=one.mid, tied3=_tied(one))
+                   mid3=one.mid, tied3=tied_shear_modulus(one))
     return out
 
 

@@ -396,9 +396,5 @@ def _material(bdf, mid: int, where: str):
     if not (mat.e and mat.e > 0):
         raise InputError(f"MAT1 {mid}: E must be > 0 for a bar or rod, got {mat.e}")
     g = mat.g if mat.g is not None else 0.0
-    return mat, rho, g, _tied(mat)
+    return mat, rho, g, tied_shear_modulus(mat)
 
-
-def _tied(mat) -> bool:
-    """True when MAT1's G follows E (G blank, NU given: :func:`tied_shear_modulus`)."""
-    return tied_shear_modulus(mat)

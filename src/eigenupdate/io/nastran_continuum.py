@@ -236,8 +236,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     elem = quadratic if k in (6, 8) else shells
     for e, lab in zip(elems, labels, strict=True):
         if any(not g for g in e.node_ids):
+            # tied to their corners (straight, linear edges) they lock the shear
             raise InputError(f"{lab}: blank mid-side grids are not supported (give all "
-                             f"{k})")
+                             f"{k}: a straight linear edge locks this element's shear)")
     nodes = np.array([[grid(g, lab) for g in e.node_ids] for e, lab in zip(elems, labels,
                                                                           strict=True)])
     rows = []

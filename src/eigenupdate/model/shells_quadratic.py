@@ -269,19 +269,18 @@ def _point(xyz, V, k, p, q):
     return N, R, G, det, np.einsum("k,nkb->nb", N, V), np.einsum("nak,nkb->nab", G, V), J
 
 
-def _tied_shear(xyz, V, k):
+def _tied_shear(xyz, V, k, mean):
     """CQUAD8's covariant transverse shear strains (n, 5, 6k): e_rt at the four edge
-    points of :data:`_TYING` and its mean over the natural square, then e_st's (r, s
-    swapped)."""
+    points of :data:`_TYING` and its ``mean`` (n, 2, 6k: e_rt, e_st) over the natural
+    square, then e_st's (r, s swapped)."""
     out = []
     for row in (0, 1):
-        def cov(r, s, row=row):
+        rows = []
+        for r, s in _TYING:
             N, R, G, _, Vp, dV, J = _point(xyz, V, k, *((r, s) if row == 0 else (s, r)))
             # covariant = J Cartesian: a_r . beta + V . u,r with the tangent a_r
-            return (J @ _b_matrices(N, R, G, Vp, dV, V)["shear"])[:, row]
-        rows = [cov(r, s) for r, s in _TYING]
-        rows.append(sum(w * cov(r, s) for r, s, w in _gauss(3)) / 4)
-        out.append(np.stack(rows, axis=1))
+            rows.append((J @ _b_matrices(N, R, G, Vp, dV, V)["shear"])[:, row])
+        out.append(np.stack(rows + [mean[:, row]], axis=1))
     return out
 
 
@@ -324,19 +323,25 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     gd = (1e-6 * k6rot * cm[:, 2, 2]).reshape(n, 1, 1)
     moduli = {"membrane": cm, "bending": cb, "shear": cs, "drilling": gd}
     rows: dict = {name: ([], []) for name in STIFFNESS_PARTS}  # B, w D B of every point
-    tied = _tied_shear(xyz, V, k) if k == 8 else None
+    points = []
     for rule, names in RULE_PARTS[k]:
         for p, q, weight in _RULES[k][rule]:
             N, R, G, det, Vp, dV, J = _point(xyz, V, k, p, q)
-            b = _b_matrices(N, R, G, Vp, dV, V)
-            if tied is not None:  # MITC: the tied covariant strains, to element axes
+            points.append((names, p, q, weight * det, _b_matrices(N, R, G, Vp, dV, V), J))
+    if k == 8:  # MITC: the tied covariant strains, turned to the element axes
+        full = _RULES[8]["full"]  # the first points: their mean over the square (area 4)
+        mean = sum(w * (J @ b["shear"]) for (*_, b, J), (_, _, w)
+                   in zip(points[:len(full)], full, strict=True)) / 4.0
+        tied = _tied_shear(xyz, V, k, mean)
+        for names, p, q, _, b, J in points:
+            if "shear" in names:
                 cov = np.stack([np.einsum("t,ntj->nj", _lagrange(p, q), tied[0]),
                                 np.einsum("t,ntj->nj", _lagrange(q, p), tied[1])], axis=1)
                 b["shear"] = np.linalg.solve(J, cov)
-            w = (weight * det)[:, None, None]
-            for name in names:
-                rows[name][0].append(b[name])
-                rows[name][1].append((moduli[name] @ b[name]) * w)
+    for names, _, _, w, b, _ in points:
+        for name in names:
+            rows[name][0].append(b[name])
+            rows[name][1].append((moduli[name] @ b[name]) * w[:, None, None])
     # one batched product per part over all its points (as shells.py)
     out = {name: np.swapaxes(np.concatenate(bs, 1), 1, 2) @ np.concatenate(dbs, 1)
            for name, (bs, dbs) in rows.items()}

@@ -44,15 +44,17 @@ axes. It needs no factor, so the shear part stays linear in T. Measured (tests/m
 a simply supported plate's error falls as the mesh size to the fourth (+0.33, +0.021,
 +0.0013 % at 4, 8, 16 per side against Mindlin's plate, the same at a/h = 100 to
 10000); the Lyly-Stenberg factor it replaced gave the square (-0.33, -0.11, -0.027 %),
-plain 2 x 2
-shear locked (22 % high at a/h = 1e4, 8 x 8), and MITC9's six tying points (r = +-1/
-sqrt(3), s = 0, +-sqrt(3/5)) lock on this element (178 %: too many constraints for
-its nodes). CTRIA6: Dunavant's 6-point rule (degree 4), shear and membrane on the
-3-point rule, with the Lyly-Stenberg factor of CTRIA3 on its shear moduli,
-:func:`eigenupdate.model.shells.shear_thickness`, h_e half the longest edge (the node
-spacing): its error is independent of the thickness and falls as the mesh size squared
-(0.69, 0.15 % at 8, 16 per side on that plate). MITC6 (Lee & Bathe 2004) would keep the
-triangle's faster convergence; not done.
+plain 2 x 2 shear locked (22 % high at a/h = 1e4, 8 x 8), MITC9's six tying points
+(r = +-1/sqrt(3), s = 0, +-sqrt(3/5)) lock on this element (178 %: too many
+constraints for its nodes), and the centre value instead of the mean is too soft
+(-0.13 % at 16 per side, as the square). CTRIA6: Dunavant's 6-point rule (degree 4),
+shear and membrane on the 3-point rule, with the Lyly-Stenberg factor of CTRIA3 on its
+shear moduli, :func:`eigenupdate.model.shells.shear_thickness`, h_e half the longest
+edge (the node spacing): its error is independent of the thickness and falls as the
+mesh size squared (0.69, 0.15 % at 8, 16 per side on that plate). MITC6-type tying
+(rotated Raviart-Thomas of degree one, edge Gauss points and the mean) without MITC7's
+bubble locks mildly (0.19 % at 16 per side, a/h = 1e4, against 0.0025 % at a/h = 100),
+so CTRIA6 keeps the factor.
 
 Mass: translational (no rotary inertia, as :mod:`~eigenupdate.model.shells`),
 consistent ``sum w N_i N_j`` or lumped by the HRZ diagonal scaling (Hinton, Rock &

@@ -107,7 +107,7 @@ class PlyStackEntry:
     ``slots[k] >= 0`` (a LAM=SYM ply and its mirror share a slot). The mid-plane stays
     at the stack's centre (Z0 = -T/2 moves with T). ``kind`` is "A" (sum q t), "D"
     (sum q (z_k+1^3 - z_k^3) / 3) or "H" (k sum g t, times T^2 / (T^2 + c) when c > 0: the
-    CTRIA3, CTRIA6, CQUAD8 shear stabilisation of :func:`eigenupdate.model.shells.
+    CTRIA3, CTRIA6 shear stabilisation of :func:`eigenupdate.model.shells.
     shear_thickness` divided by T). Complex-safe (complex-step derivatives).
 
     Examples

@@ -22,7 +22,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from eigenupdate.design.montecarlo import MonteCarloResult  # its own imports are light
+from eigenupdate.design.montecarlo import (  # its own imports are light
+    MIN_CONVERGED,
+    MonteCarloResult,
+)
 from eigenupdate.errors import InputError
 from eigenupdate.identify.checked import checked_update
 from eigenupdate.identify.identifiability import IdentifiabilityReport, check
@@ -263,8 +266,10 @@ def design(study: Study, *, validate: int | None = None, seed: int | None = 0,
     if study.design is None:
         raise InputError("the study has no [design] table", source=str(study.path),
                          field="design")
-    if validate is not None and validate < 2:
-        raise InputError(f"must be >= 2, got {validate}", field="--validate")
+    if validate is not None and validate < MIN_CONVERGED:
+        raise InputError(f"must be >= {MIN_CONVERGED} (the statistics need at least "
+                         f"{MIN_CONVERGED} converged trials), got {validate}",
+                         field="--validate")
     res = design_plan(study.model, study.design, study.method, study.configurations[1:],
                       executor=executor)
     val = None
@@ -303,11 +308,12 @@ def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
     defaults to True unless ``scheduler`` or ``workers`` is given.
     """
     from eigenupdate.design.executor import executor_for
-    from eigenupdate.design.montecarlo import montecarlo as run
     from eigenupdate.design.montecarlo import study_setup
+    from eigenupdate.design.montecarlo import montecarlo as run
 
-    if trials < 1:
-        raise InputError(f"must be >= 1, got {trials}", field="--trials")
+    if trials < MIN_CONVERGED:  # fewer could never give statistics: refused before running
+        raise InputError(f"must be >= {MIN_CONVERGED} (the statistics need at least "
+                         f"{MIN_CONVERGED} converged trials), got {trials}", field="--trials")
     if executor is None:
         here = not (scheduler or workers) if in_process is None else in_process
         start = time.perf_counter()

@@ -91,10 +91,10 @@ def test_design_and_montecarlo_as_functions(fig2):
     assert res.counts() == (3, 0, 0)
     for t in res.trials:
         assert np.array_equal(t["truth"], truth.model.values)
-    with pytest.raises(eu.InputError, match="must be >= 1"):
-        eu.montecarlo(fig2, 0)
-    with pytest.raises(eu.InputError, match="has no std"):
+    with pytest.raises(eu.InputError, match="must be >= 3"):
         eu.montecarlo(fig2, 2)
+    with pytest.raises(eu.InputError, match="has no std"):
+        eu.montecarlo(fig2, 3)
     with pytest.raises(eu.InputError, match=r"no \[design\] table"):
         eu.design(truth)  # a study without one
 

@@ -79,10 +79,13 @@ def test_truth_file_and_noise_from_the_design_table(tmp_path, run_cli):
 
 
 def test_refusals(tmp_path, run_cli):
-    code, _, err = run_cli("montecarlo", FIG2 / "study.toml", "--trials", 2, "--in-process")
+    code, _, err = run_cli("montecarlo", FIG2 / "study.toml", "--trials", 3, "--in-process")
     assert code == 2 and "has no std" in err and len(err.strip().splitlines()) == 1
     code, _, err = run_cli("montecarlo", BEAM, "--trials", 0, "--in-process")
     assert code == 2 and "--trials" in err
+    # fewer than 3 could never give statistics: refused before running
+    code, _, err = run_cli("montecarlo", BEAM, "--trials", 2, "--in-process")
+    assert code == 2 and "--trials" in err and "at least 3" in err, err
 
 
 def test_converged_not_converged_and_refused_are_counted_apart():
@@ -127,10 +130,10 @@ def test_cli_says_why_there_are_no_statistics(tmp_path, run_cli):
     lines = (FIG2 / "measured.csv").read_text().splitlines()
     (tmp_path / "measured.csv").write_text(
         "\n".join([lines[0]] + [x for x in lines[1:] if x.startswith("base,")]) + "\n")
-    code, out, err = run_cli("montecarlo", bare, "--trials", 2, "--truth", FIG2 / "truth.toml",
+    code, out, err = run_cli("montecarlo", bare, "--trials", 3, "--truth", FIG2 / "truth.toml",
                              "--in-process")
     assert code == 2 and len(err.strip().splitlines()) == 1, err
-    assert "every one of the 2 trials was refused" in err and "Traceback" not in err
+    assert "every one of the 3 trials was refused" in err and "Traceback" not in err
 
 
 def _csv(run_cli, out, *extra):

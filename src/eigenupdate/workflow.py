@@ -308,8 +308,8 @@ def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
     defaults to True unless ``scheduler`` or ``workers`` is given.
     """
     from eigenupdate.design.executor import executor_for
-    from eigenupdate.design.montecarlo import study_setup
     from eigenupdate.design.montecarlo import montecarlo as run
+    from eigenupdate.design.montecarlo import study_setup
 
     if trials < MIN_CONVERGED:  # fewer could never give statistics: refused before running
         raise InputError(f"must be >= {MIN_CONVERGED} (the statistics need at least "

@@ -150,3 +150,6 @@ def test_clusters_the_start_made_are_resolved_at_the_fit(optimizer):
     assert np.max(np.abs(res.x / truth - 1)) < 0.01
     kinds = [n["kind"] for n in res.pairing["notes"]]
     assert "cluster resolved" in kinds and res.pairing["equations"] == 16
+    # the refit numbers on and shares the iteration limit (it restarted at 1 before)
+    numbers = [h.iteration for h in res.history]
+    assert numbers == list(range(len(numbers))) and res.nit <= 20

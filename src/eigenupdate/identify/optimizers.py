@@ -94,7 +94,7 @@ def gauss_newton(fit: Fit, point: Point, max_iterations: int, offset: int = 0
     """The paper's iteration from ``point``: Gauss-Newton steps, bounded and halved when
     needed, at most ``max_iterations``; the history numbers them from ``offset`` + 1.
     Returns (status, message, final point)."""
-    status, message = 0, f"iteration limit ({max_iterations}) reached"
+    status, message = 0, f"iteration limit ({offset + max_iterations}) reached"
     for it in range(1, max_iterations + 1):
         t = time.perf_counter()
         stop = fit.stop_test(point)
@@ -113,7 +113,8 @@ def gauss_newton(fit: Fit, point: Point, max_iterations: int, offset: int = 0
         if trial is None or not trial.obj < point.obj:
             status = 3
             message = (
-                f"iteration {it}: no step along the Gauss-Newton direction lowers the objective"
+                f"iteration {offset + it}: no step along the Gauss-Newton direction lowers "
+                f"the objective"
                 + (f" (a trial step was refused: {refused})" if refused else "")
             )
             fit.record(offset + it, point.z, point.obj, 0.0, Step.FAILED)
@@ -121,7 +122,8 @@ def gauss_newton(fit: Fit, point: Point, max_iterations: int, offset: int = 0
         point = trial
         fit.pairing.accept(point.perm, point.pending, point.lin.shapes, it)
         fit.record(offset + it, point.z, point.obj, alpha, kind)
-        fit.say(f"[{it}/{max_iterations}] iteration {it}: objective {point.obj:.6g}, "
+        fit.say(f"[{offset + it}/{offset + max_iterations}] iteration {offset + it}: "
+                f"objective {point.obj:.6g}, "
                 f"step {alpha:g} x Gauss-Newton "
                 f"({kind.value}), largest change {np.max(np.abs(alpha * dz)):.2e}, "
                 f"{time.perf_counter() - t:.1f} s (total {fit.elapsed():.1f} s)")

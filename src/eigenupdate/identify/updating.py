@@ -177,7 +177,12 @@ def update(
 def _optimise(fit: Fit, point: Point, optimizer: str) -> tuple[Point, int, str, bool]:
     """Run ``optimizer`` from ``point``: (final point, status, message, success)."""
     if optimizer == "gauss-newton":
-        status, message, point = gauss_newton(fit, point, fit.max_iterations)
+        # a refit after released clusters numbers on and shares the iteration limit
+        done = fit.iterations
+        if done >= fit.max_iterations:
+            return point, 0, f"iteration limit ({fit.max_iterations}) reached", False
+        status, message, point = gauss_newton(fit, point, fit.max_iterations - done,
+                                              offset=done)
         return point, status, message, status in CONVERGED
     status, message, point, success = trust_region(fit, point)
     return _finish_by_gauss_newton(fit, point, status, message, success)

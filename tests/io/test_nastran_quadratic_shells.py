@@ -221,3 +221,55 @@ def test_unsupported_cquad8_fields_are_refused(tmp_path, edit, message):
     path.write_text("\n".join(text) + "\n")
     with pytest.raises(InputError, match=f"CQUAD8 1: {message}"):
         _read(path)
+
+
+def _cylinder_deck(path, nc, nl, facets=False, R=1.0, L=1.0, h=0.01):
+    """A free cylinder (radius R, length L, PSHELL h, MAT1 with NU = 0) of nc x nl x 2
+    CTRIA6 with their mid-side grids on the surface; ``facets``: the same grids as four
+    CTRIA3 per triangle (shells_quadratic.FACETS)."""
+    from quadratic_meshes import cylinder_mesh
+
+    from eigenupdate.model.shells_quadratic import FACETS
+
+    xyz, el = cylinder_mesh(nc, nl, R, L, True)
+    lines = [f"GRID,{i + 1},,{x!r},{y!r},{z!r}" for i, (x, y, z) in enumerate(xyz)]
+    for k, e in enumerate(el):
+        g = [str(n + 1) for n in e]
+        if facets:
+            lines += [f"CTRIA3,{4 * k + j + 1},1," + ",".join(g[i] for i in f)
+                      for j, f in enumerate(FACETS)]
+        else:
+            lines.append(f"CTRIA6,{k + 1},1," + ",".join(g))
+    path.write_text("BEGIN BULK\nPARAM,COUPMASS,1\n"
+                    f"PSHELL,1,1,{h!r},1,,1,{5 / 6!r}\nMAT1,1,{E!r},,0.,{RHO!r}\n"
+                    + "\n".join(lines) + "\nENDDATA\n")
+    return path
+
+
+def test_curved_ctria6_are_four_flat_facets(tmp_path):
+    """A CTRIA6 too curved for the flat projection (mid-side grids on a cylinder of 12
+    elements round, 0.19 sqrt(area) off the corners' plane) reads as the four CTRIA3 on
+    its grids: the deck written with those CTRIA3 gives the same K and M (to the rounding
+    of a different summation order)."""
+    curved = _read(_cylinder_deck(tmp_path / "t6.bdf", 12, 2)).model
+    flat = _read(_cylinder_deck(tmp_path / "t3.bdf", 12, 2, facets=True)).model
+    for a, b in ((curved.stiffness(), flat.stiffness()), (curved.mass(), flat.mass())):
+        assert abs(a - b).max() <= 1e-12 * abs(b).max()
+
+
+def test_curved_ctria6_cylinder_ring_mode(tmp_path):
+    """Source: the inextensional ring (Rayleigh; Blevins table 9-2), exact for a free
+    cylinder's modes uniform along it when NU = 0, up to O((h/R)^2) = 1e-4 at R/h = 100.
+    Curved CTRIA6 (12 x 2 and 24 x 4 x 2 round and along; both refused before as
+    curved): six rigid-body modes, then the n = 2 pair; the finer mesh's error is below
+    its change from the coarser one (the facets converge at least linearly) plus 1e-4."""
+    R, h = 1.0, 0.01
+    ring = 2 * 3 / np.sqrt(5) * np.sqrt(E * h**2 / (12 * RHO * R**4))
+    got = []
+    for nc, nl in ((12, 2), (24, 4)):
+        model = _read(_cylinder_deck(tmp_path / f"c{nc}.bdf", nc, nl, R=R, h=h)).model
+        sol = solve_elastic(model.stiffness(), model.mass(), 2)
+        assert sol.n_rigid == 6
+        assert sol.eigenvalues[1] == pytest.approx(sol.eigenvalues[0], rel=1e-6)
+        got.append(np.sqrt(sol.eigenvalues[0]) / ring - 1)
+    assert abs(got[1]) <= abs(got[1] - got[0]) + 1e-4, got

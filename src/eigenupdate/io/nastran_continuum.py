@@ -57,6 +57,19 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
                                  f"or 15, CTETRA 4 or 10 (every mid-edge node or none) and "
                                  f"CPYRAM 5 or 13 are supported")
             groups.setdefault(("solid", kind), []).append(e)
+    tria6 = groups.get(("shell", 6), [])
+    if tria6 and all(all(e.node_ids) for e in tria6):  # blank grids: refused in _shells
+        labels = [f"CTRIA6 {e.eid}" for e in tria6]
+        nodes = [[grid(g, lab) for g in e.node_ids] for e, lab in zip(tria6, labels,
+                                                                       strict=True)]
+        curved = quadratic.curved_tria6(xyz[np.array(nodes)], labels)
+        if curved.any():
+            groups[("shell", 6)] = [e for e, c in zip(tria6, curved, strict=True) if not c]
+            groups.setdefault(("shell", 3), []).extend(
+                _Facet(e, f) for e, c in zip(tria6, curved, strict=True) if c
+                for f in quadratic.FACETS)
+            if not groups[("shell", 6)]:
+                del groups[("shell", 6)]
     for (family, k), elems in sorted(groups.items()):
         if family == "shell":
             _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot,
@@ -64,6 +77,19 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
         else:
             _solids(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, pindex,
                     values, k0, m0, kj, mj)
+
+
+class _Facet:
+    """One of the four flat CTRIA3 a curved CTRIA6 is modelled by
+    (:data:`eigenupdate.model.shells_quadratic.FACETS`): the CTRIA6's card (its id and
+    type name errors) on three of its grids."""
+
+    def __init__(self, e, facet: tuple[int, int, int]):
+        self.type, self.eid, self.pid = e.type, e.eid, e.pid
+        self.node_ids = [e.node_ids[i] for i in facet]
+        self.zoffset, self.tflag, self.theta_mcid = e.zoffset, e.tflag, e.theta_mcid
+        # a corner thickness differing from the property's is refused as for CTRIA6
+        self.T1, self.T2, self.T3 = e.T1, e.T2, e.T3
 
 
 def _mat1(bdf, mid, where: str):

@@ -22,9 +22,11 @@ curved element. CQUAD8 is curved: per-point frames on its true surface (NASTRAN
 defines its element axes per point too). CTRIA6 is flat: its nodes are projected on
 the plane of its corners, with rigid links from the grids so rigid motions stay
 rigid, and a mid-side node off that plane by more than :data:`MAX_OFFSET` sqrt(area)
-is refused. Measured (tests/model): the curved 6-node triangle membrane-locks (a free
-cylinder's n = 2 ring mode, R/h = 1000, 48 x 8 x 2 elements: 50 % high), the flat one
-converges as the mesh size squared (0.26 % there).
+is refused here. Measured (tests/model): the curved 6-node triangle membrane-locks (a
+free cylinder's n = 2 ring mode, R/h = 1000, 48 x 8 x 2 elements: 50 % high), the flat
+one converges as the mesh size squared (0.26 % there). A deck's curved CTRIA6 (off by
+more than :data:`FACET_OFFSET`) are read as four flat CTRIA3 on their six grids
+(:data:`FACETS`, :mod:`eigenupdate.io.nastran_continuum`).
 
 Element axes (NASTRAN's, per point): CQUAD8's x bisects, with y, the angle between the
 tangents of the lines of constant eta and xi ("double bisection"); CTRIA6's x is the
@@ -181,6 +183,21 @@ def geometry(xyz: np.ndarray, labels: list[str] | None = None
     xyz = np.asarray(xyz, float)
     if xyz.shape[1] != 6:
         return xyz, directors(xyz, labels)
+    off, z, rel = _plane_offsets(xyz, labels)
+    bad = np.flatnonzero(rel > MAX_OFFSET)
+    if bad.size:
+        raise InputError(f"{_name(labels, bad[0])}: curved (a mid-side node {rel[bad[0]]:.3g} "
+                         f"sqrt(area) off the corners' plane; at most {MAX_OFFSET}): curved "
+                         f"CTRIA6 are not supported (use CQUAD8 or more elements)")
+    flat = xyz - off[:, :, None] * z[:, None]
+    directors(flat, labels)  # the Jacobian checks
+    return flat, np.broadcast_to(z[:, None], flat.shape)
+
+
+def _plane_offsets(xyz: np.ndarray, labels: list[str] | None = None
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """CTRIA6 nodes' distances (n, 6) from their corners' plane, its unit normal (n, 3)
+    and the largest distance over sqrt(area) (n,); a zero area is an InputError."""
     c = xyz[:, :3]
     z = np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0])
     area2 = np.linalg.norm(z, axis=1)
@@ -192,15 +209,27 @@ def geometry(xyz: np.ndarray, labels: list[str] | None = None
         raise InputError(f"{_name(labels, bad[0])}: zero area (corners coincide or lie on a "
                          f"line)")
     off = np.einsum("nkj,nj->nk", xyz - c[:, :1], z)
-    rel = np.max(np.abs(off), axis=1) / np.sqrt(area2 / 2)
-    bad = np.flatnonzero(rel > MAX_OFFSET)
-    if bad.size:
-        raise InputError(f"{_name(labels, bad[0])}: curved (a mid-side node {rel[bad[0]]:.3g} "
-                         f"sqrt(area) off the corners' plane; at most {MAX_OFFSET}): curved "
-                         f"CTRIA6 are not supported (use CQUAD8 or more elements)")
-    flat = xyz - off[:, :, None] * z[:, None]
-    directors(flat, labels)  # the Jacobian checks
-    return flat, np.broadcast_to(z[:, None], flat.shape)
+    return off, z, np.max(np.abs(off), axis=1) / np.sqrt(area2 / 2)
+
+
+def curved_tria6(xyz: np.ndarray, labels: list[str] | None = None) -> np.ndarray:
+    """Which CTRIA6 (xyz (n, 6, 3)) are curved: a mid-side node more than
+    :data:`FACET_OFFSET` sqrt(area) off the corners' plane."""
+    return _plane_offsets(np.asarray(xyz, float), labels)[2] > FACET_OFFSET
+
+
+FACET_OFFSET = 1e-3
+"""A CTRIA6 whose mid-side node lies further than this times sqrt(area) off its corners'
+plane is read as four flat facets (:data:`FACETS`) rather than projected flat: on a free
+cylinder (R/h 100, ring mode n = 2, tests/io/test_nastran_quadratic_shells.py) the
+projection was +1.35 % and +0.33 % off at 24 x 4 and 48 x 8 x 2 elements where the facets
+were +0.71 % and +0.17 %; below 1e-3 the projection moves a node by less than the
+coordinates' usual rounding matters."""
+FACETS = ((0, 3, 5), (3, 1, 4), (5, 4, 2), (4, 5, 3))
+"""A curved CTRIA6 as four flat CTRIA3 on its six grids (G1 G4 G6, G4 G2 G5, G6 G5 G3,
+G5 G6 G4): each facet's G1-G2 side is parallel to the CTRIA6's (the last reversed, which
+turns no ply: a ply is the same at theta and theta + 180 degrees), so THETA keeps its
+meaning; the facets' normals point as the CTRIA6's."""
 
 
 def _offset_links(real: np.ndarray, used: np.ndarray) -> np.ndarray | None:

@@ -407,7 +407,7 @@ part T^3 / (T^2 + alpha h^2) is a term of its own."""
 def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m) -> list:
     """(pid, part, element mask, term) of every PSHELL whose T is a parameter: membrane
     and drilling E1 T, bending E2 T^3 (12I/T^3 in the moduli), shear G3 s(T) (T on a
-    CQUAD4 and CQUAD8, per size on a CTRIA3, CTRIA6), mass WTMASS RHO1 T (NSM stays fixed);
+    CQUAD8, per size on a CQUAD4, CTRIA3, CTRIA6), mass WTMASS RHO1 T (NSM stays fixed);
     a MAT1 E or RHO that is a parameter too multiplies in. Clears those elements' linear
     derivatives."""
     out = []
@@ -436,11 +436,11 @@ def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m) -> lis
             c = c if not pw else p["G3"] / p["E3"]
             for h in np.unique(size[on]):
                 mask = on & (size == h)
-                if h == 0:  # CQUAD4, CQUAD8: s(T) = T
+                if h == 0:  # CQUAD8: s(T) = T
                     out.append((pid, "shear", mask, Term(None, ((t, 1.0),) + pw, c)))
                     continue
                 if len(np.unique(size[on])) > MAX_SIZES:
-                    raise InputError(f"PSHELL {pid} field T: its CTRIA3 and CTRIA6 "
+                    raise InputError(f"PSHELL {pid} field T: its CQUAD4, CTRIA3, CTRIA6 "
                                      f"have more than {MAX_SIZES} different sizes (each "
                                      f"size's shear part is a term); not supported as a "
                                      f"parameter")

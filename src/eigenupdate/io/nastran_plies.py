@@ -8,8 +8,8 @@ fixed matrices assembled from unit moduli turned per element, and coefficient fu
 of the ply thicknesses (:class:`~eigenupdate.model.laminate.PlyStackEntry`; a blank Z0
 is -T/2 and moves with T; a Z0 given on the card stays, which a thickness change turns
 into membrane-bending coupling: refused). The drilling penalty follows A's in-plane
-shear entry, so it rides with the membrane basis; the CTRIA3, CTRIA6 shear
-stabilisation T^2 / (T^2 + alpha h^2) is a term per element size, as for a PSHELL's T.
+shear entry, so it rides with the membrane basis; the CQUAD4, CTRIA3, CTRIA6 shear
+factor T^2 / (T^2 + alpha h^2) is a term per element size, as for a PSHELL's T.
 The mass per area WTMASS (sum RHO_k t_k + NSM) is linear in each t_k. A CQUAD4's
 membrane condenses Wilson's modes (not linear in A), so there the plies' plane moduli
 must be equal (A0 = T q): else the parameter is refused.
@@ -131,7 +131,7 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
                 for i, e in enumerate(_SYM3) if np.any(q0[:, e[0], e[1]])]
         hs = np.unique(size[on])
         if len(hs) > MAX_SIZES:
-            raise InputError(f"{where}: its CTRIA3 and CTRIA6 have more than "
+            raise InputError(f"{where}: its CQUAD4, CTRIA3, CTRIA6 have more than "
                              f"{MAX_SIZES} different sizes (each size's shear part is a "
                              f"term); not supported as a parameter")
         for h in hs:

@@ -20,6 +20,10 @@ DENSE_ENTRIES = 2**24
 """Most matrix entries kept dense for one model (128 MB): beyond, the sparse terms are
 used (a 400-coordinate model with over 100 parameter terms)."""
 
+STACK_ENTRIES = 2**21
+"""Most entries of the (parameters, n, n) stacks of K_j and M_j (16 MB each), the
+derivatives' one product; beyond, they are taken term by term."""
+
 _DELTAS = 4096  # configurations' additions cached per model (a design's candidates)
 
 
@@ -41,6 +45,7 @@ class DenseModel:
             self.k_terms = [None if t is None else t.toarray() for t in model.k_terms]
             self.m_terms = [None if t is None else t.toarray() for t in model.m_terms]
         self._deltas: dict[Configuration, tuple[np.ndarray, np.ndarray]] = {}
+        self._stacks: dict[tuple[int, ...], tuple[np.ndarray, np.ndarray] | None] = {}
 
     @staticmethod
     def entries(model: ParametricModel) -> int:
@@ -92,6 +97,22 @@ class DenseModel:
                     d[j] = x if d[j] is None else d[j] + x
             out.append([d[j] for j in indices])
         return out[0], out[1]
+
+    def stacks(self, indices) -> tuple[np.ndarray, np.ndarray] | None:
+        """(terms, n, n) stacks of K_j and M_j for j in ``indices``, zero where a
+        parameter does not enter; None for a nonlinear model (they depend on the
+        values) or beyond :data:`STACK_ENTRIES`."""
+        key = tuple(int(j) for j in indices)
+        if key not in self._stacks:
+            n = self.k0.shape[0]
+            if self.nonlinear or len(key) * n * n > STACK_ENTRIES:
+                self._stacks[key] = None
+            else:
+                zero = np.zeros((n, n))
+                self._stacks[key] = tuple(
+                    np.stack([zero if terms[j] is None else terms[j] for j in key])
+                    for terms in (self.k_terms, self.m_terms))
+        return self._stacks[key]
 
     def added(self, K: np.ndarray, M: np.ndarray, configuration: Configuration,
               model: ParametricModel) -> tuple[np.ndarray, np.ndarray]:

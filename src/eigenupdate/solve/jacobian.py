@@ -32,7 +32,11 @@ from eigenupdate.solve.eigen import (
 )
 from eigenupdate.solve.perturbed import CertificateReport
 from eigenupdate.solve.restricted import RestrictedTerms
-from eigenupdate.solve.sensitivity import check_distinct, eigenvalue_derivatives
+from eigenupdate.solve.sensitivity import (
+    check_distinct,
+    eigenvalue_derivatives,
+    stacked_derivatives,
+)
 
 
 @dataclass(frozen=True)
@@ -246,6 +250,7 @@ def linearise(
     scale = np.array([model.parameters[j].scale for j in upd])  # initial values, not current
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
     fast = None if sparse else dense_model(model)
+    stacks = None if fast is None else fast.stacks(upd)
     if fast is not None:
         kt, mt = fast.derivatives(model.values if values is None else
                                   np.asarray(values, dtype=float), upd)
@@ -267,6 +272,9 @@ def linearise(
     for c, sol in zip(configurations, sols, strict=True):
         if sparse:
             check_distinct(sol, modes, f"configuration {c.name!r}")
+        elif stacks is not None:
+            blocks.append(stacked_derivatives(sol, modes, *stacks,
+                                              f"configuration {c.name!r}"))
         else:
             blocks.append(eigenvalue_derivatives(sol, modes, kt, mt,
                                                  f"configuration {c.name!r}"))

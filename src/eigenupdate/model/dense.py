@@ -16,13 +16,11 @@ import numpy as np
 from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel, _check_powers
 
-DENSE_ENTRIES = 2**24
-"""Most matrix entries kept dense for one model (128 MB): beyond, the sparse terms are
-used (a 400-coordinate model with over 100 parameter terms)."""
-
-STACK_ENTRIES = 2**21
-"""Most entries of the (parameters, n, n) stacks of K_j and M_j (16 MB each), the
-derivatives' one product; beyond, they are taken term by term."""
+DENSE_ENTRIES = 2**21
+"""Most matrix entries kept dense for one model (16 MB; a 400-coordinate model with up
+to 11 parameter terms, a 100-coordinate one with 200). Beyond, the sparse terms are
+used: a dense sum costs n^2 per term, which passes a sparse sum's fixed cost (~30 us)
+near n = 200, and the derivatives' dense products would cost more than the solve."""
 
 _DELTAS = 4096  # configurations' additions cached per model (a design's candidates)
 
@@ -101,11 +99,11 @@ class DenseModel:
     def stacks(self, indices) -> tuple[np.ndarray, np.ndarray] | None:
         """(terms, n, n) stacks of K_j and M_j for j in ``indices``, zero where a
         parameter does not enter; None for a nonlinear model (they depend on the
-        values) or beyond :data:`STACK_ENTRIES`."""
+        values); no larger than the copy itself (:data:`DENSE_ENTRIES`)."""
         key = tuple(int(j) for j in indices)
         if key not in self._stacks:
             n = self.k0.shape[0]
-            if self.nonlinear or len(key) * n * n > STACK_ENTRIES:
+            if self.nonlinear or 2 * len(key) * n * n > DENSE_ENTRIES:
                 self._stacks[key] = None
             else:
                 zero = np.zeros((n, n))

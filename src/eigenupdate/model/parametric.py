@@ -316,10 +316,17 @@ class ParametricModel:
             new = [p.with_value(values.get(p.name, p.value)) for p in self.parameters]
         else:
             new = [p.with_value(v) for p, v in zip(self.parameters, values, strict=True)]
-        return ParametricModel(
+        out = ParametricModel(
             self.k0, self.m0, tuple(new), self.k_terms, self.m_terms, self.coordinates,
             self.coordinate_table, self.k_parts, self.m_parts,
         )
+        if "_dense" in self.__dict__:  # the same fixed matrices: their dense copy holds
+            object.__setattr__(out, "_dense", self._dense)
+        return out
+
+    def __getstate__(self) -> dict:
+        # the dense copy (model/dense.py) is remade where needed, not sent to workers
+        return {k: v for k, v in self.__dict__.items() if k != "_dense"}
 
 
 def _check_powers(parameters, parts, s: np.ndarray) -> None:

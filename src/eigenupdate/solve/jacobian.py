@@ -15,6 +15,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.model.configurations import Configuration
+from eigenupdate.model.dense import DenseModel, dense_model
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve import parallel, perturbed
 from eigenupdate.solve.eigen import (
@@ -31,7 +32,11 @@ from eigenupdate.solve.eigen import (
 )
 from eigenupdate.solve.perturbed import CertificateReport
 from eigenupdate.solve.restricted import RestrictedTerms
-from eigenupdate.solve.sensitivity import check_distinct, eigenvalue_derivatives
+from eigenupdate.solve.sensitivity import (
+    check_distinct,
+    eigenvalue_derivatives,
+    stacked_derivatives,
+)
 
 
 @dataclass(frozen=True)
@@ -98,8 +103,13 @@ def solve_configurations(
     uses it to turn down a trial point whose objective already exceeds the current one
     (a step far outside the linearisation can leave many configurations to Lanczos).
     """
-    K, M = model.stiffness(values), model.mass(values)
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
+    fast = None if sparse else dense_model(model)
+    if fast is not None:
+        s = model.values if values is None else np.asarray(values, dtype=float)
+        K, M = fast.stiffness(s), fast.mass(s)
+        return [solve_dense(model, fast, K, M, c, n_modes) for c in configurations]
+    K, M = model.stiffness(values), model.mass(values)
     if not sparse:
         return [solve_one(model, K, M, c, n_modes, None, None) for c in configurations]
     def located(exc):
@@ -185,6 +195,16 @@ def solve_one(model, K, M, c: Configuration, n_modes: int, base_op, n_rigid):
                         field=f"configuration {c.name!r}") from None
 
 
+def solve_dense(model, fast: DenseModel, K: np.ndarray, M: np.ndarray, c: Configuration,
+                n_modes: int) -> EigenSolution:
+    """One configuration, dense, from the dense K and M of the bare structure."""
+    try:
+        return solve_elastic(*fast.added(K, M, c, model), n_modes, dense=True)
+    except (InputError, NumericalError) as exc:
+        raise type(exc)(f"{exc}{massless_hint(K, M, model.coordinates)}",
+                        field=f"configuration {c.name!r}") from None
+
+
 def modes_and_updated(
     model: ParametricModel, modes: Sequence[int], field: str = "measurement.modes"
 ) -> tuple[list[int], np.ndarray]:
@@ -228,10 +248,16 @@ def linearise(
     """
     modes, upd = modes_and_updated(model, modes)
     scale = np.array([model.parameters[j].scale for j in upd])  # initial values, not current
-    model = model.at(values)  # a nonlinear model's K_j, M_j at the values
-    kt = [model.k_terms[j] for j in upd]
-    mt = [model.m_terms[j] for j in upd]
     sparse = not (dense if dense is not None else model.n <= DENSE_LIMIT)
+    fast = None if sparse else dense_model(model)
+    stacks = None if fast is None else fast.stacks(upd)
+    if fast is not None:
+        kt, mt = fast.derivatives(model.values if values is None else
+                                  np.asarray(values, dtype=float), upd)
+    else:
+        model = model.at(values)  # a nonlinear model's K_j, M_j at the values
+        kt = [model.k_terms[j] for j in upd]
+        mt = [model.m_terms[j] for j in upd]
     report = CertificateReport() if sparse else None
     # the restricted parameter matrices do not depend on the solution: made meanwhile
     terms = parallel.in_background(RestrictedTerms, kt, mt) if sparse else None
@@ -246,6 +272,9 @@ def linearise(
     for c, sol in zip(configurations, sols, strict=True):
         if sparse:
             check_distinct(sol, modes, f"configuration {c.name!r}")
+        elif stacks is not None:
+            blocks.append(stacked_derivatives(sol, modes, *stacks,
+                                              f"configuration {c.name!r}"))
         else:
             blocks.append(eigenvalue_derivatives(sol, modes, kt, mt,
                                                  f"configuration {c.name!r}"))

@@ -475,10 +475,7 @@ def _spc(bdf, where) -> tuple[np.ndarray, int | None]:
     """Restrained rows: GRID PS fields and the SPC set chosen by case control (or the
     only set in the file)."""
     rows = []
-    gs = bdf.grdset
-    if gs is not None and (gs.cp or gs.cd):
-        raise InputError(f"GRDSET: CP {gs.cp} / CD {gs.cd} defaults are not supported "
-                         f"(give them on the GRID cards)")
+    gs = bdf.grdset  # its CP and CD are in the GRIDs already (nastran_deck)
     default_ps = str(gs.ps or "") if gs is not None else ""
     for n, g in bdf.nodes.items():
         for c in str(g.ps or default_ps):

@@ -1,0 +1,119 @@
+"""Decks as other NASTRANs write them (survey of published SOL 103 / SOL 3 decks, issue 20):
+a NASTRAN-95 deck in tests/data/nastran_published/ against NASTRAN-95's printed
+frequencies, GRDSET's CP/CD defaults, NASTRAN-95's APP statement and EIGR methods, and
+MATT1 without a TEMPERATURE set."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from conftest import ROOT
+from nastran_frames import need
+
+from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.solve.eigen import solve_elastic
+
+pytestmark = pytest.mark.nastran
+need("pyNastran")
+from eigenupdate.io.nastran import read_nastran  # noqa: E402
+
+DATA = ROOT / "tests" / "data" / "nastran_published"
+
+
+def _hz(path, n: int) -> np.ndarray:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EigenupdateWarning)
+        model = read_nastran(path).model
+    return solve_elastic(model.stiffness(), model.mass(), n).frequencies_hz
+
+
+def test_nastran95_flutter_deck_reproduces_nastran95():
+    """Source: NASTRAN-95's printed natural frequencies (d10021a.csv: demoout/d10021a.out of
+    nasa/NASTRAN-95 commit 65e29e9, SUN SOLARIS version, system release 1995 ed.; deck
+    inp/d10021a.inp, NASA Open Source Agreement 1.3). CBARs and CMASS2s only, so the
+    discrete model is the cards' and NASTRAN prints 7 digits (5e-7 relative): 1e-5.
+    It reads only if ``APP AERO``, GRDSET CP 1 / CD 1 / PS 126 and the aero cards are
+    taken as NASTRAN does (measured worst 1.3e-6). CORD2R 1 turns the whole model 15
+    degrees about z, which moves no frequency: CP/CD are checked by the next test."""
+    want = np.loadtxt(DATA / "d10021a.csv", delimiter=",", comments="#", skiprows=4)[:, 1]
+    got = _hz(DATA / "d10021a.inp", want.size)
+    assert np.max(np.abs(got / want - 1)) < 1e-5
+
+
+# a cantilever of 4 CBARs along the x axis of CORD2R 7, which is the basic system turned
+# 90 degrees about z (x7 = basic y): the bar lies along basic y; the SPC1 13 holds the
+# axial and z motion if CD is 7 (the bar bends in basic x-y), both bending ones if not
+FRAME = ("CORD2R,7,,0.,0.,0.,0.,0.,1.,\n,0.,1.,0.\n"
+         "CBAR,1,1,1,2,0.,0.,1.\nCBAR,2,1,2,3,0.,0.,1.\nCBAR,3,1,3,4,0.,0.,1.\n"
+         "CBAR,4,1,4,5,0.,0.,1.\nPBAR,1,1,1.e-3,2.e-7,8.e-7,5.e-7\n"
+         "MAT1,1,2.e11,,0.3,7800.\nSPC1,1,123456,1\nSPC1,1,13,2,3,4,5\n")
+
+
+def _frame_deck(tmp_path, name, grids):
+    path = tmp_path / name
+    path.write_text("BEGIN BULK\n" + grids + FRAME + "ENDDATA\n")
+    return path
+
+
+def test_grdset_cp_and_cd_are_the_defaults_of_blank_grid_fields(tmp_path):
+    """QRG GRDSET: its CP and CD are used for the GRID fields left blank, an explicit 0
+    is the basic system. Source of the numbers: the same bar with CP and CD written on
+    every GRID, read identically (the modes depend on CD: SPC1 13 holds the axes 1 and
+    3, the bar's axis and z with CD 7, both bending directions in the basic system)."""
+    given = "".join(f"GRID,{i},7,{i - 1}.,0.,0.,7\n" for i in range(1, 6))
+    defaulted = "GRDSET,,7,,,,7\n" + "".join(f"GRID,{i},,{i - 1}.,0.,0.\n"
+                                               for i in range(1, 6))
+    zero = "GRDSET,,7,,,,7\n" + "".join(f"GRID,{i},,{i - 1}.,0.,0.,0\n" for i in range(1, 6))
+    basic_cd = "".join(f"GRID,{i},7,{i - 1}.,0.,0.\n" for i in range(1, 6))
+    a = _hz(_frame_deck(tmp_path, "given.bdf", given), 4)
+    b = _hz(_frame_deck(tmp_path, "defaulted.bdf", defaulted), 4)
+    c = _hz(_frame_deck(tmp_path, "zero.bdf", zero), 4)
+    d = _hz(_frame_deck(tmp_path, "basic_cd.bdf", basic_cd), 4)
+    assert np.allclose(a, b, rtol=1e-12)
+    assert np.allclose(c, d, rtol=1e-12)
+    assert not np.allclose(a, d, rtol=1e-3)  # CD does change the modes
+
+
+BAR = ("GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,2.,0.,0.\n"
+       "CBAR,1,1,1,2,0.,1.,0.\nCBAR,2,1,2,3,0.,1.,0.\n"
+       "PBAR,1,1,1.e-3,2.e-7,8.e-7,5.e-7\nMAT1,1,2.e11,,0.3,7800.\nSPC1,1,123456,1\n")
+# E halved at any temperature, were the table used
+MATT1 = "MATT1,1,5\nTABLEM1,5,\n,-1000.,1.e11,1000.,1.e11,ENDT\n"
+
+
+def _deck(tmp_path, name, executive, case, bulk):
+    path = tmp_path / name
+    path.write_text(f"{executive}SOL 103\nCEND\n{case}BEGIN BULK\n{bulk}ENDDATA\n")
+    return path
+
+
+def test_nastran95_app_and_eigr_methods_change_nothing(tmp_path):
+    """NASTRAN-95's executive ``APP DISP`` and EIGR method DET (pyNastran knows neither)
+    are read past: the frequencies equal the plain deck's (both readings of one model)."""
+    plain = _deck(tmp_path, "plain.bdf", "", "SPC = 1\n", BAR)
+    n95 = _deck(tmp_path, "n95.bdf", "ID D01,NASTRAN\nAPP   DISP\n", "SPC = 1\nMETHOD = 1\n",
+                BAR + "EIGR,1,DET,0.,100.,2,2\n")
+    assert np.array_equal(_hz(plain, 3), _hz(n95, 3))
+
+
+def test_matt1_without_temperature_is_skipped(tmp_path):
+    """MATT1 remark 1 (QRG): temperature-dependent properties are computed only when the
+    case control selects a TEMPERATURE set; without one the MAT1 values hold (the table
+    here would halve E, so a reading that used it would be 29 % low)."""
+    plain = _deck(tmp_path, "plain.bdf", "", "SPC = 1\n", BAR)
+    tabled = _deck(tmp_path, "tabled.bdf", "", "SPC = 1\n", BAR + MATT1)
+    with pytest.warns(EigenupdateWarning, match=r"skipped .*MATT1 x1, .*TABLEM1 x1"):
+        read_nastran(tabled)
+    assert np.array_equal(_hz(plain, 3), _hz(tabled, 3))
+
+
+@pytest.mark.parametrize("command", ["TEMPERATURE(MATERIAL) = 3", "TEMP = 3",
+                                     "  temperature(initial) = 3"])
+def test_matt1_with_a_temperature_set_is_refused(tmp_path, command):
+    deck = _deck(tmp_path, "hot.bdf", "", f"SPC = 1\n{command}\n",
+                 BAR + MATT1 + "TEMPD,3,300.\n")
+    with pytest.raises(InputError, match=r"not supported: MATT1 x1 \(the case control "
+                                         r"selects a TEMPERATURE set\)"):
+        read_nastran(deck)

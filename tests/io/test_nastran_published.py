@@ -1,7 +1,7 @@
 """Decks as other NASTRANs write them (survey of published SOL 103 / SOL 3 decks, issue 20):
-a NASTRAN-95 deck in tests/data/nastran_published/ against NASTRAN-95's printed
-frequencies, GRDSET's CP/CD defaults, NASTRAN-95's APP statement and EIGR methods, and
-MATT1 without a TEMPERATURE set."""
+decks of tests/data/nastran_published/ against the frequencies their NASTRAN printed (an
+MPC on a scalar point, NASTRAN-95's APP statement and GRDSET), GRDSET's CP/CD defaults,
+NASTRAN-95's EIGR methods, and MATT1 without a TEMPERATURE set."""
 
 from __future__ import annotations
 
@@ -40,6 +40,19 @@ def test_nastran95_flutter_deck_reproduces_nastran95():
     want = np.loadtxt(DATA / "d10021a.csv", delimiter=",", comments="#", skiprows=4)[:, 1]
     got = _hz(DATA / "d10021a.inp", want.size)
     assert np.max(np.abs(got / want - 1)) < 1e-5
+
+
+def test_mpc_on_a_scalar_point_reproduces_msc():
+    """Source: MSC.NASTRAN 6/17/05's printed frequencies (actuator_tf_modeling.csv, from
+    pyNastran's models/transfer_function, BSD-3-Clause) and the closed form: masses 1 and
+    2 kg, a 1 N/m spring to ground and 1.5 N/m between them give omega^2 = 1/4 and 3
+    (rad/s)^2. The MPC defines scalar point 1001 as x3 - x2 (component blank); the TFs
+    act on the dynamic response only. Springs and masses: 1e-5 (7 printed digits)."""
+    want = np.loadtxt(DATA / "actuator_tf_modeling.csv", delimiter=",", comments="#",
+                      skiprows=4)[:, 1]
+    got = _hz(DATA / "actuator_tf_modeling.bdf", 2)
+    assert np.max(np.abs(got / want - 1)) < 1e-5
+    assert np.allclose(got, np.sqrt([0.25, 3.0]) / (2 * np.pi), rtol=1e-10)
 
 
 # a cantilever of 4 CBARs along the x axis of CORD2R 7, which is the basic system turned

@@ -258,7 +258,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     mt = [t.matrix(ndof) for t in mj]
     xt = [(kind, t.matrix(ndof), term) for kind, t, term in extra]
     # rigid elements and MPCs: u = T u_i, every matrix reduced to the independent rows
-    eqs = constraint_equations(bdf, grid, xyz, frames)
+    eqs = constraint_equations(bdf, grid, point, xyz, frames)
     labels = np.array(["" for _ in range(ndof)], dtype=object)
     rows_ind = np.arange(ndof)
     if eqs:

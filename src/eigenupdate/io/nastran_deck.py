@@ -230,6 +230,7 @@ def load_deck(path: str | Path) -> Deck:
         else False
     # a comment keeps the line numbers
     lines = ["$" + x if i < cend and _APPROACH.match(x) else x for i, x in enumerate(lines)]
+    lines, origin = _one_per_card(lines, origin)
     bdf = _quiet_bdf()
     bdf.disable_cards(SKIPPED)
     sink = io.StringIO()
@@ -246,10 +247,51 @@ def load_deck(path: str | Path) -> Deck:
         raise InputError(f"pyNastran cannot read the deck: {type(exc).__name__}: {first}",
                          source=str(path)) from None
     _grdset_defaults(bdf)
+    _implicit_spoints(bdf)
     deck = Deck(path, bdf, _card_starts(lines, origin), text=text, bulk=first,
                 temperature=temperature)
     _sort_cards(deck)
     return deck
+
+
+# NASTRAN-95's scalar elements that may define two elements on one card (User's Manual,
+# CELAS3 remark 3: "one or two scalar springs may be defined on a single card")
+_TWO_PER_CARD = ("CELAS3", "CELAS4", "CMASS3", "CMASS4", "CDAMP3", "CDAMP4")
+
+
+def _one_per_card(lines: list[str], origin: list) -> tuple[list[str], list]:
+    """A small-field or free-field card of _TWO_PER_CARD with fields 6-9 given, as two
+    cards (pyNastran reads one), both at the original line."""
+    out, where = [], []
+    for text, at in zip(lines, origin, strict=True):
+        name = text[:8].split(",")[0].strip().upper()
+        if name in _TWO_PER_CARD:
+            fields = ([x.strip() for x in text.split(",")] if "," in text[:10]
+                      else [text[i:i + 8].strip() for i in range(0, 72, 8)])
+            if any(fields[5:9]):
+                out += [",".join(fields[:5]), ",".join([name, *fields[5:9]])]
+                where += [at, at]
+                continue
+        out.append(text)
+        where.append(at)
+    return out, where
+
+
+def _implicit_spoints(bdf) -> None:
+    """Scalar points named only by scalar elements (QRG SPOINT: a scalar point on the
+    connection entry of a scalar element need not be on an SPOINT entry): CELAS3/4 and
+    CMASS3/4 connect scalar points only, CELAS1/2 and CMASS1/2 where a component is 0
+    or blank."""
+    named = set()
+    for e in [*bdf.elements.values(), *bdf.masses.values()]:
+        if e.type in ("CELAS3", "CELAS4", "CMASS3", "CMASS4"):
+            named.update(n for n in e.nodes if n)
+        elif e.type in ("CELAS1", "CELAS2", "CMASS1", "CMASS2"):
+            named.update(n for n, c in zip(e.nodes, (e.c1, e.c2), strict=True)
+                         if n and not c)
+    new = sorted(named - set(bdf.nodes) - set(bdf.spoints))
+    if new:
+        bdf.add_spoint(new)
 
 
 def _grdset_defaults(bdf) -> None:

@@ -156,3 +156,12 @@ def test_matt1_with_a_temperature_set_is_refused(tmp_path, command):
     with pytest.raises(InputError, match=r"not supported: MATT1 x1 \(the case control "
                                          r"selects a TEMPERATURE set\)"):
         read_nastran(deck)
+
+
+def test_scalar_element_on_an_extra_point_is_refused(tmp_path):
+    """An extra point (EPOINT) is not a scalar point: a spring on it is not made one."""
+    deck = tmp_path / "extra.bdf"
+    deck.write_text("BEGIN BULK\nGRID,1,,0.,0.,0.\nEPOINT,7\nCELAS2,1,3.,1,1,7\n"
+                    "CELAS4,2,3.,7,\nCMASS2,3,1.,1,1\nENDDATA\n")
+    with pytest.raises(InputError, match=r"CELAS2 1: GRID 7 is referenced but not defined"):
+        read_nastran(deck)

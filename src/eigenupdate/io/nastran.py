@@ -237,9 +237,10 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
                 raise InputError(f"{card}: component {c} of scalar point {n} must be 0 or "
                                  f"blank")
             return 6 * where[n]
+        row = 6 * grid(n, card)  # first: an id that is no point at all is named so
         if c not in range(1, 7):
             raise InputError(f"{card}: component {c} must be 1-6 on a GRID")
-        return 6 * grid(n, card) + int(c) - 1
+        return row + int(c) - 1
 
     extra: list = []  # nonlinear parts: ("k" or "m", triplets, FunctionTerm)
     assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,

@@ -232,7 +232,7 @@ def load_deck(path: str | Path) -> Deck:
     lines = ["$" + x if i < cend and _APPROACH.match(x) else x for i, x in enumerate(lines)]
     lines, origin = _one_per_card(lines, origin)
     bdf = _quiet_bdf()
-    bdf.disable_cards(SKIPPED)
+    bdf.disable_cards(SKIPPED - {"EPOINT"})  # extra points: kept apart from scalar points
     sink = io.StringIO()
     try:
         with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
@@ -289,7 +289,7 @@ def _implicit_spoints(bdf) -> None:
         elif e.type in ("CELAS1", "CELAS2", "CMASS1", "CMASS2"):
             named.update(n for n, c in zip(e.nodes, (e.c1, e.c2), strict=True)
                          if n and not c)
-    new = sorted(named - set(bdf.nodes) - set(bdf.spoints))
+    new = sorted(named - set(bdf.nodes) - set(bdf.spoints) - set(bdf.epoints))
     if new:
         bdf.add_spoint(new)
 

@@ -322,12 +322,23 @@ def _blamed_card(text: str, lines: list[str], origin, main: str) -> str:
     return f"{'line ' + line if name == main else hit}: {card} {cid}"
 
 
+def _unused_properties(bdf) -> set[str]:
+    """Property card types no element names: they cannot change K or M."""
+    used = {getattr(e, "pid", None) for e in [*bdf.elements.values(), *bdf.masses.values()]}
+    kinds: dict = {}
+    for pid, p in [*bdf.properties.items(), *bdf.properties_mass.items()]:
+        kinds.setdefault(p.type, set()).add(pid)
+    return {k for k, pids in kinds.items() if not pids & used}
+
+
 def _sort_cards(deck: Deck) -> None:
     bdf = deck.bdf
     counts = dict(bdf.card_count)  # rejected cards are counted here too
     unused = SKIPPED if deck.temperature else SKIPPED | TEMPERATURE_TABLES
     skipped = {k: v for k, v in counts.items() if k in unused}
     refused = {k: v for k, v in counts.items() if k not in unused and k not in SUPPORTED}
+    unused_props = [f"{k} x{refused.pop(k)} (no element uses it)"
+                    for k in sorted(refused.keys() & _unused_properties(bdf))]
     params = []
     for name in sorted(bdf.params):
         if name not in PARAMS_READ:
@@ -338,5 +349,5 @@ def _sort_cards(deck: Deck) -> None:
             listing += " (the case control selects a TEMPERATURE set)"
         raise InputError(f"cards that would change K or M and are not supported: {listing}",
                          source=str(deck.path))
-    parts = [f"{k} x{v}" for k, v in sorted(skipped.items())] + params
+    parts = [f"{k} x{v}" for k, v in sorted(skipped.items())] + unused_props + params
     deck.skipped = ", ".join(parts)

@@ -237,9 +237,10 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
                 raise InputError(f"{card}: component {c} of scalar point {n} must be 0 or "
                                  f"blank")
             return 6 * where[n]
+        row = 6 * grid(n, card)  # first: an id that is no point at all is named so
         if c not in range(1, 7):
             raise InputError(f"{card}: component {c} must be 1-6 on a GRID")
-        return 6 * grid(n, card) + int(c) - 1
+        return row + int(c) - 1
 
     extra: list = []  # nonlinear parts: ("k" or "m", triplets, FunctionTerm)
     assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
@@ -258,7 +259,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     mt = [t.matrix(ndof) for t in mj]
     xt = [(kind, t.matrix(ndof), term) for kind, t, term in extra]
     # rigid elements and MPCs: u = T u_i, every matrix reduced to the independent rows
-    eqs = constraint_equations(bdf, grid, xyz, frames)
+    eqs = constraint_equations(bdf, grid, point, xyz, frames)
     labels = np.array(["" for _ in range(ndof)], dtype=object)
     rows_ind = np.arange(ndof)
     if eqs:
@@ -475,10 +476,7 @@ def _spc(bdf, where) -> tuple[np.ndarray, int | None]:
     """Restrained rows: GRID PS fields and the SPC set chosen by case control (or the
     only set in the file)."""
     rows = []
-    gs = bdf.grdset
-    if gs is not None and (gs.cp or gs.cd):
-        raise InputError(f"GRDSET: CP {gs.cp} / CD {gs.cd} defaults are not supported "
-                         f"(give them on the GRID cards)")
+    gs = bdf.grdset  # its CP and CD are in the GRIDs already (nastran_deck)
     default_ps = str(gs.ps or "") if gs is not None else ""
     for n, g in bdf.nodes.items():
         for c in str(g.ps or default_ps):

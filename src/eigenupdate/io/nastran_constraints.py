@@ -30,9 +30,10 @@ def _ints(fields: list[str], label: str) -> list[int]:
                          f"(no THRU), got {' '.join(fields)}") from None
 
 
-def constraint_equations(bdf, grid, xyz, frames) -> list:
+def constraint_equations(bdf, grid, point, xyz, frames) -> list:
     """(dependent row, [(row, coefficient)], card label) of every rigid element and the
-    MPC set case control selects."""
+    MPC set case control selects; ``point(id, label, component)`` is the row of a GRID's
+    component or of a scalar point (component 0 or blank), which an MPC may name."""
     eqs = []
 
     def rigid(label, indep, dep):
@@ -109,8 +110,8 @@ def constraint_equations(bdf, grid, xyz, frames) -> list:
         (n0, *nodes), (c0, *cs), (a0, *coefs) = card.nodes, card.components, card.coefficients
         if not a0:
             raise InputError(f"{label}: the dependent term's coefficient is zero")
-        dep = 6 * grid(n0, label) + int(c0) - 1
-        eqs.append((dep, [(6 * grid(n, label) + int(c) - 1, -float(a) / a0)
+        dep = point(n0, label, int(c0 or 0))
+        eqs.append((dep, [(point(n, label, int(c or 0)), -float(a) / a0)
                           for n, c, a in zip(nodes, cs, coefs, strict=True)], label))
     return eqs
 

@@ -11,6 +11,11 @@ each card starts (``file:line``) for the messages, and sorts the cards into
   output, optimisation, aero, USET, DTI, MDLPRM, ...): listed in one note with counts;
 * refused: everything else (a card that may change K or M): every such card with its
   count in one error.
+
+pyNastran never parses a skipped card (it only counts it), so a skipped card that only
+another NASTRAN writes (NASTRAN-95's ``EIGR`` with method DET or FEER) cannot stop the
+reading; NASTRAN-95's executive-control ``APP`` statement (the approach: DISP, AERO),
+which pyNastran does not know, is dropped as well.
 """
 
 from __future__ import annotations
@@ -72,6 +77,11 @@ SKIPPED = frozenset({
 # normal modes, and are interpreted; the others (shell-only SNORM, nonlinear LGDISP, output
 # and damping PARAMs) are skipped and listed
 PARAMS_READ = frozenset({"WTMASS", "COUPMASS", "AUTOSPC", "K6ROT"})
+# temperature-dependent tables of supported materials: used only when the case control
+# selects a TEMPERATURE set (MATT1 remark 1), otherwise the MAT1/MAT8 values hold
+TEMPERATURE_TABLES = frozenset({"MATT1", "MATT8"})
+_TEMPERATURE = re.compile(r"^\s*TEMP", re.IGNORECASE)
+_APPROACH = re.compile(r"^\s*APP\b", re.IGNORECASE)
 
 
 @dataclass
@@ -82,6 +92,7 @@ class Deck:
     bdf: Any
     lines: dict = field(default_factory=dict)  # (card, id) -> "file:line"
     skipped: str = ""  # the note: "FORCE x2, MDLPRM x1, PARAM POST"
+    temperature: bool = False  # the case control selects a TEMPERATURE set
     text: list = field(default_factory=list)  # every line, INCLUDEs expanded
     bulk: int = 0  # index in ``text`` of the first line given to pyNastran
 
@@ -106,8 +117,9 @@ def _quiet_bdf():
 
 
 # fields whose being blank changes what follows a parameter (pyNastran fills them in):
-# MAT1 G or NU (which follows E), PCOMP Z0 (blank: -T/2, moving with the plies)
-_BLANKS = {"MAT1": (("G", 3), ("NU", 4)), "PCOMP": (("Z0", 2),)}
+# MAT1 G or NU (which follows E), PCOMP Z0 (blank: -T/2, moving with the plies), GRID CP
+# and CD (blank: GRDSET's, an explicit 0 is the basic system)
+_BLANKS = {"MAT1": (("G", 3), ("NU", 4)), "PCOMP": (("Z0", 2),), "GRID": (("CP", 2), ("CD", 6))}
 
 
 class _Blanks:
@@ -210,7 +222,17 @@ def load_deck(path: str | Path) -> Deck:
     if not has_cend and begin is not None:  # bulk data only, after BEGIN BULK
         first = begin + 1
         lines, origin = lines[first:], origin[first:]
+    cend = next((i for i, x in enumerate(lines) if x.upper().strip().startswith("CEND")), -1)
+    bulk = next((i for i, x in enumerate(lines) if x.upper().startswith(("BEGIN BULK",
+                                                                         "BEGIN,BULK"))),
+                len(lines))
+    temperature = any(_TEMPERATURE.match(x) for x in lines[cend + 1:bulk]) if cend >= 0 \
+        else False
+    # a comment keeps the line numbers
+    lines = ["$" + x if i < cend and _APPROACH.match(x) else x for i, x in enumerate(lines)]
+    lines, origin = _one_per_card(lines, origin)
     bdf = _quiet_bdf()
+    bdf.disable_cards(SKIPPED - {"EPOINT"})  # extra points: kept apart from scalar points
     sink = io.StringIO()
     try:
         with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
@@ -224,9 +246,66 @@ def load_deck(path: str | Path) -> Deck:
             raise InputError(f"{blamed}: {first}", source=str(path)) from None
         raise InputError(f"pyNastran cannot read the deck: {type(exc).__name__}: {first}",
                          source=str(path)) from None
-    deck = Deck(path, bdf, _card_starts(lines, origin), text=text, bulk=first)
+    _grdset_defaults(bdf)
+    _implicit_spoints(bdf)
+    deck = Deck(path, bdf, _card_starts(lines, origin), text=text, bulk=first,
+                temperature=temperature)
     _sort_cards(deck)
     return deck
+
+
+# NASTRAN-95's scalar elements that may define two elements on one card (User's Manual,
+# CELAS3 remark 3: "one or two scalar springs may be defined on a single card")
+_TWO_PER_CARD = ("CELAS3", "CELAS4", "CMASS3", "CMASS4", "CDAMP3", "CDAMP4")
+
+
+def _one_per_card(lines: list[str], origin: list) -> tuple[list[str], list]:
+    """A small-field or free-field card of _TWO_PER_CARD with fields 6-9 given, as two
+    cards (pyNastran reads one), both at the original line."""
+    out, where = [], []
+    for text, at in zip(lines, origin, strict=True):
+        name = text[:8].split(",")[0].strip().upper()
+        if name in _TWO_PER_CARD:
+            fields = ([x.strip() for x in text.split(",")] if "," in text[:10]
+                      else [text[i:i + 8].strip() for i in range(0, 72, 8)])
+            if any(fields[5:9]):
+                out += [",".join(fields[:5]), ",".join([name, *fields[5:9]])]
+                where += [at, at]
+                continue
+        out.append(text)
+        where.append(at)
+    return out, where
+
+
+def _implicit_spoints(bdf) -> None:
+    """Scalar points named only by scalar elements (QRG SPOINT: a scalar point on the
+    connection entry of a scalar element need not be on an SPOINT entry): CELAS3/4 and
+    CMASS3/4 connect scalar points only, CELAS1/2 and CMASS1/2 where a component is 0
+    or blank."""
+    named = set()
+    for e in [*bdf.elements.values(), *bdf.masses.values()]:
+        if e.type in ("CELAS3", "CELAS4", "CMASS3", "CMASS4"):
+            named.update(n for n in e.nodes if n)
+        elif e.type in ("CELAS1", "CELAS2", "CMASS1", "CMASS2"):
+            named.update(n for n, c in zip(e.nodes, (e.c1, e.c2), strict=True)
+                         if n and not c)
+    new = sorted(named - set(bdf.nodes) - set(bdf.spoints) - set(bdf.epoints))
+    if new:
+        bdf.add_spoint(new)
+
+
+def _grdset_defaults(bdf) -> None:
+    """GRDSET's CP and CD into every GRID that left the field blank (QRG GRDSET: its
+    fields are the defaults of blank GRID fields; PS is merged where the SPCs are read)."""
+    gs = bdf.grdset
+    if gs is None:
+        return
+    for g in bdf.nodes.values():
+        blank = getattr(g, "blank", frozenset())
+        if gs.cp and "CP" in blank:
+            g.cp = gs.cp
+        if gs.cd and "CD" in blank:
+            g.cd = gs.cd
 
 
 def _blamed_card(text: str, lines: list[str], origin, main: str) -> str:
@@ -243,18 +322,32 @@ def _blamed_card(text: str, lines: list[str], origin, main: str) -> str:
     return f"{'line ' + line if name == main else hit}: {card} {cid}"
 
 
+def _unused_properties(bdf) -> set[str]:
+    """Property card types no element names: they cannot change K or M."""
+    used = {getattr(e, "pid", None) for e in [*bdf.elements.values(), *bdf.masses.values()]}
+    kinds: dict = {}
+    for pid, p in [*bdf.properties.items(), *bdf.properties_mass.items()]:
+        kinds.setdefault(p.type, set()).add(pid)
+    return {k for k, pids in kinds.items() if not pids & used}
+
+
 def _sort_cards(deck: Deck) -> None:
     bdf = deck.bdf
     counts = dict(bdf.card_count)  # rejected cards are counted here too
-    skipped = {k: v for k, v in counts.items() if k in SKIPPED}
-    refused = {k: v for k, v in counts.items() if k not in SKIPPED and k not in SUPPORTED}
+    unused = SKIPPED if deck.temperature else SKIPPED | TEMPERATURE_TABLES
+    skipped = {k: v for k, v in counts.items() if k in unused}
+    refused = {k: v for k, v in counts.items() if k not in unused and k not in SUPPORTED}
+    unused_props = [f"{k} x{refused.pop(k)} (no element uses it)"
+                    for k in sorted(refused.keys() & _unused_properties(bdf))]
     params = []
     for name in sorted(bdf.params):
         if name not in PARAMS_READ:
             params.append(f"PARAM {name}")
     if refused:
         listing = ", ".join(f"{k} x{v}" for k, v in sorted(refused.items()))
+        if refused.keys() & TEMPERATURE_TABLES:
+            listing += " (the case control selects a TEMPERATURE set)"
         raise InputError(f"cards that would change K or M and are not supported: {listing}",
                          source=str(deck.path))
-    parts = [f"{k} x{v}" for k, v in sorted(skipped.items())] + params
+    parts = [f"{k} x{v}" for k, v in sorted(skipped.items())] + unused_props + params
     deck.skipped = ", ".join(parts)

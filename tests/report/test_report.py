@@ -193,9 +193,13 @@ def _no_eigen_solver(monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("an eigen-solve in a report of saved results")
 
+    import eigenupdate.solve.eigen
+
     for module, name in ((scipy.linalg, "eigh"), (scipy.linalg, "eig"),
                          (scipy.sparse.linalg, "eigsh"), (scipy.sparse.linalg, "lobpcg"),
-                         (numpy.linalg, "eigh"), (numpy.linalg, "eig")):
+                         (numpy.linalg, "eigh"), (numpy.linalg, "eig"),
+                         # the dense path calls LAPACK's dsygvd itself
+                         (eigenupdate.solve.eigen, "_sygvd")):
         monkeypatch.setattr(module, name, refuse)
 
 

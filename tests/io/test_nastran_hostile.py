@@ -120,6 +120,11 @@ GEOMETRY = [
      "CHEXA 99: mid-edge node G9 is 3 edge lengths"),
     ("CTETRA10 mid-edge node far off", lambda: deck(
         "CTETRA", _far(TET, "CTETRA10"), kind="CTETRA10"), "CTETRA 99: mid-edge node G5"),
+    # 1e-9 thick: the plate's own modes fell below the rigid-body cut (exit 0, wrong)
+    ("CHEXA8 1e-9 thick", lambda: deck("CHEXA", _nodes(CUBE) * (1, 1e-9, 1)),
+     "CHEXA 99: zero or changing-sign Jacobian"),
+    ("CQUAD4 1e-9 wide", lambda: deck("CQUAD4", _nodes(SQUARE) * (1, 1e-9, 1)),
+     "line 6: CQUAD4 99: zero area"),
     ("CQUAD8 mid-edge node far off", lambda: deck(
         "CQUAD8", _far(SQUARE, "CQUAD8"), kind="CQUAD8"), "CQUAD8 99: mid-edge node G5"),
 ]
@@ -200,9 +205,13 @@ def test_deep_include_chain_and_a_device_are_refused(tmp_path, capsys):
 
 
 def test_mirrored_solids_and_valid_quadratics_still_run(tmp_path, capsys):
-    """The node checks leave sound elements alone: a CPYRAM5 numbered the other way round
+    """The checks leave sound elements alone: a 1e-4 thick brick (aspect 1e4, inside
+    solids.MIN_DET's 1e6) runs, and a CPYRAM5 numbered the other way round
     gives the same frequencies as the usual numbering (the same element, solids.py), to
     the eigen-solver's rounding (1e-9 with room)."""
+    (tmp_path / "deck.bdf").write_text(deck("CHEXA", _nodes(CUBE) * (1, 1e-4, 1)))
+    (tmp_path / "study.toml").write_text('[model]\ntype = "nastran"\nbdf = "deck.bdf"\n')
+    assert main(["frequencies", str(tmp_path / "study.toml"), "--modes", "1"]) == 0  # 1e4:1
     got = []
     for ids in ([1, 2, 3, 4, 5], [1, 4, 3, 2, 5]):
         (tmp_path / "deck.bdf").write_text(deck("CPYRAM", _nodes(PYRAMID), ids))

@@ -283,16 +283,23 @@ def _jacobians(kind: str, xyz: np.ndarray, rule, labels) -> list[tuple]:
         found.append((N, dn, w, J, np.linalg.det(J)))
     dets = np.array([f[4] for f in found])
     size = np.max(np.ptp(xyz, axis=1), axis=1) ** 3
-    bad = np.flatnonzero(~((np.all(dets > 1e-10 * size, axis=0))
-                           | np.all(dets < -1e-10 * size, axis=0)))
+    bad = np.flatnonzero(~((np.all(dets > MIN_DET * size, axis=0))
+                           | np.all(dets < -MIN_DET * size, axis=0)))
     if bad.size:
         name = labels[bad[0]] if labels else f"element {bad[0]}"
         raise InputError(f"{name}: zero or changing-sign Jacobian (a flat, inside-out or "
-                         "folded element, or nodes out of order)")
+                         "folded element, nodes out of order, or thinner than 1e-6 of its "
+                         "size)")
     return [(N, w * np.abs(det), np.linalg.solve(J, np.broadcast_to(dn, (xyz.shape[0],)
                                                                      + dn.shape)))
             for N, dn, w, J, det in found if w]
 
+
+MIN_DET = 1e-7
+"""Smallest |det J| over the cube of the element's size: a brick L x L x t has L^2 t / 8,
+so aspect ratios L / t beyond about 1e6 are refused. Its stiffness spans (L / t)^2,
+and the eigen-solver's relative error on the lowest frequencies, about 1e-16 (L / t)^2,
+would pass 1e-4 unseen (at 1e9 the plate's own modes fell below the rigid-body cut)."""
 
 MAX_MID_OFFSET = 0.5
 """Largest distance of a mid-edge node from the middle of its edge, over the edge's

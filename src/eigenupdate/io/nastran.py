@@ -47,6 +47,10 @@ from eigenupdate.model.parametric import ParametricModel, Term
 __all__ = ["FIELDS", "CardField", "NastranModel", "get_field", "read_nastran", "set_field"]
 
 
+MAX_ID = 2**31 - 1
+"""NASTRAN's largest id (a 32-bit integer)."""
+
+
 def dof_number(grid: int, component: int) -> int:
     """Model coordinate of a GRID's displacement component (1-6).
 
@@ -204,6 +208,10 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     except Exception as exc:
         raise InputError(f"coordinate systems: {exc}") from None
     # scalar points take six rows like a grid, of which only the first is used
+    big = [n for n in (*bdf.nodes, *bdf.spoints) if not 0 < n <= MAX_ID]
+    if big:  # coordinate 10 id + component must stay an exact integer
+        what = "GRID" if big[0] in bdf.nodes else "SPOINT"
+        raise InputError(f"{what} {big[0]}: id outside NASTRAN's 1 to {MAX_ID}")
     grids = np.array(sorted(bdf.nodes), dtype=int)
     spoints = np.array(sorted(set(bdf.spoints) - set(bdf.nodes)), dtype=int)
     clash = sorted(set(bdf.spoints) & set(bdf.nodes))
@@ -442,8 +450,8 @@ def _check_fields(bdf, fields: list[CardField]) -> dict:
             raise InputError(f"{f.card} {f.id} field {f.field}: not a parameter: "
                              f"{NOT_LINEAR[(f.card, f.field)]}")
         if f.card not in FIELDS:
-            have = ", ".join(f"{c} {'/'.join(_series(v))}" for c, v in FIELDS.items())
-            raise InputError(f"card {f.card} has no parameter fields (supported: {have})")
+            raise InputError(f"{f.card} {f.id} field {f.field}: card {f.card} has no "
+                             f"parameter fields (cards with some: {', '.join(FIELDS)})")
         if f.field not in FIELDS[f.card]:
             have = ", ".join(_series(FIELDS[f.card]))
             raise InputError(f"{f.card} {f.id}: field {f.field!r} is not a parameter; the "

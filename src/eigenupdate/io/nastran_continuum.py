@@ -34,7 +34,13 @@ SHELLS = {"CQUAD4": 4, "CTRIA3": 3, "CQUAD8": 8, "CTRIA6": 6}
 SOLIDS = {("CHEXA", 8): "CHEXA8", ("CHEXA", 20): "CHEXA20", ("CPENTA", 6): "CPENTA6",
           ("CPENTA", 15): "CPENTA15", ("CTETRA", 4): "CTETRA4", ("CTETRA", 10): "CTETRA10",
           ("CPYRAM", 5): "CPYRAM5", ("CPYRAM", 13): "CPYRAM13"}
+SHELL_EDGES = {8: np.array([[0, 1], [1, 2], [2, 3], [3, 0]]),
+               6: np.array([[0, 1], [1, 2], [2, 0]])}  # CQUAD8 G5-G8, CTRIA6 G4-G6
 PARTS = shells.STIFFNESS_PARTS
+MAX_ANGLE = 360.0
+"""Largest |THETA| (degrees) of a ply or an element's material axis: one turn either
+way; beyond, an angle is a typing error (and far beyond, cos/sin of it lose all
+digits: 1e300 degrees has no defined direction)."""
 RIGID_SHEAR = 1e3
 """Transverse shear stiffness of a PSHELL with MID3 blank (shear-rigid in NASTRAN), as a
 multiple of MID2's E / (2 (1 + NU)) T."""
@@ -47,6 +53,12 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
     terms to ``extra`` (:func:`_thickness_terms`)."""
     groups: dict = {}
     for eid, e in sorted(bdf.elements.items()):
+        if e.type in SHELLS or e.type in ("CHEXA", "CPENTA", "CTETRA", "CPYRAM"):
+            given = [g for g in e.node_ids if g]
+            twice = sorted({g for g in given if given.count(g) > 1})
+            if twice:
+                raise InputError(f"{e.type} {eid}: GRID {twice[0]} appears twice among its "
+                                 f"nodes (a collapsed element is not supported)")
         if e.type in SHELLS:
             groups.setdefault(("shell", SHELLS[e.type]), []).append(e)
         elif e.type in ("CHEXA", "CPENTA", "CTETRA", "CPYRAM"):
@@ -108,6 +120,8 @@ def _mat1(bdf, mid, where: str):
         raise InputError(f"MAT1 {mid}: NU = {mat.nu} must be in (-1, 0.5) for a shell or solid")
     if (mat.rho or 0.0) < 0:
         raise InputError(f"MAT1 {mid}: negative density RHO = {mat.rho:g}")
+    if (mat.g or 0.0) < 0:
+        raise InputError(f"MAT1 {mid}: negative shear modulus G = {mat.g:g}")
     return mat
 
 
@@ -155,6 +169,14 @@ def _pshell(bdf, prop) -> dict:
         # RIGID_SHEAR: the frequencies then differ from the rigid limit by 1/RIGID_SHEAR
         # of the shear deformation's share, itself of order (T / L)^2
         m3, tst = m2, RIGID_SHEAR
+    if m3 is not None and not rigid and not (m3.g or 0.0) > 0:
+        raise InputError(f"{where}: MID3's MAT1 {m3.mid} has G = {m3.g or 0.0:g} (E alone on "
+                         f"the card: NASTRAN's G and NU are then 0): transverse shear needs "
+                         f"G > 0")
+    nsm = in_range(prop.nsm or 0.0, f"{where}: NSM")
+    if (m1.rho or 0.0) * T + nsm < 0:
+        raise InputError(f"{where}: NSM = {nsm:g} makes the mass per area RHO T + NSM "
+                         f"negative")
     cs = np.zeros((2, 2)) if m3 is None else np.eye(2) * tst
     return {"T": T, "cm": cm, "cb": cb, "cs": cs, "E1": m1.e, "E2": 0.0 if m2 is None else m2.e,
             "G3": 0.0 if m3 is None else m3.e / (2 * (1 + m3.nu)) if rigid else m3.g,
@@ -162,7 +184,7 @@ def _pshell(bdf, prop) -> dict:
             "mid2": 0 if m2 is None else m2.mid, "mid3": 0 if m3 is None else m3.mid,
             "tied3": m3 is not None and (rigid or tied_shear_modulus(m3)),
             "mass": {m1.mid: (m1.rho or 0.0, T)},
-            "nsm": in_range(prop.nsm or 0.0, f"{where}: NSM"), "laminate": None}
+            "nsm": nsm, "laminate": None}
 
 
 def _ply(bdf, mid: int, where: str) -> tuple[np.ndarray, np.ndarray, float]:
@@ -178,6 +200,8 @@ def _ply(bdf, mid: int, where: str) -> tuple[np.ndarray, np.ndarray, float]:
                                                  ("G12", "g12"), ("G1Z", "g1z"),
                                                  ("G2Z", "g2z"))}
         for k, v in vals.items():
+            if k in getattr(mat, "blank", ()):
+                v = None  # pyNastran's 1e8, where NASTRAN's blank is rigid
             if k != "NU12" and not (v is not None and in_range(v, f"MAT8 {mid}: {k}") > 0):
                 raise InputError(f"MAT8 {mid}: {k} = {v} must be given and > 0 (a blank G1Z/"
                                  f"G2Z's default is not modelled)")
@@ -201,8 +225,9 @@ def _pcomp(bdf, prop) -> dict:
     if not np.all(t > 0):
         raise InputError(f"{where}: every ply thickness T must be > 0, got {t.tolist()}")
     angles = np.asarray(prop.get_thetas(), float)
-    if not np.all(np.isfinite(angles)):
-        raise InputError(f"{where}: ply angles THETA must be finite numbers")
+    if not np.all(np.abs(angles) <= MAX_ANGLE):
+        raise InputError(f"{where}: ply angles THETA {angles.tolist()} must be within "
+                         f"-{MAX_ANGLE:g} to {MAX_ANGLE:g} degrees")
     mids = prop.get_material_ids()
     plies = [_ply(bdf, int(m), f"{where} ply {i + 1}") for i, m in enumerate(mids)]
     T = float(t.sum())
@@ -210,9 +235,11 @@ def _pcomp(bdf, prop) -> dict:
     mass: dict = {}
     for m, p, ti in zip(mids, plies, t, strict=True):
         mass[int(m)] = (p[2], mass.get(int(m), (0.0, 0.0))[1] + ti)
+    nsm = in_range(prop.nsm or 0.0, f"{where}: NSM")
+    if sum(r * ti for r, ti in mass.values()) + nsm < 0:
+        raise InputError(f"{where}: NSM = {nsm:g} makes the mass per area negative")
     out = {"T": T, "E1": 1.0, "E2": 1.0, "G3": 1.0, "E3": 1.0, "mid1": 0, "mid2": 0,
-           "mid3": 0, "tied3": False, "mass": mass,
-           "nsm": in_range(prop.nsm or 0.0, f"{where}: NSM"), "plies": set(mass),
+           "mid3": 0, "tied3": False, "mass": mass, "nsm": nsm, "plies": set(mass),
            "laminate": (np.stack([p[0] for p in plies]), np.stack([p[1] for p in plies]),
                         t, z0, np.radians(angles)),
            "stack": {"q": np.stack([p[0] for p in plies]), "g": np.stack([p[1] for p in plies]),
@@ -250,6 +277,9 @@ def _material_angle(bdf, elems, xyz_e: np.ndarray, labels: list[str]) -> np.ndar
             if math.hypot(x[0], x[1]) < 1e-8:
                 raise InputError(f"{labels[i]}: MCID {tm}'s x axis is normal to the element")
             out[i] = math.atan2(x[1], x[0])
+        elif not abs(float(tm or 0.0)) <= MAX_ANGLE:
+            raise InputError(f"{labels[i]}: THETA = {float(tm):g} must be within "
+                             f"-{MAX_ANGLE:g} to {MAX_ANGLE:g} degrees")
         else:
             out[i] += math.radians(float(tm or 0.0))
     return out
@@ -267,6 +297,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                              f"{k}: a straight linear edge locks this element's shear)")
     nodes = np.array([[grid(g, lab) for g in e.node_ids] for e, lab in zip(elems, labels,
                                                                           strict=True)])
+    if k in SHELL_EDGES:
+        solids.check_mid_edges(xyz[nodes], SHELL_EDGES[k], labels)
     rows = []
     for e, lab in zip(elems, labels, strict=True):
         prop = bdf.properties.get(e.pid)
@@ -462,6 +494,8 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
     labels = [f"{e.type} {e.eid}" for e in elems]
     nodes = np.array([[grid(g, lab) for g in e.node_ids[:k]]
                       for e, lab in zip(elems, labels, strict=True)])
+    if kind in solids.MID_EDGES:
+        solids.check_mid_edges(xyz[nodes], solids.MID_EDGES[kind], labels)
     mats: dict = {}
     mid = np.zeros(len(elems), int)
     for i, (e, lab) in enumerate(zip(elems, labels, strict=True)):
@@ -474,6 +508,9 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
             if v not in (default, "", None) and str(v).strip().upper() not in (default, ""):
                 raise InputError(f"{where}: {name.upper().replace('INTEG', 'IN')} = {v} is "
                                  f"not supported (blank: NASTRAN's default element)")
+        cordm = getattr(prop, "cordm", 0)
+        if cordm not in (0, -1, None) and cordm not in bdf.coords:
+            raise InputError(f"{where}: CORDM {cordm} is not a defined coordinate system")
         if prop.mid not in mats:
             mats[prop.mid] = _mat1(bdf, prop.mid, where)
         mid[i] = prop.mid

@@ -110,38 +110,53 @@ def _quiet_bdf():
     from cpylog import SimpleLogger  # pyNastran's logger; errors are ours to report
 
     bdf = BDF(log=SimpleLogger(level="critical"))
-    for card, fields in _BLANKS.items():
-        bdf._card_parser[card] = (_Blanks(bdf._card_parser[card][0], fields),
-                                  bdf._card_parser[card][1])
+    for card in SUPPORTED:
+        if card in bdf._card_parser:
+            bdf._card_parser[card] = (_Blanks(bdf._card_parser[card][0],
+                                              _BLANKS.get(card, ())),
+                                      bdf._card_parser[card][1])
     return bdf
 
 
 # fields whose being blank changes what follows a parameter (pyNastran fills them in):
 # MAT1 G or NU (which follows E), PCOMP Z0 (blank: -T/2, moving with the plies), GRID CP
-# and CD (blank: GRDSET's, an explicit 0 is the basic system)
-_BLANKS = {"MAT1": (("G", 3), ("NU", 4)), "PCOMP": (("Z0", 2),), "GRID": (("CP", 2), ("CD", 6))}
+# and CD (blank: GRDSET's, an explicit 0 is the basic system), MAT8 G1Z/G2Z (blank:
+# NASTRAN's rigid transverse shear; pyNastran puts 1e8)
+_BLANKS = {"MAT1": (("G", 3), ("NU", 4)), "PCOMP": (("Z0", 2),), "GRID": (("CP", 2), ("CD", 6)),
+           "MAT8": (("G1Z", 6), ("G2Z", 7))}
 
 
 class _Blanks:
     """pyNastran's reader of one card, remembering which of ``fields`` (name, index) the
     card left blank, as ``obj.blank``: NASTRAN's rule for a blank field (e.g. MAT1's G
-    follows E, a given G stays) cannot be read off the numbers pyNastran fills in."""
+    follows E, a given G stays) cannot be read off the numbers pyNastran fills in.
+    pyNastran's own failures on the card (a ZeroDivisionError on MAT1 NU = -1) are
+    tagged with the card's name and id (``card=['MAT1', '1']``) for :func:`_blamed_card`."""
 
     def __init__(self, cls, fields):
         self.cls, self.fields = cls, fields
 
     def add_card(self, card, comment=""):
-        obj = self.cls.add_card(card, comment=comment)
+        try:
+            obj = self.cls.add_card(card, comment=comment)
+        except Exception as exc:
+            lines = [x for x in str(exc).splitlines() if x.strip()]
+            raise ValueError(f"{type(exc).__name__}: {lines[0] if lines else ''}\ncard=['"
+                             f"{card.field(0)}', '{card.field(1)}']") from None
         obj.blank = frozenset(name for name, i in self.fields if card.field(i) in (None, ""))
         return obj
 
 
+MAX_INCLUDE_DEPTH = 100
+"""Deepest INCLUDE nesting read (each level is a frame of :func:`_expand`'s recursion)."""
 _INCLUDE = re.compile(r"^\s*INCLUDE\s*(.*)$", re.IGNORECASE)
 
 
 def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tuple) -> None:
     """Append ``path``'s lines to ``out`` with every INCLUDE replaced by its file's lines
     (relative to ``path``'s directory); ``origin[i]`` is where ``out[i]`` came from."""
+    if path.exists() and not path.is_file():  # a directory, /dev/zero, a pipe: unbounded
+        raise InputError(f"cannot read {path}: not a regular file")
     try:
         text = path.read_text(errors="replace")
     except OSError as exc:
@@ -167,6 +182,9 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
         target = (path.parent / name).resolve()
         if target in stack:
             raise InputError(f"{path.name}:{start + 1}: INCLUDE {name} includes itself")
+        if len(stack) > MAX_INCLUDE_DEPTH:
+            raise InputError(f"{path.name}:{start + 1}: INCLUDE {name}: more than "
+                             f"{MAX_INCLUDE_DEPTH} nested INCLUDE levels")
         if not target.is_file():
             raise InputError(f"{path.name}:{start + 1}: INCLUDE file {name} not found "
                              f"(looked in {path.parent})")
@@ -242,6 +260,8 @@ def load_deck(path: str | Path) -> Deck:
         msg = [x for x in str(exc).strip().splitlines() if x.strip()]
         blamed = _blamed_card(str(exc), lines, origin, path.name)
         first = msg[0] if msg else type(exc).__name__
+        if re.match(r"nodes=\[", first):  # pyNastran's validate(): a grid given twice
+            first = f"a grid appears twice among its nodes {first[6:].split(';')[0]}"
         if blamed:
             raise InputError(f"{blamed}: {first}", source=str(path)) from None
         raise InputError(f"pyNastran cannot read the deck: {type(exc).__name__}: {first}",
@@ -312,6 +332,10 @@ def _blamed_card(text: str, lines: list[str], origin, main: str) -> str:
     """``line N: CARD id`` (``file:N`` in an included file) of the card pyNastran's message
     quotes (``card=['GRID', '2', ...]``), or "" when it quotes none."""
     m = re.search(r"card=\[\s*'([A-Za-z0-9]+)\*?'\s*,\s*'\s*(\d+)\s*'", text)
+    if m is None:  # validate()'s messages name the card (PSHELL pid=1) or print it
+        m = re.match(r"([A-Z][A-Z0-9]*) [a-z]+=(-?\d+)\b", text) or (re.search(
+            r"^([A-Z][A-Z0-9]*)\*?(?: +|\s*,\s*)(-?\d+)\b", text.split("\n", 1)[-1],
+            re.MULTILINE) if "\n" in text else None)
     if m is None:
         return ""
     card, cid = m.group(1).upper(), int(m.group(2))

@@ -78,6 +78,12 @@ flat projection accepts; beyond it the projection (no rigid-link warp correction
 change the answer unnoticed. NASTRAN only warns (GEOMCHECK Q4_WARP, default 0.05 in its
 own measure)."""
 
+MIN_AREA = 1e-6
+"""Smallest twice-area over the squared largest centre-to-node distance: a strip L x w
+has about 8 w / L, so aspect ratios beyond about 1e7 are refused (their membrane
+stiffness spans (L / w)^2, beyond what the eigen-solver resolves: a 1 x 1e-9 CQUAD4
+left massless mechanisms that named no element)."""
+
 _G = 1.0 / np.sqrt(3.0)
 _QUAD_XI = np.array([-1.0, 1.0, 1.0, -1.0])
 _QUAD_ETA = np.array([-1.0, -1.0, 1.0, 1.0])
@@ -161,9 +167,10 @@ def shell_axes(xyz: np.ndarray, labels: list[str] | None = None
     area2 = np.linalg.norm(z, axis=1)  # twice the (projected) area
     size2 = np.max(np.sum((xyz - xyz.mean(axis=1, keepdims=True)) ** 2, axis=2), axis=1)
     with np.errstate(invalid="ignore", divide="ignore"):
-        bad = np.flatnonzero(~(area2 > 1e-10 * size2))
+        bad = np.flatnonzero(~(area2 > MIN_AREA * size2))
     if bad.size:
-        raise InputError(f"{name(bad[0])}: zero area (nodes coincide or lie on a line)")
+        raise InputError(f"{name(bad[0])}: zero area (nodes coincide or lie on a line, or "
+                         f"it is narrower than 1e-6 of its length)")
     z = z / area2[:, None]
     x = x - np.sum(x * z, axis=1)[:, None] * z
     x /= np.linalg.norm(x, axis=1, keepdims=True)

@@ -50,6 +50,27 @@ _HEX20 = np.vstack([_HEX, (_HEX[HEX_EDGES[:, 0]] + _HEX[HEX_EDGES[:, 1]]) / 2])
 PYRAM_EDGES = np.array([[0, 1], [1, 2], [2, 3], [3, 0], [0, 4], [1, 4], [2, 4], [3, 4]])
 
 
+def _with_mids(corners: np.ndarray, edges: np.ndarray, mids: bool) -> np.ndarray:
+    return np.vstack([corners, (corners[edges[:, 0]] + corners[edges[:, 1]]) / 2]
+                     if mids else [corners])
+
+
+_TET_NAT = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+_PENTA_NAT = np.array([[0, 0, -1], [1, 0, -1], [0, 1, -1], [0, 0, 1], [1, 0, 1], [0, 1, 1]],
+                      dtype=float)
+_PYR_NAT = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]], dtype=float)
+# natural coordinates of the nodes, where det J is checked besides the integration
+# points: a collapsed corner or face (two corners at one point, a corner on the line
+# of its neighbours) has det J = 0 there and not at the points. The pyramid's apex is
+# left out (det J vanishes there by the collapse); its side edges are checked halfway up.
+_NODES = {"CHEXA8": _HEX, "CHEXA20": _with_mids(_HEX, HEX_EDGES, True),
+          "CTETRA10": _with_mids(_TET_NAT, _TET_EDGES, True),
+          "CPENTA6": _PENTA_NAT, "CPENTA15": _with_mids(_PENTA_NAT, PENTA_EDGES, True),
+          "CPYRAM5": _PYR_NAT,
+          "CPYRAM13": np.vstack([_with_mids(_PYR_NAT, PYRAM_EDGES[:4], True),
+                                 _PYR_NAT * [1, 1, 0] + [0, 0, 0.5]])}
+
+
 def _pyramid13_span(a, b, c) -> np.ndarray:
     """Bedrosian's 13-node pyramid space, P2 in (x, y, z) = ((1 - c) a, (1 - c) b, c)
     plus x^2 y / (1 - z), x y^2 / (1 - z), x y z / (1 - z): serendipity Q8 on the base,
@@ -254,7 +275,7 @@ def _kind(xyz: np.ndarray) -> str:
 def _jacobians(kind: str, xyz: np.ndarray, rule, labels) -> list[tuple]:
     """(N, det |J|, Cartesian gradients (n, 3, k)) at each point of ``rule``; checks
     that det J keeps one sign over the points and the corners."""
-    corners = [(c, 0.0) for c in _HEX] if kind in ("CHEXA8", "CHEXA20") else []
+    corners = [(c, 0.0) for c in _NODES.get(kind, ())]
     found = []
     for p, w in list(rule) + corners:
         N, dn = _shape(kind, p)
@@ -262,15 +283,54 @@ def _jacobians(kind: str, xyz: np.ndarray, rule, labels) -> list[tuple]:
         found.append((N, dn, w, J, np.linalg.det(J)))
     dets = np.array([f[4] for f in found])
     size = np.max(np.ptp(xyz, axis=1), axis=1) ** 3
-    bad = np.flatnonzero(~((np.all(dets > 1e-10 * size, axis=0))
-                           | np.all(dets < -1e-10 * size, axis=0)))
+    bad = np.flatnonzero(~((np.all(dets > MIN_DET * size, axis=0))
+                           | np.all(dets < -MIN_DET * size, axis=0)))
     if bad.size:
         name = labels[bad[0]] if labels else f"element {bad[0]}"
         raise InputError(f"{name}: zero or changing-sign Jacobian (a flat, inside-out or "
-                         "folded element, or nodes out of order)")
+                         "folded element, nodes out of order, or thinner than 1e-6 of its "
+                         "size)")
     return [(N, w * np.abs(det), np.linalg.solve(J, np.broadcast_to(dn, (xyz.shape[0],)
                                                                      + dn.shape)))
             for N, dn, w, J, det in found if w]
+
+
+MIN_DET = 1e-7
+"""Smallest |det J| over the cube of the element's size: a brick L x L x t has L^2 t / 8,
+so aspect ratios L / t beyond about 1e6 are refused. Its stiffness spans (L / t)^2,
+and the eigen-solver's relative error on the lowest frequencies, about 1e-16 (L / t)^2,
+would pass 1e-4 unseen (at 1e9 the plate's own modes fell below the rigid-body cut)."""
+
+MAX_MID_OFFSET = 0.5
+"""Largest distance of a mid-edge node from the middle of its edge, over the edge's
+length: beyond it (NASTRAN's edge-point angular deviation above 45 degrees; it warns
+at 30) the node is a wrong grid, not a curve: a semicircle's sagitta is half its chord,
+more than one quadratic edge can follow."""
+
+MID_EDGES = {"CHEXA20": HEX_EDGES, "CPENTA15": PENTA_EDGES, "CTETRA10": _TET_EDGES,
+             "CPYRAM13": PYRAM_EDGES}
+
+
+def check_mid_edges(xyz: np.ndarray, edges: np.ndarray, labels: list[str] | None = None
+                    ) -> None:
+    """InputError naming the first element (nodes xyz (n, k, 3): corners, then one
+    mid-edge node per row of ``edges`` (m, 2) of corner indices) with a mid-edge node
+    further than :data:`MAX_MID_OFFSET` edge lengths from its edge's middle. A zero
+    edge is left to the Jacobian checks."""
+    xyz = np.asarray(xyz, float)
+    nc = xyz.shape[1] - len(edges)
+    a, b = xyz[:, edges[:, 0]], xyz[:, edges[:, 1]]
+    chord = np.linalg.norm(b - a, axis=2)
+    off = np.linalg.norm(xyz[:, nc:] - (a + b) / 2, axis=2)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rel = np.where(chord > 0, off / chord, 0.0)
+    bad = np.argwhere(~(rel <= MAX_MID_OFFSET))
+    if bad.size:
+        i, j = bad[0]
+        name = labels[i] if labels else f"element {i}"
+        raise InputError(f"{name}: mid-edge node G{nc + j + 1} is {rel[i, j]:.3g} edge lengths "
+                         f"from the middle of its edge G{edges[j, 0] + 1}-G{edges[j, 1] + 1} "
+                         f"(at most {MAX_MID_OFFSET}: a wrong grid?)")
 
 
 def _strain(g: np.ndarray) -> np.ndarray:

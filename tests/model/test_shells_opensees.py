@@ -28,9 +28,9 @@ def test_quad4_plate_bending_matches_opensees_shellmitc4(skew, monkeypatch):
     modes of a flat plate. (With randomly moved inner nodes the two codes differ by
     1e-4..1e-3: they tie the shear strains of a non-parallelogram differently; ours
     passes the constant-curvature patch test on such elements, test_shells.py.) Our
-    CQUAD4 adds MacNeal's residual bending flexibility to MITC4 (shells.RBF_ALPHA; 18 to
-    100 % lower modes here, 6 elements across at a/h 50): removed for this comparison
-    of the MITC4 core."""
+    CQUAD4 adds MacNeal's residual bending flexibility to MITC4 (shells.RBF_ALPHA; its
+    eigenvalues 15-51 % below MITC4's here, 6 elements across at a/h 50): removed for
+    this comparison of the MITC4 core."""
     from eigenupdate.model import shells
 
     monkeypatch.setattr(shells, "RBF_ALPHA", 0.0)

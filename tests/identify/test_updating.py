@@ -343,3 +343,34 @@ def test_last_step_without_a_solve_is_what_a_solve_gives(seed, n):
     lam_reported = (2 * np.pi * res.updated_hz) ** 2
     bound = np.abs((lin.J - res.jac) @ (x - before)) + 1e-12 * lin.eigenvalues
     assert np.all(np.abs(lam_reported - lin.eigenvalues) <= bound)
+
+
+@pytest.mark.parametrize("seed", [8, 26])
+def test_noisy_fit_stops_at_the_data_precision(monkeypatch, seed):
+    """Issue 21 item 5: with 0.3 % noise on 2 % added masses the trust region creeps (its
+    steps cut to a tenth of Gauss-Newton's); these two seeds ran to the limit at 20 with
+    the test on each parameter's step alone (below 0.01 std) though the fit was done.
+    Source of the check: the same fit continued to its optimum (the joint
+    test off, 200 iterations); the stop claims the optimum lies within JOINT posterior std,
+    that is, at most JOINT^2 = 0.01 data variances below the stopped objective (exact for
+    the Gauss-Newton model; what it gives here is the bound checked)."""
+    from eigenupdate.identify import fit as fit_module
+    n = 6
+    rng = np.random.default_rng(seed)
+    truth = random_network(rng, n)
+    configs = [Configuration("base")] + [
+        mass_at(c, 0.02 * truth.values[c - 1], f"at {c}") for c in range(1, n + 1)]
+    modes = list(range(1, n + 1))
+    data = {k: Measurement(m.configuration, m.mode, m.frequency_hz * (1 + 3e-3 * rng.normal()),
+                           3e-3 * m.frequency_hz)
+            for k, m in simulate(truth, configs, modes).items()}
+    start = truth.with_values(truth.values * rng.uniform(0.95, 1.05, truth.values.size))
+    res = update(start, configs, modes, data, method="weighted-least-squares")
+    assert res.success and res.nit <= 20, res.message
+    assert "data's precision" in res.message
+    joint = fit_module.JOINT
+    monkeypatch.setattr(fit_module, "JOINT", 0.0)
+    best = update(start, configs, modes, data, method="weighted-least-squares",
+                  max_iterations=200)
+    assert best.success and best.nit > res.nit, best.message
+    assert 0 <= 2 * res.cost - 2 * best.cost <= joint**2, (res.cost, best.cost)

@@ -38,6 +38,10 @@ FLOOR = 1e-3
 """A parameter with a positive initial value may not fall below FLOOR times it."""
 PRECISION = 0.01
 """A next step below this fraction of every parameter's posterior std is converged."""
+JOINT = 0.1
+"""Converged at the data's precision: the optimum of the Gauss-Newton model lies within
+JOINT posterior std of the current point, all parameters together (its objective
+decrease is below JOINT^2 in units of one datum's variance)."""
 CACHE_SIZE = 3
 """Points kept: ``fun`` and ``jac`` at the same point cost one solve; few (memory)."""
 
@@ -203,6 +207,7 @@ class Fit:
         largest = float(np.max(np.abs(dz)))
         std = None if self.weights.rows is None else resolution(p.A)
         resolved = float(np.max(np.abs(dz) / std)) if std is not None else np.inf
+        joint = predicted / self.variance(p)
         if largest < self.xtol or predicted <= self.ftol * p.obj or resolved < PRECISION:
             status = 1 if largest < self.xtol else 2 if predicted <= self.ftol * p.obj else 4
             return status, (
@@ -210,7 +215,35 @@ class Fit:
                 f"decrease {predicted / p.obj if p.obj else 0:.1e} relative"
                 + (f", step {resolved:.1e} of the posterior std" if std is not None else "")
             ), dz
+        if joint < JOINT**2:  # the test above on each parameter alone needs 0.01 std
+            return 2, (
+                f"converged at the data's precision: the Gauss-Newton step predicts an "
+                f"objective decrease of {joint:.1e} data variances, so the optimum lies within "
+                f"{np.sqrt(max(joint, 0.0)):.2f} posterior std (all parameters together; "
+                f"largest normalised step {largest:.1e})"
+            ), dz
         return None
+
+    def remaining(self, p: Point) -> str:
+        """How far the optimum of the Gauss-Newton model at p still lies, for a message
+        where the iteration stops short of convergence; empty if not defined."""
+        dz = gn_step(p.A, -p.f, p.z, self.lower)[0]
+        joint = (p.obj - float(np.sum((p.A @ dz + p.f) ** 2))) / self.variance(p)
+        if not np.isfinite(joint):
+            return ""
+        return (f"; the Gauss-Newton step predicts the optimum {np.sqrt(max(joint, 0.0)):.2g} "
+                f"posterior std away (converged below {JOINT})")
+
+    def variance(self, p: Point) -> float:
+        """One datum's variance in the objective's units: 1 where the weights are 1 /
+        std; else the residual's estimate objective / (equations - parameters), the
+        same as SciPy's and the posterior covariance's, inf without redundancy. With
+        error-free data the full step removes nearly all of the objective, so the test
+        on it (JOINT) cannot stop such a fit early."""
+        if self.weights.rows is not None:
+            return 1.0
+        dof = self.pairing.S.shape[0] - p.z.size if self.pairing is not None else 0
+        return p.obj / dof if dof > 0 and p.obj > 0 else np.inf
 
     def record(self, i: int, z: np.ndarray, obj: float, step: float, kind: Step) -> None:
         """Append iteration i (all parameter values at z) to the history."""

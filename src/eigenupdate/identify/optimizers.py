@@ -127,6 +127,8 @@ def gauss_newton(fit: Fit, point: Point, max_iterations: int, offset: int = 0
                 f"step {alpha:g} x Gauss-Newton "
                 f"({kind.value}), largest change {np.max(np.abs(alpha * dz)):.2e}, "
                 f"{time.perf_counter() - t:.1f} s (total {fit.elapsed():.1f} s)")
+    else:
+        message += fit.remaining(point)
     return status, message, point
 
 
@@ -207,7 +209,7 @@ def trust_region(fit: Fit, point: Point) -> tuple[int, str, Point, bool]:
             state["finish"] = final
             raise StopIteration
         if last:
-            state["why"] = f"iteration limit ({max_iterations}) reached"
+            state["why"] = f"iteration limit ({max_iterations}) reached{fit.remaining(p)}"
             raise StopIteration
 
     stop = fit.stop_test(point)

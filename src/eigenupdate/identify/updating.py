@@ -46,8 +46,15 @@ per mode, or the sum over a cluster of modes the data cannot order), is
 Both optimisers stop when the Gauss-Newton step at an accepted point is below ``xtol``,
 when it would change no parameter by more than ``PRECISION`` of its posterior standard
 deviation (the data cannot resolve it), or when the decrease it predicts is below
-``ftol``: checked before the step's point is solved, so a converged fit costs no extra
-eigen-solution. The trust region also stops where the Gauss-Newton steps contract so fast
+``ftol``, or, with noisy data, when the optimum of its Gauss-Newton model lies within
+``JOINT`` (0.1) posterior std of the current point, all parameters together (the decrease
+it predicts is below 0.01 of one datum's variance: the weights' where the stds are given,
+else the residual's estimate; the message says "converged at the data's precision"). A fit
+of noisy data on weakly determined parameters creeps (its steps cut to a fraction of
+Gauss-Newton's) for many iterations after the test on each parameter alone would stop it.
+All are checked before the step's point is solved, so a converged fit costs no extra
+eigen-solution. At the iteration limit the message gives the same distance.
+The trust region also stops where the Gauss-Newton steps contract so fast
 that the step after the next one is predicted below ``xtol``: it takes that last step
 without solving its point (:func:`eigenupdate.identify.optimizers.finish_step`; the
 history marks it, the message gives the prediction).
@@ -60,7 +67,7 @@ from collections.abc import Callable, Mapping, Sequence
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.identify.fit import FLOOR, PRECISION, Fit
+from eigenupdate.identify.fit import FLOOR, JOINT, PRECISION, Fit
 from eigenupdate.identify.identifiability import IdentifiabilityReport
 from eigenupdate.identify.optimizers import Point, Step, gauss_newton, trust_region
 from eigenupdate.identify.pairing import Pairing, PairingNote
@@ -72,7 +79,7 @@ from eigenupdate.model.configurations import Configuration
 from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.jacobian import Linearisation, linearise
 
-__all__ = ["FLOOR", "PRECISION", "STATUS_MESSAGES", "Step", "UpdateResult", "update"]
+__all__ = ["FLOOR", "JOINT", "PRECISION", "STATUS_MESSAGES", "Step", "UpdateResult", "update"]
 
 STATUS_MESSAGES = {
     0: "iteration limit reached",
@@ -118,7 +125,8 @@ def update(
         the next step would make is below ``xtol``,
     ftol : or when the objective decrease the next step predicts is below ``ftol`` times
         the objective (with noisy data the iteration stalls at round-off otherwise),
-        or when the next step is below PRECISION of every posterior std.
+        or when the next step is below PRECISION of every posterior std, or the
+        optimum of its Gauss-Newton model within JOINT posterior std (jointly).
     source : file name for error messages.
     progress : called with one line per iteration, "[i/max_iterations] iteration i: ..."
         (objective, step, largest change, seconds).

@@ -21,6 +21,7 @@ import time
 from collections.abc import Callable, Sequence
 
 import numpy as np
+from scipy.stats import chi2
 
 from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.identify.identifiability import IdentifiabilityReport, identifiability
@@ -42,6 +43,8 @@ JOINT = 0.1
 """Converged at the data's precision: the optimum of the Gauss-Newton model lies within
 JOINT posterior std of the current point, all parameters together (its objective
 decrease is below JOINT^2 in units of one datum's variance)."""
+CHI2_LEVEL = 0.999
+"""JOINT applies where the objective lies below this quantile of its chi-square."""
 CACHE_SIZE = 3
 """Points kept: ``fun`` and ``jac`` at the same point cost one solve; few (memory)."""
 
@@ -207,7 +210,8 @@ class Fit:
         largest = float(np.max(np.abs(dz)))
         std = None if self.weights.rows is None else resolution(p.A)
         resolved = float(np.max(np.abs(dz) / std)) if std is not None else np.inf
-        joint = predicted / self.variance(p)
+        variance = self.variance(p)
+        joint = predicted / variance if np.isfinite(variance) else np.inf
         if largest < self.xtol or predicted <= self.ftol * p.obj or resolved < PRECISION:
             status = 1 if largest < self.xtol else 2 if predicted <= self.ftol * p.obj else 4
             return status, (
@@ -228,22 +232,24 @@ class Fit:
         """How far the optimum of the Gauss-Newton model at p still lies, for a message
         where the iteration stops short of convergence; empty if not defined."""
         dz = gn_step(p.A, -p.f, p.z, self.lower)[0]
-        joint = (p.obj - float(np.sum((p.A @ dz + p.f) ** 2))) / self.variance(p)
-        if not np.isfinite(joint):
+        variance = self.variance(p)
+        if not np.isfinite(variance):
             return ""
+        joint = (p.obj - float(np.sum((p.A @ dz + p.f) ** 2))) / variance
         return (f"; the Gauss-Newton step predicts the optimum {np.sqrt(max(joint, 0.0)):.2g} "
                 f"posterior std away (converged below {JOINT})")
 
     def variance(self, p: Point) -> float:
-        """One datum's variance in the objective's units: 1 where the weights are 1 /
-        std; else the residual's estimate objective / (equations - parameters), the
-        same as SciPy's and the posterior covariance's, inf without redundancy. With
-        error-free data the full step removes nearly all of the objective, so the test
-        on it (JOINT) cannot stop such a fit early."""
-        if self.weights.rows is not None:
-            return 1.0
-        dof = self.pairing.S.shape[0] - p.z.size if self.pairing is not None else 0
-        return p.obj / dof if dof > 0 and p.obj > 0 else np.inf
+        """One datum's variance in the objective's units where the data's precision is
+        known and the fit matches it: 1 where the weights are 1 / std and the objective
+        passes the chi-square test (below its 99.9 % quantile for the equations beyond
+        the parameters); else inf, and JOINT never stops the fit. Plain least squares
+        has no stated precision (its residual could be a wrong minimum's misfit), and
+        an objective far above the chi-square is not noise."""
+        if self.weights.rows is None or self.pairing is None:
+            return np.inf
+        dof = p.f.size - p.z.size
+        return 1.0 if dof > 0 and p.obj <= chi2.ppf(CHI2_LEVEL, dof) else np.inf
 
     def record(self, i: int, z: np.ndarray, obj: float, step: float, kind: Step) -> None:
         """Append iteration i (all parameter values at z) to the history."""

@@ -48,8 +48,9 @@ when it would change no parameter by more than ``PRECISION`` of its posterior st
 deviation (the data cannot resolve it), or when the decrease it predicts is below
 ``ftol``, or, with noisy data, when the optimum of its Gauss-Newton model lies within
 ``JOINT`` (0.1) posterior std of the current point, all parameters together (the decrease
-it predicts is below 0.01 of one datum's variance: the weights' where the stds are given,
-else the residual's estimate; the message says "converged at the data's precision"). A fit
+it predicts is below 0.01 of one datum's variance; weighted and Bayesian methods, where
+the objective passes the chi-square test; the message says "converged at the data's
+precision"). A fit
 of noisy data on weakly determined parameters creeps (its steps cut to a fraction of
 Gauss-Newton's) for many iterations after the test on each parameter alone would stop it.
 All are checked before the step's point is solved, so a converged fit costs no extra

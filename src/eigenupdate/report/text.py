@@ -142,7 +142,7 @@ def frequencies_text(freqs: dict[str, Any], title: str) -> str:
     n = len(next(iter(freqs.values())))
     return (f"{title}: elastic natural frequencies (Hz)\n"
             + table(["configuration", *[f"mode {k}" for k in range(1, n + 1)]],
-                    [[name, *[round(float(x), 4) for x in f]] for name, f in freqs.items()]))
+                    [[name, *[float(x) for x in f]] for name, f in freqs.items()]))
 
 
 def montecarlo_text(doc: dict, title: str) -> str:

@@ -23,11 +23,12 @@ from __future__ import annotations
 import contextlib
 import io
 import re
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import EigenupdateWarning, InputError
 
 # cards that define K, M or the coordinates and are assembled (io/nastran.py)
 SUPPORTED = frozenset({
@@ -249,6 +250,8 @@ def load_deck(path: str | Path) -> Deck:
     # a comment keeps the line numbers
     lines = ["$" + x if i < cend and _APPROACH.match(x) else x for i, x in enumerate(lines)]
     lines, origin = _one_per_card(lines, origin)
+    start = bulk + 1 if bulk < len(lines) else (len(lines) if cend >= 0 else 0)
+    _free_field_overflow(lines[start:], origin[start:], path)
     bdf = _quiet_bdf()
     bdf.disable_cards(SKIPPED - {"EPOINT"})  # extra points: kept apart from scalar points
     sink = io.StringIO()
@@ -295,6 +298,44 @@ def _one_per_card(lines: list[str], origin: list) -> tuple[list[str], list]:
         out.append(text)
         where.append(at)
     return out, where
+
+
+_NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD]?[-+]?\d+)?$")
+
+
+def _free_field_overflow(lines: list[str], origin: list, path: Path) -> None:
+    """Refuse a free-field line with data beyond its continuation field (the 10th; the
+    6th of a large-field ``*`` line): pyNastran drops it without a word (an SPC1 listing
+    nine grids on one line lost the last three; ``GRID*,2,,1.,2.,3.`` lost z)."""
+    card = ""
+    data = [i for i, x in enumerate(lines) if x.strip() and not x.startswith("$")]
+    follows = {i: lines[j][:1] in ("+", "*", ",", " ")
+               for i, j in zip(data, data[1:], strict=False)}
+    for i, (text, (name, number)) in enumerate(zip(lines, origin, strict=True)):
+        if text.startswith("$") or "," not in text[:10]:
+            if text[:1].isalpha():
+                card = text[:8].strip().upper()
+            continue
+        fields = [f.strip() for f in text.split("$")[0].split(",")]
+        if fields[0][:1].isalpha():
+            card = fields[0].upper()
+        while fields and not fields[-1]:
+            fields.pop()
+        last = 6 if fields and (fields[0].startswith("*") or fields[0].endswith("*")) else 10
+        if len(fields) > last:
+            at = f"line {number}" if name == path.name else f"{name}:{number}"
+            raise InputError(
+                f"{at}: {card.rstrip('*') or 'card'}: free-field line of "
+                f"{len(fields)} fields; NASTRAN reads {last} to a line, the {last}th being "
+                f"the continuation field ({fields[last - 1]!r}), and would lose "
+                f"{', '.join(repr(f) for f in fields[last:])}: continue the card on the "
+                f"next line", source=str(path))
+        if len(fields) == last and not follows.get(i, False) and _NUMBER.match(fields[-1]):
+            at = f"line {number}" if name == path.name else f"{name}:{number}"
+            warnings.warn(f"{path.name}: {at}: {card.rstrip('*')}: {fields[-1]!r} is in the "
+                          f"continuation field (field {last} of a free-field line), which "
+                          f"NASTRAN does not read as data: it is ignored", EigenupdateWarning,
+                          stacklevel=2)
 
 
 def _implicit_spoints(bdf) -> None:

@@ -306,7 +306,8 @@ _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD]?[-+]?\d+)?$")
 def _free_field_overflow(lines: list[str], origin: list, path: Path) -> None:
     """Refuse a free-field line with data beyond its continuation field (the 10th; the
     6th of a large-field ``*`` line): pyNastran drops it without a word (an SPC1 listing
-    nine grids on one line lost the last three; ``GRID*,2,,1.,2.,3.`` lost z)."""
+    nine grids on one line lost the last three). A number alone in a continuation field
+    that continues nothing is warned about (``GRID*,2,,1.,2.,3.`` loses z)."""
     card = ""
     data = [i for i, x in enumerate(lines) if x.strip() and not x.startswith("$")]
     follows = {i: lines[j][:1] in ("+", "*", ",", " ")

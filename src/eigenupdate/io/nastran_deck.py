@@ -304,39 +304,45 @@ _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD]?[-+]?\d+)?$")
 
 
 def _free_field_overflow(lines: list[str], origin: list, path: Path) -> None:
-    """Refuse a free-field line with data beyond its continuation field (the 10th; the
-    6th of a large-field ``*`` line): pyNastran drops it without a word (an SPC1 listing
-    nine grids on one line lost the last three). A number alone in a continuation field
-    that continues nothing is warned about (``GRID*,2,,1.,2.,3.`` loses z)."""
+    """Refuse data beyond a line's continuation field: the 10th field of a free-field line
+    (the 6th of a large-field ``*`` one), columns 73-80 of a fixed-field line, which
+    NASTRAN reads to column 80. pyNastran drops such data without a word (an SPC1 listing
+    nine grids on one free-field line lost the last three). A number alone in a
+    continuation field that continues nothing is warned about (``GRID*,2,,1.,2.,3.``
+    loses z)."""
     card = ""
     data = [i for i, x in enumerate(lines) if x.strip() and not x.startswith("$")]
     follows = {i: lines[j][:1] in ("+", "*", ",", " ")
                for i, j in zip(data, data[1:], strict=False)}
     for i, (text, (name, number)) in enumerate(zip(lines, origin, strict=True)):
-        if text.startswith("$") or "," not in text[:10]:
-            if text[:1].isalpha():
-                card = text[:8].strip().upper()
+        body = text.split("$")[0].rstrip()
+        if not body.strip():
             continue
-        fields = [f.strip() for f in text.split("$")[0].split(",")]
+        at = f"line {number}" if name == path.name else f"{name}:{number}"
+        if "," in body[:10]:
+            fields = [f.strip() for f in body.split(",")]
+            while fields and not fields[-1]:
+                fields.pop()
+            last = 6 if fields[0].startswith("*") or fields[0].endswith("*") else 10
+            lost = fields[last:]
+            cont = fields[last - 1] if len(fields) == last else ""
+            where = f"field {last} of a free-field line"
+        else:  # fixed field: 80 columns, 73-80 the continuation field
+            fields = [body[:8].strip()]
+            lost = [body[80:].strip()] if len(body) > 80 else []
+            cont = body[72:80].strip()
+            where = "columns 73-80 of a fixed-field line"
         if fields[0][:1].isalpha():
-            card = fields[0].upper()
-        while fields and not fields[-1]:
-            fields.pop()
-        last = 6 if fields and (fields[0].startswith("*") or fields[0].endswith("*")) else 10
-        if len(fields) > last:
-            at = f"line {number}" if name == path.name else f"{name}:{number}"
+            card = fields[0].upper().rstrip("*")
+        if lost:
             raise InputError(
-                f"{at}: {card.rstrip('*') or 'card'}: free-field line of "
-                f"{len(fields)} fields; NASTRAN reads {last} to a line, the {last}th being "
-                f"the continuation field ({fields[last - 1]!r}), and would lose "
-                f"{', '.join(repr(f) for f in fields[last:])}: continue the card on the "
-                f"next line", source=str(path))
-        if len(fields) == last and not follows.get(i, False) and _NUMBER.match(fields[-1]):
-            at = f"line {number}" if name == path.name else f"{name}:{number}"
-            warnings.warn(f"{path.name}: {at}: {card.rstrip('*')}: {fields[-1]!r} is in the "
-                          f"continuation field (field {last} of a free-field line), which "
-                          f"NASTRAN does not read as data: it is ignored", EigenupdateWarning,
-                          stacklevel=2)
+                f"{at}: {card or 'card'}: data beyond the continuation field ({where}): "
+                f"NASTRAN does not read {', '.join(repr(f) for f in lost)}; continue the "
+                f"card on the next line", source=str(path))
+        if cont and not follows.get(i, False) and _NUMBER.match(cont):
+            warnings.warn(f"{path.name}: {at}: {card}: {cont!r} is in the continuation "
+                          f"field ({where}), which NASTRAN does not read as data: it is "
+                          f"ignored", EigenupdateWarning, stacklevel=2)
 
 
 def _implicit_spoints(bdf) -> None:

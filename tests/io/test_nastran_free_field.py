@@ -72,6 +72,7 @@ def test_a_number_in_an_unused_continuation_field_is_named(tmp_path, run_cli):
 
 
 def test_continued_free_field_cards_are_read_silently(tmp_path, run_cli):
-    text = BARS + "SPC1,1,123456,1,,,,,,+A\n+A,1\nGRID*,4,,3.0,0.0,+B\n*B,0.0\n"
+    text = BARS + ("SPC1,1,123456,1,,,,,,+A\n+A,1\nGRID*,4,,3.0,0.0,+B\n*B,0.0\n"
+                   "PBAR,9,1,1.e-3\n,,,,,,,,,\n,1.\n")  # a continuation of blank fields
     code, out, err = _run(tmp_path, run_cli, text)
     assert code == 0 and "continuation" not in err and "error" not in err, err

@@ -321,7 +321,7 @@ def _free_field_overflow(lines: list[str], origin: list, path: Path) -> None:
         at = f"line {number}" if name == path.name else f"{name}:{number}"
         if "," in body[:10]:
             fields = [f.strip() for f in body.split(",")]
-            while fields and not fields[-1]:
+            while len(fields) > 1 and not fields[-1]:
                 fields.pop()
             last = 6 if fields[0].startswith("*") or fields[0].endswith("*") else 10
             lost = fields[last:]

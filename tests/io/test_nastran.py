@@ -489,3 +489,20 @@ def test_curvilinear_displacement_systems(tmp_path, system):
     path = tmp_path / "ray.bdf"
     path.write_text("\n".join(lines) + "\n")
     assert np.allclose(_freqs(path, 6), held, rtol=1e-9)
+
+
+def test_report_states_the_decks_units():
+    """A deck has no units (README, "Units"): the report must not call its parameters and
+    added masses SI. Source: the tester's acceptance run, whose report of a NASTRAN study
+    headed the parameter table "(SI units)"."""
+    import html
+    import warnings
+
+    import eigenupdate as eu
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the deck's skipped cards
+        page = html.unescape(eu.report(eu.load_study(FRAME / "study.toml"), solve=False))
+    assert "Parameters of the initial model (the deck's units)" in page
+    assert "SI units" not in page and "(kg; kg m^2" not in page
+    assert "coordinate = 10 x GRID + component" in page

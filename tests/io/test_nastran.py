@@ -247,6 +247,23 @@ def test_perturbation_on_restrained_component(tmp_path, run_cli):
     assert code == 2 and "GRID 1006 component 2 is restrained (SPC set 1 or GRID PS)" in err
 
 
+@pytest.mark.parametrize("old,new,message", [
+    ("grid = 6011\n", "grid = 6011.5\n", "perturbation[1].grid: must be an integer"),
+    ("component = 2\n", 'component = "2"\n', "perturbation[1].component: must be an integer"),
+])
+def test_perturbation_grid_not_an_integer(tmp_path, run_cli, old, new, message):
+    """One line naming the study and the field once. Source: the tester's acceptance run,
+    where `grid = 18.5` printed 'study.toml: perturbation[1].grid: ' twice."""
+    study = tmp_path / "study.toml"
+    text = (FRAME / "study.toml").read_text().replace('"frame.bdf"',
+                                                      f'"{FRAME / "frame.bdf"}"')
+    study.write_text(text.replace(old, new, 1))
+    code, out, err = run_cli("check", study)
+    errors = [x for x in err.splitlines() if "error" in x]
+    assert code == 2 and len(errors) == 1 and message in errors[0], err
+    assert err.count(str(study)) == 1 and err.count("perturbation[1]") == 1, err
+
+
 def test_unknown_grid_in_perturbation():
     from eigenupdate.io.nastran import NastranModel
 
@@ -472,3 +489,20 @@ def test_curvilinear_displacement_systems(tmp_path, system):
     path = tmp_path / "ray.bdf"
     path.write_text("\n".join(lines) + "\n")
     assert np.allclose(_freqs(path, 6), held, rtol=1e-9)
+
+
+def test_report_states_the_decks_units():
+    """A deck has no units (README, "Units"): the report must not call its parameters and
+    added masses SI. Source: the tester's acceptance run, whose report of a NASTRAN study
+    headed the parameter table "(SI units)"."""
+    import html
+    import warnings
+
+    import eigenupdate as eu
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the deck's skipped cards
+        page = html.unescape(eu.report(eu.load_study(FRAME / "study.toml"), solve=False))
+    assert "Parameters of the initial model (the deck's units)" in page
+    assert "SI units" not in page and "(kg; kg m^2" not in page
+    assert "coordinate = 10 x GRID + component" in page

@@ -284,7 +284,8 @@ def design_plan(model: ParametricModel, spec: DesignSpec, method: str,
                                                                            strict=True)]
     ok = [i for i, r in enumerate(reports) if r.admissible]
     if len(ok) < spec.configurations:
-        raise InputError(_refusal(reports, spec), field="design")
+        raise InputError(_bare_crowding(bare, modes, spec, reports) or _refusal(reports, spec),
+                         field="design")
 
     blocks = [block(s) for s in screened]
     scorer = PlanScorer(blocks, block(bare), prior, method, spec.criterion, names)
@@ -308,7 +309,8 @@ def design_plan(model: ParametricModel, spec: DesignSpec, method: str,
         pool_of = {i: k for k, i in enumerate([*pool, *own_at])}
         ok = [i for i in pool if reports[i].admissible]
         if len(ok) < spec.configurations:
-            raise InputError(_refusal(reports, spec), field="design")
+            raise InputError(_bare_crowding(bare, modes, spec, reports) or _refusal(reports, spec),
+                             field="design")
         search = _Mapped(PriorScorer(draws, spec.criterion, names), pool_of)
     else:
         search = scorer
@@ -404,6 +406,26 @@ def _constraints(c: Configuration, s: Screened, f0: np.ndarray, sigma0: np.ndarr
     in_std = float(np.max(np.abs(shifts) / sigma0))
     ok = s.order_kept and in_std > spec.min_shift_in_std and gap >= spec.min_relative_gap
     return CandidateReport(c, shifts.tolist(), in_std, gap, s.order_kept, bool(ok))
+
+
+def _bare_crowding(bare: Screened, modes: Sequence[int], spec: DesignSpec,
+                   reports: list[CandidateReport]) -> str:
+    """The likely cause of a refusal, or "": two used modes of the bare structure are
+    already closer than min_relative_gap (a candidate keeps them apart only by chance)."""
+    f = bare.frequencies_hz
+    if bare.next_eigenvalue is not None:
+        f = np.append(f, math.sqrt(max(bare.next_eigenvalue, 0.0)) / (2 * math.pi))
+    for k in modes:
+        for j in (k - 1, k + 1):
+            if 1 <= j <= f.size and abs(f[k - 1] - f[j - 1]) < spec.min_relative_gap * f[k - 1]:
+                a, b = sorted((k, j))
+                return (f"only {sum(r.admissible for r in reports)} of {len(reports)} "
+                        f"candidates are admissible, {spec.configurations} configurations "
+                        f"asked for: the bare structure's modes {a} and {b} "
+                        f"({f[a - 1]:.6g} and {f[b - 1]:.6g} Hz) are already closer than "
+                        f"min_relative_gap = {spec.min_relative_gap:g}; leave one of them out "
+                        f"of design.modes or lower min_relative_gap")
+    return ""
 
 
 def _refusal(reports: list[CandidateReport], spec: DesignSpec) -> str:

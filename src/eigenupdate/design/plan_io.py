@@ -17,7 +17,7 @@ import tomli_w
 
 from eigenupdate.model.configurations import Configuration
 
-_MODEL_PATHS = ("K0", "M0")
+_MODEL_PATHS = ("K0", "M0", "bdf")
 
 
 def plan_study_text(study_path: str | Path, configurations: Sequence[Configuration],
@@ -65,7 +65,7 @@ def plan_study_text(study_path: str | Path, configurations: Sequence[Configurati
     for key in _MODEL_PATHS:
         if isinstance(model.get(key), str):
             model[key] = moved(model[key])
-    for par in model.get("parameter", []):
+    for par in [*model.get("parameter", []), *model.get("term", [])]:
         for key in ("K", "M"):
             if isinstance(par.get(key), str):
                 par[key] = moved(par[key])
@@ -75,9 +75,12 @@ def plan_study_text(study_path: str | Path, configurations: Sequence[Configurati
     meas["modes"] = [int(k) for k in modes]
     doc.pop("perturbation", None)
     rest = {k: doc.pop(k) for k in list(doc) if k in ("updating", "design")}
+    # a NASTRAN study names grid and component (coordinate 10 * grid + component)
+    nastran = model.get("type") == "nastran"
     doc["perturbation"] = [
         {"name": c.name,
-         "add": [{"coordinate": a.coordinate,
+         "add": [{**({"grid": a.coordinate // 10, "component": a.coordinate % 10} if nastran
+                     else {"coordinate": a.coordinate}),
                   **({"mass": a.mass} if a.mass else {}),
                   **({"stiffness": a.stiffness} if a.stiffness else {})}
                  for a in c.additions]}

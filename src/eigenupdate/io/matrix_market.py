@@ -29,9 +29,12 @@ def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
         a = scipy.io.mmread(path)
     except (OSError, ValueError, TypeError, IndexError, OverflowError, MemoryError) as exc:
         raise InputError(f"cannot read Matrix Market file: {exc}", source=str(path)) from None
-    if scipy.io.mminfo(path)[4] == "pattern":
+    info = scipy.io.mminfo(path)
+    if info[4] == "pattern":
         raise InputError("matrix is a pattern (no values); a real matrix is required",
                          source=str(path))
+    if info[3] == "coordinate" and info[5] == "symmetric":
+        _one_triangle(path, info[2])
     a = sp.csr_array(a)
     if np.iscomplexobj(a.data):
         raise InputError("matrix is complex; a real matrix is required", source=str(path))
@@ -48,6 +51,23 @@ def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
     return a
 
 
+def _one_triangle(path: Path, entries: int) -> None:
+    """A symmetric file stores each off-diagonal pair once; the reader mirrors every entry,
+    so a file listing both triangles (as some exporters write) would double them."""
+    if entries == 0:
+        return
+    ij = np.loadtxt(path, comments="%", usecols=(0, 1), dtype=np.int64, skiprows=0,
+                    ndmin=2)[1:]  # the first data line is the size line
+    lo, hi = np.minimum(ij[:, 0], ij[:, 1]), np.maximum(ij[:, 0], ij[:, 1])
+    _, first, counts = np.unique(lo * (int(hi.max()) + 1) + hi, return_index=True,
+                                 return_counts=True)
+    if np.any(counts > 1):
+        k = first[np.argmax(counts > 1)]
+        raise InputError(f"symmetric file gives entry ({lo[k]}, {hi[k]}) more than once (or "
+                         f"also as ({hi[k]}, {lo[k]})): a symmetric Matrix Market file stores "
+                         f"one triangle, and the reader would add them", source=str(path))
+
+
 def _check_header(path: Path, n: int | None) -> None:
     """Sizes the header declares, checked before anything of that size is allocated:
     square, n x n when K0 is, within the coordinate budget (:mod:`eigenupdate.budget`),
@@ -55,7 +75,7 @@ def _check_header(path: Path, n: int | None) -> None:
     coordinate entry at least 6)."""
     src = str(path)
     try:
-        rows, cols, entries, fmt, _, _ = scipy.io.mminfo(path)
+        rows, cols, entries, fmt, _, symmetry = scipy.io.mminfo(path)
         size = path.stat().st_size
     except (OSError, ValueError, TypeError, IndexError, OverflowError) as exc:
         raise InputError(f"cannot read Matrix Market header: {exc}", source=src) from None
@@ -76,6 +96,8 @@ def _check_header(path: Path, n: int | None) -> None:
         line = data.count(b"\n", 0, long.start()) + 1
         raise InputError(f"line {line} is longer than {MAX_LINE} characters", source=src)
     per_entry = 2 if fmt == "array" else 6
+    if fmt == "array" and symmetry != "general":  # one triangle stored (mminfo counts n^2)
+        entries = rows * (rows + 1) // 2 if symmetry != "skew-symmetric" else rows * (rows - 1) // 2
     if entries * per_entry > size:
         raise InputError(f"the header declares {entries} {fmt} entries but the file has only "
                          f"{size} bytes (truncated, or a wrong header)", source=src)

@@ -23,11 +23,12 @@ from __future__ import annotations
 import contextlib
 import io
 import re
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import EigenupdateWarning, InputError
 
 # cards that define K, M or the coordinates and are assembled (io/nastran.py)
 SUPPORTED = frozenset({
@@ -249,6 +250,8 @@ def load_deck(path: str | Path) -> Deck:
     # a comment keeps the line numbers
     lines = ["$" + x if i < cend and _APPROACH.match(x) else x for i, x in enumerate(lines)]
     lines, origin = _one_per_card(lines, origin)
+    start = bulk + 1 if bulk < len(lines) else (len(lines) if cend >= 0 else 0)
+    _free_field_overflow(lines[start:], origin[start:], path)
     bdf = _quiet_bdf()
     bdf.disable_cards(SKIPPED - {"EPOINT"})  # extra points: kept apart from scalar points
     sink = io.StringIO()
@@ -295,6 +298,51 @@ def _one_per_card(lines: list[str], origin: list) -> tuple[list[str], list]:
         out.append(text)
         where.append(at)
     return out, where
+
+
+_NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD]?[-+]?\d+)?$")
+
+
+def _free_field_overflow(lines: list[str], origin: list, path: Path) -> None:
+    """Refuse data beyond a line's continuation field: the 10th field of a free-field line
+    (the 6th of a large-field ``*`` one), columns 73-80 of a fixed-field line, which
+    NASTRAN reads to column 80. pyNastran drops such data without a word (an SPC1 listing
+    nine grids on one free-field line lost the last three). A number alone in a
+    continuation field that continues nothing is warned about (``GRID*,2,,1.,2.,3.``
+    loses z)."""
+    card = ""
+    data = [i for i, x in enumerate(lines) if x.strip() and not x.startswith("$")]
+    follows = {i: lines[j][:1] in ("+", "*", ",", " ")
+               for i, j in zip(data, data[1:], strict=False)}
+    for i, (text, (name, number)) in enumerate(zip(lines, origin, strict=True)):
+        body = text.split("$")[0].rstrip()
+        if not body.strip():
+            continue
+        at = f"line {number}" if name == path.name else f"{name}:{number}"
+        if "," in body[:10]:
+            fields = [f.strip() for f in body.split(",")]
+            while len(fields) > 1 and not fields[-1]:
+                fields.pop()
+            last = 6 if fields[0].startswith("*") or fields[0].endswith("*") else 10
+            lost = fields[last:]
+            cont = fields[last - 1] if len(fields) == last else ""
+            where = f"field {last} of a free-field line"
+        else:  # fixed field: 80 columns, 73-80 the continuation field
+            fields = [body[:8].strip()]
+            lost = [body[80:].strip()] if len(body) > 80 else []
+            cont = body[72:80].strip()
+            where = "columns 73-80 of a fixed-field line"
+        if fields[0][:1].isalpha():
+            card = fields[0].upper().rstrip("*")
+        if lost:
+            raise InputError(
+                f"{at}: {card or 'card'}: data beyond the continuation field ({where}): "
+                f"NASTRAN does not read {', '.join(repr(f) for f in lost)}; continue the "
+                f"card on the next line", source=str(path))
+        if cont and not follows.get(i, False) and _NUMBER.match(cont):
+            warnings.warn(f"{path.name}: {at}: {card}: {cont!r} is in the continuation "
+                          f"field ({where}), which NASTRAN does not read as data: it is "
+                          f"ignored", EigenupdateWarning, stacklevel=2)
 
 
 def _implicit_spoints(bdf) -> None:

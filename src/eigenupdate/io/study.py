@@ -317,8 +317,9 @@ def _addition(r: TableReader, finish: bool = True, nastran=None) -> Addition:
     else:  # NASTRAN names a GRID and a component 1-6
         if "coordinate" in r.data:
             raise r.error("coordinate", "a NASTRAN model names grid = ... and component = 1-6")
+        grid, component = r.get("grid", "int"), r.get("component", "int")
         try:
-            c = nastran.grid_dof(r.get("grid", "int"), r.get("component", "int"))
+            c = nastran.grid_dof(grid, component)
         except InputError as exc:
             raise r.error("grid", str(exc)) from None
     mass = r.get("mass", "float", 0.0)

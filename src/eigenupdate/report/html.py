@@ -82,8 +82,10 @@ def _study_section(study: Study) -> Section:
         ("method", f"{study.method}, at most {study.max_iterations} iterations, "
                    f"tolerance {study.tolerance:g}"),
     ]
+    # a NASTRAN deck has no units: its own, masses after WTMASS (README, "Units")
+    deck = study.model_type == "nastran"
     sec.blocks.append(table(
-        "Parameters of the initial model (SI units)",
+        "Parameters of the initial model (" + ("the deck's units" if deck else "SI units") + ")",
         ["parameter", "initial value", "prior std", "updated"],
         [[p.name, p.value, p.std, p.update] for p in model.parameters], "parameters"))
     rows = []
@@ -93,6 +95,8 @@ def _study_section(study: Study) -> Section:
         for a in c.additions:
             rows.append([c.name, a.coordinate, a.mass or None, a.stiffness or None])
     sec.blocks.append(table(
+        "Test configurations: known masses and grounded springs added, in the deck's mass "
+        "and force per length units (coordinate = 10 x GRID + component)" if deck else
         "Test configurations: known masses (kg; kg m^2 on a rotation) and grounded "
         "springs (N/m) added", ["configuration", "coordinate", "added mass", "added stiffness"],
         rows, "configurations"))

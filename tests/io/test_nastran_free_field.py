@@ -52,8 +52,6 @@ def test_pynastran_drops_the_fields_after_the_continuation_field(tmp_path):
                                           "'2', '3'"]),
     ("SPC1,1,123456,1 $ a,b,c,d,e,f,g,h,i,j\nGRID*,4,,3.0,0.0,+C,9.0\n*C,0.0\n",
      ["line 10: GRID", "field 6 of a free-field", "read '9.0'"]),
-    ("SPC1    1       123456  1       1       1       1       1       1       1       2\n",
-     ["line 9: SPC1", "columns 73-80 of a fixed-field", "read '2'"]),
 ])
 def test_data_beyond_the_continuation_field_is_refused(tmp_path, run_cli, line, words):
     code, out, err = _run(tmp_path, run_cli, BARS + line)
@@ -62,6 +60,16 @@ def test_data_beyond_the_continuation_field_is_refused(tmp_path, run_cli, line, 
     assert str(tmp_path / "deck.bdf") in errors[0]
     for w in words:
         assert w in errors[0], errors[0]
+
+
+def test_text_beyond_column_80_of_a_fixed_field_line_is_named_not_refused(tmp_path, run_cli):
+    """NASTRAN reads a fixed-field line to column 80, and pyNastran too (its SPC1 above
+    kept grids 1-6 of the fixed-field line, as NASTRAN would): nothing is misread, so the
+    deck runs and the ignored text is named (a ZAERO deck keeps its continuation markers
+    in columns 81-88)."""
+    line = "SPC1    1       123456  1       1       1       1       1       1       1       2\n"
+    code, out, err = _run(tmp_path, run_cli, BARS + line)
+    assert code == 0 and "line 9: columns 81-88 are not read" in err, err
 
 
 def test_a_number_in_an_unused_continuation_field_is_named(tmp_path, run_cli):

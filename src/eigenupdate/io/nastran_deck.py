@@ -304,12 +304,12 @@ _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD]?[-+]?\d+)?$")
 
 
 def _free_field_overflow(lines: list[str], origin: list, path: Path) -> None:
-    """Refuse data beyond a line's continuation field: the 10th field of a free-field line
-    (the 6th of a large-field ``*`` one), columns 73-80 of a fixed-field line, which
-    NASTRAN reads to column 80. pyNastran drops such data without a word (an SPC1 listing
-    nine grids on one free-field line lost the last three). A number alone in a
-    continuation field that continues nothing is warned about (``GRID*,2,,1.,2.,3.``
-    loses z)."""
+    """Refuse data beyond a free-field line's continuation field (its 10th field, the 6th
+    of a large-field ``*`` one): pyNastran drops such data without a word (an SPC1 listing
+    nine grids on one free-field line lost the last three). A fixed-field line is read to
+    column 80 by NASTRAN and pyNastran alike: text beyond it is only warned about (a
+    ZAERO deck keeps its continuation markers there). A number alone in a continuation
+    field that continues nothing is warned about (``GRID*,2,,1.,2.,3.`` loses z)."""
     card = ""
     data = [i for i, x in enumerate(lines) if x.strip() and not x.startswith("$")]
     follows = {i: lines[j][:1] in ("+", "*", ",", " ")
@@ -329,9 +329,12 @@ def _free_field_overflow(lines: list[str], origin: list, path: Path) -> None:
             where = f"field {last} of a free-field line"
         else:  # fixed field: 80 columns, 73-80 the continuation field
             fields = [body[:8].strip()]
-            lost = [body[80:].strip()] if len(body) > 80 else []
+            lost = []
             cont = body[72:80].strip()
             where = "columns 73-80 of a fixed-field line"
+            if len(body) > 80:  # NASTRAN reads 80 columns and so does pyNastran: no misreading
+                warnings.warn(f"{path.name}: {at}: columns 81-{len(body)} are not read "
+                              f"({body[80:].strip()[:20]!r})", EigenupdateWarning, stacklevel=2)
         if fields[0][:1].isalpha():
             card = fields[0].upper().rstrip("*")
         if lost:

@@ -197,3 +197,51 @@ def test_quad4_membrane_bends_in_plane_without_parasitic_shear(k6rot):
     tip = 0.5 * (u[6 * (2 * nel) + 1] + u[6 * (2 * nel + 1) + 1])
     bound = 10 * solve_floor(Kff) + (1e-3 if k6rot else 0.0)
     assert abs(tip / exact - 1) <= bound, tip / exact
+
+
+def _laminate_a(t):
+    """A of a [0/45/90] stack of a carbon ply (E1 140 GPa, E2 10 GPa, nu12 0.3, G12
+    5 GPa) with ply thicknesses t."""
+    from eigenupdate.model import laminate
+    e1, e2, nu, g = 1.4e11, 1.0e10, 0.3, 5.0e9
+    d = 1 - nu**2 * e2 / e1
+    q = np.array([[e1 / d, nu * e2 / d, 0], [nu * e2 / d, e2 / d, 0], [0, 0, g]])
+    return sum(ti * laminate.rotate_plane(q, np.radians(a))
+               for ti, a in zip(t, (0, 45, 90), strict=True))
+
+
+def test_quad4_membrane_condensed_with_fixed_moduli_is_linear_and_second_order():
+    """CQUAD4's incompatible modes condensed as under A0 (``condense_with``): the exact
+    Schur complement at A = A0; linear in A (the sum of the parts of A's entries is the
+    part of A); and at other A stiffer than the exact condensation (a Ritz
+    approximation: the difference is positive semi-definite) by an amount of second
+    order in the change (the error ratio for halved changes tends to 4). Source: the
+    Schur complement itself, on a badly distorted element."""
+    xyz = np.array([[[0, 0, 0], [1.3, 0.1, 0], [1.0, 1.2, 0], [-0.2, 0.7, 0]]], float)
+    cb, cs = np.eye(3)[None], np.eye(2)[None]
+    a0 = _laminate_a([1.0, 1.0, 1.0])[None]
+
+    def membrane(a, with_a0=True):
+        kw = {"condense_with": a0} if with_a0 else {}
+        return shells.local_parts(xyz, a, cb, cs, **kw)[1]["membrane"][1][0]
+
+    k0 = membrane(a0, False)
+    assert np.abs(membrane(a0) - k0).max() <= 1e-14 * np.abs(k0).max()
+    a = _laminate_a([1.2, 1.0, 0.85])[None]
+    parts = sum(a[0, i, j] * membrane(_unit(i, j))
+                for i in range(3) for j in range(i, 3))
+    assert np.abs(parts - membrane(a)).max() <= 1e-13 * np.abs(k0).max()
+    errors = []
+    for f in (0.2, 0.1, 0.05):
+        a = _laminate_a([1 + f, 1.0, 1 - 0.75 * f])[None]
+        d = membrane(a) - membrane(a, False)
+        assert np.linalg.eigvalsh(d).min() >= -1e-13 * np.abs(k0).max()
+        errors.append(np.abs(d).max() / np.abs(k0).max())
+    assert errors[0] <= 3.2e-5  # the bound the NASTRAN test cites
+    assert 3.5 <= errors[0] / errors[1] <= 4.5 and 3.5 <= errors[1] / errors[2] <= 4.5
+
+
+def _unit(i, j):
+    u = np.zeros((1, 3, 3))
+    u[0, i, j] = u[0, j, i] = 1.0
+    return u

@@ -410,10 +410,11 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             elif part == "mass":
                 out.append(mask[s, None, None] * m)
             elif moduli is not None:  # a PCOMP's unit basis
-                key = tuple(id(c) for c in moduli[:3])
+                key = tuple(id(c) for c in (*moduli[:3], moduli[4]))
                 if key not in cache:
+                    cond = {} if moduli[4] is None else {"condense_with": moduli[4][s]}
                     cache[key] = elem.local_parts(xyz_e[s], *(c[s] for c in moduli[:3]),
-                                                  k6rot, labels[s])
+                                                  k6rot, labels[s], **cond)
                 Rb, pb = cache[key]
                 out.append(_to_cd(shells.combine(Rb, pb, {q: mask[s].astype(float)
                                                           for q in moduli[3]}),

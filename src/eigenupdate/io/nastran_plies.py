@@ -11,8 +11,11 @@ into membrane-bending coupling: refused). The drilling penalty follows A's in-pl
 shear entry, so it rides with the membrane basis; the CQUAD4, CTRIA3, CTRIA6 shear
 factor T^2 / (T^2 + alpha h^2) is a term per element size, as for a PSHELL's T.
 The mass per area WTMASS (sum RHO_k t_k + NSM) is linear in each t_k. A CQUAD4's
-membrane condenses Wilson's modes (not linear in A), so there the plies' plane moduli
-must be equal (A0 = T q): else the parameter is refused.
+membrane condenses Wilson's modes, which is not linear in A: where the plies' plane
+moduli are equal (A0 = T q) it is T times one part; else the modes are condensed as under
+the deck's A0 (:func:`eigenupdate.model.shells.local_parts` ``condense_with``), linear in
+A, exact at the deck's thicknesses and a Ritz approximation (stiffer by the square of
+the change of A's shape) at others.
 """
 
 from __future__ import annotations
@@ -62,8 +65,8 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
               ) -> list:
     """(pid, part, element mask, term, moduli) of every PCOMP with a ply thickness
     parameter: part "stiffness" with ``moduli`` (cm, cb, cs) per element (unit basis
-    turned by ``phi``) and the parts they make, or "mass". Clears those elements' linear
-    derivatives."""
+    turned by ``phi``), the parts they make and the membrane moduli CQUAD4 condenses
+    with (None: its own), or "mass". Clears those elements' linear derivatives."""
     out = []
     pids = np.array([e.pid for e in elems])
     n = len(elems)
@@ -105,10 +108,12 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
                                                                     c))
 
         same = np.abs(q0 - q0[:1]).max() <= 1e-12 * np.abs(q0).max()
+        # CQUAD4 with plies that differ: its incompatible modes condensed as under the
+        # deck's A0 (shells.local_parts), so that the membrane is linear in A
+        a0 = None
         if not same and quad4:
-            raise InputError(f"{where}: not a parameter of CQUAD4 elements whose plies' "
-                             f"plane moduli differ (the condensed membrane is not linear "
-                             f"in A); use CTRIA3, CQUAD8 or CTRIA6")
+            a0 = np.broadcast_to(np.eye(3), (n, 3, 3)).copy()
+            a0[on] = laminate.rotate_plane(np.einsum("p,pij->ij", t0, q0), phi[on])
         # moduli of basis i: membrane, bending and shear entry i in one local_parts call
         # (shared arrays: the assembly computes each set once); unit membrane moduli off
         # this PCOMP, and A0's own shape when its plies agree (CQUAD4's condensation)
@@ -123,11 +128,11 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
             basis.append((cm, cb, cs))
         if same:  # A0 = T q: one membrane term
             out.append((pid, "stiffness", on, term("A", (0, 0), np.ones((len(sl), 1, 1))),
-                        (*basis[0], PARTS[0])))
+                        (*basis[0], PARTS[0], None)))
         else:
-            out += [(pid, "stiffness", on, term("A", e, q0), (*basis[i], PARTS[0]))
+            out += [(pid, "stiffness", on, term("A", e, q0), (*basis[i], PARTS[0], a0))
                     for i, e in enumerate(_SYM3) if np.any(q0[:, e[0], e[1]])]
-        out += [(pid, "stiffness", on, term("D", e, q0), (*basis[i], PARTS[1]))
+        out += [(pid, "stiffness", on, term("D", e, q0), (*basis[i], PARTS[1], a0))
                 for i, e in enumerate(_SYM3) if np.any(q0[:, e[0], e[1]])]
         hs = np.unique(size[on])
         if len(hs) > MAX_SIZES:
@@ -137,7 +142,7 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
         for h in hs:
             mask = on & (size == h)
             out += [(pid, "stiffness", mask,
-                     term("H", e, g0, float(shells.ALPHA * h**2)), (*basis[i], PARTS[2]))
+                     term("H", e, g0, float(shells.ALPHA * h**2)), (*basis[i], PARTS[2], a0))
                     for i, e in enumerate(_SYM2) if np.any(g0[:, e[0], e[1]])]
         for s in used:
             rho = sum(st["rho"][i] for i, k in enumerate(sl) if k == s)

@@ -293,10 +293,12 @@ def _expand(terms, n: int, m: int) -> np.ndarray:
 
 
 def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
-                 shear: np.ndarray, k6rot: float, labels: list[str] | None):
+                 shear: np.ndarray, k6rot: float, labels: list[str] | None,
+                 condense_with: np.ndarray | None = None):
     """Element axes R and the stiffness parts in element axes, each as its columns and
     its block on them (membrane: u, v; drilling: u, v, rz; bending: rx, ry; shear: w,
-    rx, ry), all integration points in one product."""
+    rx, ry), all integration points in one product. ``condense_with`` (CQUAD4): see
+    :func:`local_parts`."""
     xyz = np.asarray(xyz, float)
     n, k = xyz.shape[:2]
     R, xy = shell_axes(xyz, labels)
@@ -307,6 +309,9 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
             for name, c in _PART_COLUMNS.items()}
     b_all = {name: [] for name in STIFFNESS_PARTS}
     db_all = {name: [] for name in STIFFNESS_PARTS}
+    c0 = None if condense_with is None or k != 4 else \
+        np.broadcast_to(np.asarray(condense_with, float), (n, 3, 3))
+    db0 = []  # the membrane with the moduli whose incompatible modes are kept
     if k == 4:
         points, shape, shear_b = _QUAD_POINTS, _quad_shape, _quad_shear
         _, det0, inv0, _ = _jacobian(_quad_shape(0.0, 0.0)[1], xy)
@@ -329,23 +334,41 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 b = b[:, :, cols[name]]
             b_all[name].append(b)
             db_all[name].append(np.einsum("nab,nbj->naj", d, b) * w)
+        if c0 is not None:
+            db0.append(np.einsum("nab,nbj->naj", c0, bm) * w)
     out = {name: (cols[name], np.einsum("nai,naj->nij", np.concatenate(b_all[name], 1),
                                         np.concatenate(db_all[name], 1)))
            for name in STIFFNESS_PARTS}
-    if k == 4:  # condense the incompatible modes element by element
+    if k == 4 and c0 is None:  # condense the incompatible modes element by element
         c, km = out["membrane"]
         out["membrane"] = (c, km[:, :8, :8] - km[:, :8, 8:] @ np.linalg.solve(
             km[:, 8:, 8:], km[:, 8:, :8]))
+    elif k == 4:  # T^T k T, T = [I; -k0_ii^-1 k0_ic] from the moduli condense_with
+        c, km = out["membrane"]
+        k0 = np.einsum("nai,naj->nij", np.concatenate(b_all["membrane"], 1),
+                       np.concatenate(db0, 1))
+        t = -np.linalg.solve(k0[:, 8:, 8:], k0[:, 8:, :8])
+        tt = np.swapaxes(t, 1, 2)
+        out["membrane"] = (c, km[:, :8, :8] + km[:, :8, 8:] @ t + tt @ km[:, 8:, :8]
+                           + tt @ km[:, 8:, 8:] @ t)
     return R, out
 
 
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
-                shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None):
+                shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None,
+                condense_with: np.ndarray | None = None):
     """Element axes R (n, 3, 3) and the stiffness parts per unit thickness power in
     element axes, compact: ``{part: (columns, (n, c, c) block)}``; :func:`combine` sums
     them with per-element factors and turns the sum to global axes (one rotation for
-    any number of factor sets, which is what a deck's parameters need)."""
-    return _local_parts(xyz, membrane, bending, shear, k6rot, labels)
+    any number of factor sets, which is what a deck's parameters need).
+
+    CQUAD4's membrane condenses its incompatible modes, which is not linear in the
+    moduli. With ``condense_with`` (membrane moduli A0, (n, 3, 3) or (3, 3)) the modes
+    are condensed as they are under A0 (T^T k T, T = [I; -k0_ii^-1 k0_ic]): linear in
+    ``membrane``, so a laminate's membrane is the sum of its moduli's parts, equal to the
+    exact condensation where membrane = A0 and stiffer by the square of the change of
+    A's shape elsewhere (a Ritz approximation with A0's incompatible modes)."""
+    return _local_parts(xyz, membrane, bending, shear, k6rot, labels, condense_with)
 
 
 def combine(R: np.ndarray, parts: dict, factors: dict[str, np.ndarray]) -> np.ndarray:

@@ -216,7 +216,7 @@ def test_bad_bdf_one_line(tmp_path, run_cli, card, message):
 @pytest.mark.parametrize("table,message", [
     ('card = "MAT1"\nid = 1\nfield = "NU"', "MAT1 1 field NU: not a parameter"),
     ('card = "MAT1"\nid = 1\nfield = "XX"', "MAT1 1: field 'XX' is not a parameter"),
-    ('card = "PBAR"\nid = 4\nfield = "A"', "PBAR 4 is not in the file"),
+    ('card = "PBAR"\nid = 4\nfield = "A"', "PBAR 4 is not in the file (parameter 1, 'p')"),
 ])
 def test_bad_parameter_field(tmp_path, run_cli, table, message):
     study = tmp_path / "study.toml"

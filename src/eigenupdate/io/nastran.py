@@ -226,7 +226,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
 
     specs = list(specs)
     fields = [f for _, f in specs]
-    pindex = _check_fields(bdf, fields)
+    pindex = _check_fields(bdf, fields, [p.name for p, _ in specs])
     k0, m0 = _Triplets(), _Triplets()
     kj = [_Triplets() for _ in specs]
     mj = [_Triplets() for _ in specs]
@@ -441,7 +441,7 @@ def _frames(bdf, nids: np.ndarray, xyz: np.ndarray) -> np.ndarray:
     return out
 
 
-def _check_fields(bdf, fields: list[CardField]) -> dict:
+def _check_fields(bdf, fields: list[CardField], names: list[str]) -> dict:
     """{(card, id): {field: parameter index}} after validating every field."""
     out: dict = {}
     cards = stores(bdf)
@@ -458,7 +458,8 @@ def _check_fields(bdf, fields: list[CardField]) -> dict:
                              f"parameter fields of {f.card} are {have}")
         card = cards[f.card].get(f.id)
         if card is None or card.type != f.card:
-            raise InputError(f"{f.card} {f.id} is not in the file")
+            raise InputError(f"{f.card} {f.id} is not in the file (parameter {j + 1}, "
+                             f"{names[j]!r})")
         if f.card in ("PBARL", "PBEAML"):
             n = np.atleast_2d(np.asarray(card.dim, float)).shape[1]
             if int(f.field[3:]) > n:

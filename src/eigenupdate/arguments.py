@@ -113,7 +113,11 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("study")
     s.add_argument("-o", "--output", required=True)
     s.add_argument("--noise-hz", type=nonnegative, default=0.0, help="Gaussian noise std (Hz)")
-    s.add_argument("--std-hz", type=positive, help="std_hz column (default: the noise level)")
+    s.add_argument("--noise-relative", type=nonnegative, default=0.0,
+                   help="Gaussian noise std as a fraction of each frequency (0.001: 0.1 %%); "
+                        "adds in quadrature to --noise-hz")
+    s.add_argument("--std-hz", type=positive,
+                   help="std_hz column (default: each frequency's noise level)")
     s.add_argument("--seed", type=seed)
 
     s = sub.add_parser("check", help="identifiability of the test plan (condition, rank of J)")

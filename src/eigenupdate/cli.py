@@ -56,7 +56,7 @@ def cmd_simulate(args) -> int:
     study = eu.load_study(args.study)
     # the study's measurement file is where simulated data may go: not read by this run
     check_not_inputs({"-o": args.output}, study.inputs(frf=True))
-    rows = eu.simulate_study(study, args.noise_hz, args.std_hz, args.seed)
+    rows = eu.simulate_study(study, args.noise_hz, args.std_hz, args.seed, args.noise_relative)
     write_measurements(args.output, rows)
     text.progress(f"wrote {len(rows)} frequencies of {len(study.configurations)} "
                   f"configurations to {args.output}")

@@ -102,11 +102,12 @@ def study_frequencies(study: Study, n_modes: int | None = None) -> dict[str, np.
 
 
 def simulate_study(study: Study, noise_hz: float = 0.0, std_hz: float | None = None,
-                   seed: int | None = None) -> list[Measurement]:
+                   seed: int | None = None, noise_relative: float = 0.0) -> list[Measurement]:
     """The measurements this study's model, taken as the truth, would give
     (``eigenupdate simulate``); see :func:`eigenupdate.measure.synthetic.simulate_measurements`."""
     return simulate_measurements(study.model, study.configurations, study.require_modes(),
-                                 noise_hz=noise_hz, std_hz=std_hz, seed=seed)
+                                 noise_hz=noise_hz, std_hz=std_hz, seed=seed,
+                                 noise_relative=noise_relative)
 
 
 @dataclass(frozen=True)

@@ -140,6 +140,7 @@ def simulate_measurements(
     noise_hz: float = 0.0,
     std_hz: float | None = None,
     seed: int | np.random.Generator | None = None,
+    noise_relative: float = 0.0,
 ) -> list[Measurement]:
     """The natural frequencies the model (taken as the truth) gives, with Gaussian noise.
 
@@ -148,6 +149,9 @@ def simulate_measurements(
     noise_hz : standard deviation (Hz) of the noise added to every frequency.
     std_hz : the std recorded with each frequency; default the noise level (None if 0).
     seed : random seed or Generator.
+    noise_relative : standard deviation of a further noise as a fraction of each
+        frequency (0.001: 0.1 %); the two add in quadrature, and the default recorded std
+        is that sum, frequency by frequency.
 
     Examples
     --------
@@ -164,18 +168,22 @@ def simulate_measurements(
         raise InputError(f"{noise_hz!r} must be a finite number >= 0", field="--noise-hz")
     if std_hz is not None and not (np.isfinite(std_hz) and std_hz > 0):
         raise InputError(f"{std_hz!r} must be a finite number > 0", field="--std-hz")
-    std = std_hz if std_hz is not None else (noise_hz or None)
+    if not (np.isfinite(noise_relative) and 0 <= noise_relative < 0.5):
+        raise InputError(f"{noise_relative!r} must be a fraction >= 0 and < 0.5",
+                         field="--noise-relative")
     sols = solve_configurations(model, configurations, max(modes))
     rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
     rows = []
     for c, s in zip(configurations, sols, strict=True):
         for k in modes:
             f = float(s.frequencies_hz[k - 1])
-            if noise_hz > 0:
-                f += float(rng.normal(0.0, noise_hz))
+            sd = float(np.hypot(noise_hz, noise_relative * f))
+            if sd > 0:
+                f += float(rng.normal(0.0, sd))
                 if f <= 0:
-                    raise InputError(f"noise of {noise_hz:g} Hz made the frequency of "
+                    raise InputError(f"noise of {sd:g} Hz made the frequency of "
                                      f"{c.name!r} mode {k} negative; use less noise",
                                      field="--noise-hz")
-            rows.append(Measurement(c.name, k, f, std))
+            rows.append(Measurement(c.name, k, f, std_hz if std_hz is not None else
+                                    (sd or None)))
     return rows

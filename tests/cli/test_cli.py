@@ -204,6 +204,17 @@ def test_simulate_with_noise_is_reproducible(fig2_dir, run_cli):
     assert code == 0, err
 
 
+def test_simulate_relative_noise(fig2_dir, run_cli):
+    """--noise-relative 0.001: each std is 0.1 % of its true frequency, which the noisy
+    one matches within 6 of those std (6e-3 relative)."""
+    code, _, err = run_cli("simulate", fig2_dir / "truth.toml", "-o", fig2_dir / "r.csv",
+                           "--noise-relative", "0.001", "--seed", "3")
+    assert code == 0, err
+    rows = [line.split(",") for line in (fig2_dir / "r.csv").read_text().splitlines()[1:]]
+    ratio = np.array([float(r[-1]) / float(r[-2]) for r in rows])
+    assert np.all(np.abs(ratio / 1e-3 - 1) <= 6e-3)
+
+
 def test_beam_study_errors(tmp_path, run_cli):
     beam = (EXAMPLES / "paper_beam" / "study.toml").read_text()
     s = write(tmp_path, beam.replace("0.39, 0.49", "0.49, 0.39"))

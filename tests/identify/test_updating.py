@@ -345,6 +345,22 @@ def test_last_step_without_a_solve_is_what_a_solve_gives(seed, n):
     assert np.all(np.abs(lam_reported - lin.eigenvalues) <= bound)
 
 
+def _noisy_network(seed, added, stated, n=6, noise=3e-3):
+    """A random network of n masses, a bare test and one with ``added`` of each mass,
+    every mode measured with relative noise ``noise`` and std ``stated`` (relative);
+    a start 5 % off."""
+    rng = np.random.default_rng(seed)
+    truth = random_network(rng, n)
+    configs = [Configuration("base")] + [
+        mass_at(c, added * truth.values[c - 1], f"at {c}") for c in range(1, n + 1)]
+    modes = list(range(1, n + 1))
+    data = {k: Measurement(m.configuration, m.mode, m.frequency_hz * (1 + noise * rng.normal()),
+                           stated * m.frequency_hz)
+            for k, m in simulate(truth, configs, modes).items()}
+    start = truth.with_values(truth.values * rng.uniform(0.95, 1.05, truth.values.size))
+    return start, configs, modes, data
+
+
 @pytest.mark.parametrize("seed", [8, 26])
 def test_noisy_fit_stops_at_the_data_precision(monkeypatch, seed):
     """Issue 21 item 5: with 0.3 % noise on 2 % added masses the trust region creeps (its
@@ -355,16 +371,7 @@ def test_noisy_fit_stops_at_the_data_precision(monkeypatch, seed):
     that is, at most JOINT^2 = 0.01 data variances below the stopped objective (exact for
     the Gauss-Newton model; what it gives here is the bound checked)."""
     from eigenupdate.identify import fit as fit_module
-    n = 6
-    rng = np.random.default_rng(seed)
-    truth = random_network(rng, n)
-    configs = [Configuration("base")] + [
-        mass_at(c, 0.02 * truth.values[c - 1], f"at {c}") for c in range(1, n + 1)]
-    modes = list(range(1, n + 1))
-    data = {k: Measurement(m.configuration, m.mode, m.frequency_hz * (1 + 3e-3 * rng.normal()),
-                           3e-3 * m.frequency_hz)
-            for k, m in simulate(truth, configs, modes).items()}
-    start = truth.with_values(truth.values * rng.uniform(0.95, 1.05, truth.values.size))
+    start, configs, modes, data = _noisy_network(seed, 0.02, 3e-3)
     res = update(start, configs, modes, data, method="weighted-least-squares")
     assert res.success and res.nit <= 20, res.message
     assert "data's precision" in res.message
@@ -382,16 +389,7 @@ def test_no_precision_claim_where_the_residual_is_not_the_stated_noise(monkeypat
     "converged at the data's precision" is not said; without the chi-square test (its
     quantile at 1) the same fit says it, so the check can fail."""
     from eigenupdate.identify import fit as fit_module
-    n = 6
-    rng = np.random.default_rng(16)
-    truth = random_network(rng, n)
-    configs = [Configuration("base")] + [
-        mass_at(c, 0.2 * truth.values[c - 1], f"at {c}") for c in range(1, n + 1)]
-    modes = list(range(1, n + 1))
-    data = {k: Measurement(m.configuration, m.mode, m.frequency_hz * (1 + 3e-3 * rng.normal()),
-                           1e-3 * m.frequency_hz)
-            for k, m in simulate(truth, configs, modes).items()}
-    start = truth.with_values(truth.values * rng.uniform(0.95, 1.05, truth.values.size))
+    start, configs, modes, data = _noisy_network(16, 0.2, 1e-3)
     res = update(start, configs, modes, data, method="weighted-least-squares")
     dof = res.fun.size - len(res.names)
     assert 2 * res.cost > 3 * dof

@@ -34,7 +34,7 @@ def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
         raise InputError("matrix is a pattern (no values); a real matrix is required",
                          source=str(path))
     if info[3] == "coordinate" and info[5] == "symmetric":
-        _one_triangle(path, info[2])
+        _one_triangle(path, a)
     a = sp.csr_array(a)
     if np.iscomplexobj(a.data):
         raise InputError("matrix is complex; a real matrix is required", source=str(path))
@@ -51,21 +51,21 @@ def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
     return a
 
 
-def _one_triangle(path: Path, entries: int) -> None:
+def _one_triangle(path: Path, a) -> None:
     """A symmetric file stores each off-diagonal pair once; the reader mirrors every entry,
-    so a file listing both triangles (as some exporters write) would double them."""
-    if entries == 0:
+    so a file listing both triangles (as some exporters write) would double them. The
+    reader's entries (mirrored, not summed) then hit some position twice."""
+    coo = sp.coo_array(a)
+    if coo.nnz == 0:
         return
-    ij = np.loadtxt(path, comments="%", usecols=(0, 1), dtype=np.int64, skiprows=0,
-                    ndmin=2)[1:]  # the first data line is the size line
-    lo, hi = np.minimum(ij[:, 0], ij[:, 1]), np.maximum(ij[:, 0], ij[:, 1])
-    _, first, counts = np.unique(lo * (int(hi.max()) + 1) + hi, return_index=True,
-                                 return_counts=True)
+    key = coo.row.astype(np.int64) * coo.shape[1] + coo.col
+    _, first, counts = np.unique(key, return_index=True, return_counts=True)
     if np.any(counts > 1):
         k = first[np.argmax(counts > 1)]
-        raise InputError(f"symmetric file gives entry ({lo[k]}, {hi[k]}) more than once (or "
-                         f"also as ({hi[k]}, {lo[k]})): a symmetric Matrix Market file stores "
-                         f"one triangle, and the reader would add them", source=str(path))
+        i, j = sorted((int(coo.row[k]) + 1, int(coo.col[k]) + 1))
+        raise InputError(f"symmetric file gives entry ({i}, {j}) more than once (or also as "
+                         f"({j}, {i})): a symmetric Matrix Market file stores one triangle, "
+                         f"and the reader would add them", source=str(path))
 
 
 def _check_header(path: Path, n: int | None) -> None:

@@ -3,37 +3,17 @@ data cannot order fitted through the sum of their eigenvalues."""
 
 import numpy as np
 import pytest
+from models import PAIRING_CONFIGS as CONFIGS
+from models import PAIRING_MODES as MODES
+from models import chains, swapped_case
 from test_updating import simulate
 
 import eigenupdate.identify.pairing as pairing_mod
 from eigenupdate.identify.pairing import Pairing
 from eigenupdate.identify.updating import update
 from eigenupdate.model.configurations import Configuration, mass_at
-from eigenupdate.model.parameters import Parameter
-from eigenupdate.model.spring_mass import Mass, Spring, spring_mass_model
 from eigenupdate.report.text import update_text
 from eigenupdate.solve.jacobian import linearise, solve_configurations
-
-CONFIGS = [Configuration("base")] + [mass_at(c, 0.15, f"at {c}") for c in (1, 2, 3, 4)]
-MODES = [1, 2, 3, 4]
-
-
-def chains(kA, kB, mA=(1.0, 1.0), mB=(1.0, 1.0)):
-    """Two chains ground-k-m-k-m that are not coupled: their modes cross exactly."""
-    ms = [Mass(Parameter(f"mA{i + 1}", mA[i]), i + 1) for i in range(2)] + \
-         [Mass(Parameter(f"mB{i + 1}", mB[i]), i + 3) for i in range(2)]
-    ks = [Spring(Parameter("kA1", kA[0]), (0, 1)), Spring(Parameter("kA2", kA[1]), (1, 2)),
-          Spring(Parameter("kB1", kB[0]), (0, 3)), Spring(Parameter("kB2", kB[1]), (3, 4))]
-    return spring_mass_model(ms, ks, 4)
-
-
-def swapped_case(seed):
-    """Truth and a start within 5 % whose modes come in another order in one
-    configuration (found by the MAC of the order-paired shapes, below)."""
-    rng = np.random.default_rng(seed)
-    truth = chains((1e5, 1e5 * rng.uniform(0.9, 1.1)), (1.02e5, 1e5 * rng.uniform(0.9, 1.1)))
-    start = truth.with_values(truth.values * rng.uniform(0.95, 1.05, 8))
-    return truth, start
 
 
 def order_differs(a, b):

@@ -86,7 +86,7 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
     truth = setup.truth.copy() if setup.truth is not None else draw_values(model, rng)
     out = {"truth": truth[upd], "estimate": np.full(upd.size, np.nan),
            "std": np.full(upd.size, np.nan), "converged": False, "refused": False, "nit": 0,
-           "outcome": "refused", "message": ""}
+           "outcome": "refused", "message": "", "clusters": 0}
     try:
         meas = simulate(setup, truth, rng)
         checked = checked_update(model, setup.configurations, setup.modes, meas,
@@ -102,7 +102,8 @@ def run_trial(seed: np.random.SeedSequence, setup: TrialSetup) -> dict:
     out.update(estimate=np.array([res.parameters[n] for n in names]),
                std=np.array([np.nan if res.std[n] is None else res.std[n] for n in names]),
                converged=checked.outcome == CONVERGED, nit=res.nit,
-               outcome=checked.outcome, message=res.message)
+               outcome=checked.outcome, message=res.message,
+               clusters=len((res.pairing or {}).get("clusters", [])))
     return out
 
 
@@ -256,7 +257,8 @@ class MonteCarloResult:
                 raise t.fail("outcome", f"{outcome!r} is not one of {[*OUTCOMES, 'refused']}")
             trials.append({**arrays, "converged": t.bool("converged"),
                            "refused": t.bool("refused"), "nit": t.int("nit"),
-                           "outcome": outcome, "message": t.str("message")})
+                           "outcome": outcome, "message": t.str("message"),
+                           "clusters": t.int("clusters", optional=True) or 0})
         p = r.child("prior", optional=True)
         prior = None if p is None else PriorPrediction(
             p.array("std"), p.array("std_error"), p.number("gross_risk"), p.int("draws"),
@@ -333,6 +335,9 @@ class MonteCarloResult:
                "seed_entropy": self.entropy, "parameters": {}}
         if doc["statistics_refused"] is not None:
             return doc
+        # the predicted std fits every mode alone; a trial that fitted close modes
+        # through their sums had less information (its reported std says how much)
+        doc["converged_with_clusters"] = sum(t.get("clusters", 0) > 0 for t in ok)
         err = np.array([t["estimate"] - t["truth"] for t in ok])
         rep = np.array([t["std"] for t in ok])
         emp, emp_se = std_with_error(err)

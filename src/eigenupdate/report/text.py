@@ -165,11 +165,16 @@ def montecarlo_text(doc: dict, title: str) -> str:
                      f" of the trials; predicted {doc['predicted_gross_error_fraction']:.1%} +- "
                      f"{doc['predicted_gross_error_fraction_error']:.1%} from "
                      f"{doc['predicted_gross_draws']} checked tests at prior draws")
+    if doc.get("converged_with_clusters"):
+        lines.append(f"{doc['converged_with_clusters']} of the {doc['converged']} converged "
+                     f"trials fitted close modes through their sums (less information than "
+                     f"the predicted std assumes): compare the mean reported std")
     lines.append(table(
         ["parameter", "bias", "empirical std", "predicted std", "+-", "emp/pred",
-         "linear std", "coverage 2 std"],
+         "linear std", "coverage 2 std", "mean reported std"],
         [[n, p["bias"], p["empirical_std"], p["predicted_std"], p["predicted_std_error"],
-          p["ratio_empirical_to_predicted"], p["linear_std"], p["coverage_2std"]]
+          p["ratio_empirical_to_predicted"], p["linear_std"], p["coverage_2std"],
+          p["mean_reported_std"]]
          for n, p in doc["parameters"].items()]))
     return "\n".join(lines)
 

@@ -121,7 +121,8 @@ class Fit:
             if self._mass_diagonal is None:
                 self._mass_diagonal = np.asarray(self.model.mass().diagonal(), dtype=float)
             self.pairing = Pairing(self.rows, self.lam_meas, lin.eigenvalues, self.std_rel,
-                                   self.w, None if lin.shapes is None else self._mass_diagonal)
+                                   self.w, None if lin.shapes is None else self._mass_diagonal,
+                                   lin.next_eigenvalues)
         p = self.paired(z, lin)
         if len(self._cache) >= CACHE_SIZE:
             self._cache.pop(next(iter(self._cache)))

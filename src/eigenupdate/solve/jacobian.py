@@ -54,6 +54,8 @@ class Linearisation:
         (:class:`eigenupdate.solve.perturbed.CertificateReport`); None on the dense path.
     shapes : the used modes of each configuration, (n, modes) mass-normalised, in the
         order of ``rows`` (to track mode identities from one linearisation to the next).
+    next_eigenvalues : each configuration's eigenvalue above the highest mode used,
+        where the solver computed it (NaN where not).
     """
 
     rows: list[tuple[str, int]]
@@ -63,6 +65,7 @@ class Linearisation:
     names: list[str]
     certificate: CertificateReport | None = None
     shapes: tuple[np.ndarray, ...] | None = None
+    next_eigenvalues: np.ndarray | None = None
 
     @property
     def normalised(self) -> np.ndarray:
@@ -282,5 +285,8 @@ def linearise(
         rows.extend((c.name, k) for k in modes)
     if sparse:  # all configurations' modes in one product per parameter
         blocks = [terms.result().derivatives(list(phi), np.array(lam))]
+    following = np.array([s.eigenvalues[modes[-1]] if s.eigenvalues.size > modes[-1] else
+                          np.nan if s.next_eigenvalue is None else s.next_eigenvalue
+                          for s in sols])
     return Linearisation(rows, np.array(lam), np.vstack(blocks), scale,
-                         [model.names[j] for j in upd], report, phi)
+                         [model.names[j] for j in upd], report, phi, following)

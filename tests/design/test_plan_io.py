@@ -73,6 +73,9 @@ def test_nastran_plan_loads_and_keeps_the_designed_additions(tmp_path, run_cli):
     chosen = plan.configurations[1].additions[0]
     assert chosen.coordinate in (43, 42, 33) and chosen.mass == 0.5
     assert plan.model.n == load_study(s).model.n
+    # candidates named as the study names its own perturbations: grid-component
+    g, c = divmod(chosen.coordinate, 10)
+    assert plan.configurations[1].name == f"0.5 kg at {g}-{c}"
 
 
 def test_refusal_names_bare_modes_already_too_close(tmp_path, run_cli):

@@ -192,7 +192,8 @@ def candidate_configurations(spec: DesignSpec) -> list[Configuration]:
     if spec.max_added_mass is not None:
         limit = spec.max_added_mass * (1 + 1e-12)  # 0.1 + 0.2 is not above 0.3 kg
         groups = [g for g in groups if sum(a.mass for a in g) <= limit]
-    return [Configuration(" + ".join(_label(a) for a in g), g) for g in groups]
+    labels = dict(spec.labels)
+    return [Configuration(" + ".join(_label(a, labels) for a in g), g) for g in groups]
 
 
 def candidate_count(spec: DesignSpec) -> int:
@@ -217,10 +218,10 @@ def _distinct(singles: list[Addition], k: int, start: int = 0,
                 yield (a, *rest)
 
 
-def _label(a: Addition) -> str:
+def _label(a: Addition, labels: dict[int, str]) -> str:
     parts = ([f"{a.mass:g} kg"] if a.mass else []) + ([f"{a.stiffness:g} N/m"] if a.stiffness
                                                       else [])
-    return f"{' and '.join(parts)} at {a.coordinate}"
+    return f"{' and '.join(parts)} at {labels.get(a.coordinate, a.coordinate)}"
 
 
 def measured_modes(model: ParametricModel, spec: DesignSpec) -> list[int]:

@@ -35,6 +35,9 @@ class DesignSpec:
         the prior mean only (also when a parameter has no prior std).
     max_exchange_risk : largest fraction of the draws in which a chosen candidate may
         reorder a used mode or bring it within ``min_relative_gap`` of another.
+    labels : (coordinate, label) pairs naming coordinates in the candidates' names where
+        the model has its own convention (NASTRAN: "7-2" for grid 7, component 2); the
+        others are named by their number.
     """
 
     coordinates: tuple[int, ...]
@@ -52,6 +55,7 @@ class DesignSpec:
     max_added_mass: float | None = None
     prior_draws: int = 64
     max_exchange_risk: float = 0.05
+    labels: tuple[tuple[int, str], ...] = ()
 
     @property
     def values(self) -> int:

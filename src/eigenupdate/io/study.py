@@ -444,4 +444,7 @@ def _design(r: TableReader, model: ParametricModel, model_type: str,
         coordinates=tuple(coords), masses=masses, stiffnesses=springs, configurations=n_conf,
         additions=additions, modes=modes, max_frequency_hz=fmax, frequency_std_hz=std_hz,
         frequency_std_relative=rel, criterion=criterion, min_shift_in_std=shift,
-        min_relative_gap=gap, max_added_mass=limit, prior_draws=draws, max_exchange_risk=risk)
+        min_relative_gap=gap, max_added_mass=limit, prior_draws=draws, max_exchange_risk=risk,
+        # as the study names its own NASTRAN perturbations: grid-component
+        labels=tuple((c, f"{c // 10}-{c % 10}") for c in coords) if model_type == "nastran"
+        else ())

@@ -32,7 +32,7 @@ def design_text(r: DesignResult, initial: dict[str, float], title: str) -> str:
                  *[p.criterion for p in r.plans]])
     rows.append(["perturbed configurations", None, *[len(p.configurations) for p in r.plans]])
     if r.draws:
-        rows.append(["chance of a gross error", None,
+        rows.append(["risk of reordered or crowded modes", None,
                      *[_pct(p.gross_risk) for p in r.plans]])
     lines.append(table(["parameter", "initial", *labels], rows))
     if r.draws:
@@ -41,11 +41,13 @@ def design_text(r: DesignResult, initial: dict[str, float], title: str) -> str:
         lines.append(table(["parameter", "over the prior", "at the prior mean", "ratio"],
                            [[n, p.std[n], p.linear_std[n], p.std[n] / p.linear_std[n]]
                             for n in r.names]))
-        lines.append("(a gross error: a draw in which a configuration reorders a used mode or "
-                     "brings it within min_relative_gap of another; 'design --validate N' "
-                     "measures it and non-convergence by Monte Carlo; the search divides the "
-                     "criterion by 1 - gross risk, the share of tests that can be used, so it "
-                     "prefers the plan that risks less)")
+        lines.append("(risk of reordered or crowded modes: the share of the prior draws in "
+                     "which a configuration reorders a used mode or brings it within "
+                     "min_relative_gap of another, a risk of pairing measured modes wrongly; "
+                     "the search divides the criterion by 1 - that risk, the share of tests "
+                     "that can be used, so it prefers the plan that risks less. 'design "
+                     "--validate N' predicts the chance of a gross error otherwise: checked "
+                     "updates of virtual tests, counting non-convergence and caught fits)")
     rejected = [c for c in r.candidates if not c.admissible]
     if rejected:
         lines += ["", "rejected candidates:"]
@@ -64,7 +66,8 @@ def validation_text(v) -> str:
     refused = sum(x["refused"] for x in t)
     lines = ["", f"validation: {len(t)} virtual tests of the designed plan: {conv} converged, "
                  f"{len(t) - conv - refused} not converged, {refused} refused "
-                 f"(predicted chance of a gross error {_pct(v.predicted_gross_risk)})"]
+                 f"(predicted chance of a gross error {_pct(v.predicted_gross_risk)}, "
+                 f"from checked updates of virtual tests at prior draws)"]
     if v.empirical_std is None:
         lines.append("too few converged trials for an empirical std")
         return "\n".join(lines)

@@ -386,7 +386,8 @@ def _design_section(d: DesignResult, validation: dict | None, initial: dict[str,
          "+- (designed)", "at prior mean (designed)"],
         [[n, initial.get(n), *[p.std[n] for p in d.plans], plan.std_error.get(n),
           plan.linear_std.get(n)] for n in plan.std]
-        + [["chance of a gross error", None, *[p.gross_risk for p in d.plans], None, None]],
+        + [["risk of reordered or crowded modes", None, *[p.gross_risk for p in d.plans],
+            None, None]],
         "design-accuracy"))
     val = validation
     if val:

@@ -206,13 +206,10 @@ class Fit:
 
     def stop_test(self, p: Point) -> tuple[int, str, np.ndarray] | None:
         """(status, message, step) if the Gauss-Newton step at p says converged."""
-        dz = gn_step(p.A, -p.f, p.z, self.lower)[0]
-        predicted = p.obj - float(np.sum((p.A @ dz + p.f) ** 2))
+        dz, predicted = self._gauss_newton(p)
         largest = float(np.max(np.abs(dz)))
         std = None if self.weights.rows is None else resolution(p.A)
         resolved = float(np.max(np.abs(dz) / std)) if std is not None else np.inf
-        variance = self.variance(p)
-        joint = predicted / variance if np.isfinite(variance) else np.inf
         if largest < self.xtol or predicted <= self.ftol * p.obj or resolved < PRECISION:
             status = 1 if largest < self.xtol else 2 if predicted <= self.ftol * p.obj else 4
             return status, (
@@ -220,6 +217,7 @@ class Fit:
                 f"decrease {predicted / p.obj if p.obj else 0:.1e} relative"
                 + (f", step {resolved:.1e} of the posterior std" if std is not None else "")
             ), dz
+        joint = self._joint(p, predicted)
         if joint < JOINT**2:  # the test above on each parameter alone needs 0.01 std
             return 2, (
                 f"converged at the data's precision: the Gauss-Newton step predicts an "
@@ -232,13 +230,22 @@ class Fit:
     def remaining(self, p: Point) -> str:
         """How far the optimum of the Gauss-Newton model at p still lies, for a message
         where the iteration stops short of convergence; empty if not defined."""
-        dz = gn_step(p.A, -p.f, p.z, self.lower)[0]
-        variance = self.variance(p)
-        if not np.isfinite(variance):
+        joint = self._joint(p, self._gauss_newton(p)[1])
+        if not np.isfinite(joint):
             return ""
-        joint = (p.obj - float(np.sum((p.A @ dz + p.f) ** 2))) / variance
         return (f"; the Gauss-Newton step predicts the optimum {np.sqrt(max(joint, 0.0)):.2g} "
                 f"posterior std away (converged below {JOINT})")
+
+    def _gauss_newton(self, p: Point) -> tuple[np.ndarray, float]:
+        """The Gauss-Newton step at p and the objective decrease it predicts."""
+        dz = gn_step(p.A, -p.f, p.z, self.lower)[0]
+        return dz, p.obj - float(np.sum((p.A @ dz + p.f) ** 2))
+
+    def _joint(self, p: Point, predicted: float) -> float:
+        """The predicted decrease in data variances (the squared distance to the
+        optimum in posterior std); inf where :meth:`variance` is not defined."""
+        variance = self.variance(p)
+        return predicted / variance if np.isfinite(variance) else np.inf
 
     def variance(self, p: Point) -> float:
         """One datum's variance in the objective's units where the data's precision is

@@ -103,9 +103,8 @@ class Pairing:
         # model's and the measured gaps
         cand = []
         for a, b in pairs:
-            swapped = ((lam_meas[b] - lam0[a]) / lam_meas[b]
-                       - (lam_meas[a] - lam0[b]) / lam_meas[a])
-            limit = KAPPA * self.spread + 3 * (std_rel[a] + std_rel[b])
+            swapped = _swapped(lam_meas[a], lam0[a], lam_meas[b], lam0[b])
+            limit = self._limit(std_rel[a], std_rel[b])
             if swapped <= limit:
                 cand.append((swapped / limit if limit > 0 else 0.0, a, b))
         self.candidates = sorted(cand)
@@ -159,8 +158,7 @@ class Pairing:
             if a not in below or not np.isfinite(nxt) or not lam0[a] > 0:
                 continue
             est = nxt * lam_meas[a] / lam0[a]
-            swapped = (est - lam0[a]) / est - (lam_meas[a] - nxt) / lam_meas[a]
-            if swapped <= KAPPA * self.spread + 6 * std_rel[a]:
+            if _swapped(lam_meas[a], lam0[a], est, nxt) <= self._limit(std_rel[a], std_rel[a]):
                 group = [a]
                 while group[-1] in below:
                     group.append(below[group[-1]])
@@ -173,6 +171,10 @@ class Pairing:
                     f"{list(modes)} are to each other, so their sum may miss a member; "
                     f"measure the whole group, or leave it out (modes up to "
                     f"{modes[0] - 1})"))
+
+    def _limit(self, std_a: float, std_b: float) -> float:
+        """Largest swapped differential that leaves the order of two modes undecided."""
+        return KAPPA * self.spread + 3 * (std_a + std_b)
 
     @property
     def clustered(self) -> bool:
@@ -249,3 +251,10 @@ class Pairing:
                 "clusters": [[self.rows[i][0], [self.rows[j][1] for j in g]]
                              for g in self.groups if len(g) > 1 for i in g[:1]],
                 "notes": [n.to_dict() for n in self.notes]}
+
+
+def _swapped(meas_a: float, model_a: float, meas_b: float, model_b: float) -> float:
+    """How far modes a < b would have to move against each other (relative to the
+    measured values) if paired the other way round: about the sum of the model's and the
+    measured gaps."""
+    return (meas_b - model_a) / meas_b - (meas_a - model_b) / meas_a

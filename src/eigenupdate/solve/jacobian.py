@@ -285,8 +285,7 @@ def linearise(
         rows.extend((c.name, k) for k in modes)
     if sparse:  # all configurations' modes in one product per parameter
         blocks = [terms.result().derivatives(list(phi), np.array(lam))]
-    following = np.array([s.eigenvalues[modes[-1]] if s.eigenvalues.size > modes[-1] else
-                          np.nan if s.next_eigenvalue is None else s.next_eigenvalue
+    following = np.array([np.nan if s.next_eigenvalue is None else s.next_eigenvalue
                           for s in sols])
     return Linearisation(rows, np.array(lam), np.vstack(blocks), scale,
                          [model.names[j] for j in upd], report, phi, following)

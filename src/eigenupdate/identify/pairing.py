@@ -26,11 +26,14 @@ another basin. Two measures keep the pairing honest:
 Where the highest measured mode of a configuration would be clustered with the modes
 below it and the model's next mode (not measured) is as close by the same test, the
 measurements end inside a group of close modes: a sum over the measured ones misses a
-member and need not be smooth. The pairing says so in a note ("cut group"). On a doubly
-symmetric frame whose modes 8-12 lie within 0.03 % (identical floor beams), measuring
-modes 1-10 "converged" 4 % off the truth with error-free data, and modes 1-7 to 2.5e-10;
-leaving such groups out fixed that frame but failed 3 of 10 near-symmetric spring
-systems that the pairing gets right, so the note only warns.
+member and is not smooth where that mode crosses in. Such a group is not clustered: its
+modes stay paired by order and tracked, and the pairing says so in a note ("cut
+group"). On the 2,160-coordinate frame of benchmark (b), modes 9-11 of 18 configurations
+lie that close: fitted through the sums of 9 and 10, the update ended 3.5 % off the truth
+after 20 iterations (error-free data); tracked, it converges (benchmarks/README.md). On a
+doubly symmetric frame whose modes 8-12 lie within 0.03 % (identical floor beams), the sums
+"converged" 4 % off the truth, and leaving the groups out of the fit instead failed 3 of
+10 near-symmetric spring systems.
 """
 
 from __future__ import annotations
@@ -108,9 +111,10 @@ class Pairing:
             if swapped <= limit:
                 cand.append((swapped / limit if limit > 0 else 0.0, a, b))
         self.candidates = sorted(cand)
-        self.cluster([])
         if lam_next is not None:
-            self._cut_groups(lam_meas, lam0, std_rel, lam_next)
+            cut = self._cut_groups(lam_meas, lam0, std_rel, lam_next)
+            self.candidates = [c for c in self.candidates if c[2] not in cut]
+        self.cluster([])
         self._w2 = None if mass_diagonal is None else np.maximum(mass_diagonal, 0.0)
         self._ref: dict[str, np.ndarray] = {}
         self.perm = np.arange(len(self.rows))  # row -> row of a linearisation, accepted
@@ -147,12 +151,14 @@ class Pairing:
                 "ambiguous, but their sum would cost J its rank or half its redundancy: "
                 "paired by order, tracked"))
 
-    def _cut_groups(self, lam_meas, lam0, std_rel, lam_next) -> None:
+    def _cut_groups(self, lam_meas, lam0, std_rel, lam_next) -> set[int]:
         """Note the configurations whose measured modes end inside a group of close
         modes: the highest measured row a is a cluster candidate with the row below,
         and the swap with the model's next mode b (its measured value estimated as
-        lam0_b lam_meas_a / lam0_a) passes the candidates' test."""
+        lam0_b lam_meas_a / lam0_a) passes the candidates' test. Returns the rows of
+        those groups."""
         below = {b: a for _, a, b in self.candidates}
+        rows: set[int] = set()
         for (c, idx), nxt in zip(self._block.items(), lam_next, strict=True):
             a = int(idx[-1])
             if a not in below or not np.isfinite(nxt) or not lam0[a] > 0:
@@ -162,15 +168,17 @@ class Pairing:
                 group = [a]
                 while group[-1] in below:
                     group.append(below[group[-1]])
+                rows.update(group)
                 k = self.rows[a][1]
                 modes = tuple(sorted(self.rows[i][1] for i in group))
                 self.notes.append(PairingNote(
                     "cut group", c, modes, 0,
                     f"the measured modes end inside a group of close modes: the model's "
                     f"mode {k + 1} (not measured) is as close to mode {k} as modes "
-                    f"{list(modes)} are to each other, so their sum may miss a member; "
-                    f"measure the whole group, or leave it out (modes up to "
-                    f"{modes[0] - 1})"))
+                    f"{list(modes)} are to each other, so their sum would miss a member "
+                    f"and is not fitted (paired by order, tracked); measure the whole "
+                    f"group, or leave it out (modes up to {modes[0] - 1})"))
+        return rows
 
     def _limit(self, std_a: float, std_b: float) -> float:
         """Largest swapped differential that leaves the order of two modes undecided."""

@@ -1,0 +1,75 @@
+"""Updating space frames of the benchmark's family (``benchmarks/frame.py``: steel columns
+and floor beams, 30 parameters E and rho of 15 element groups, truth +-3 % from steel,
+start 2.5-5 % off the truth, 20 added masses of 1 % of the frame's mass, modes 1-10).
+
+Source of every number: the frame's own simulated frequencies (error-free data, so the
+update must return the truth; tolerance 1e-8 relative, against a converged fit's 1e-10).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from eigenupdate.identify.optimizers import INITIAL_REGION
+from eigenupdate.identify.updating import update
+from eigenupdate.measure.measurement import Measurement
+from eigenupdate.model.configurations import BASE, Configuration, mass_at
+from eigenupdate.solve.jacobian import solve_configurations
+
+_spec = importlib.util.spec_from_file_location(
+    "benchmark_frame", Path(__file__).parents[2] / "benchmarks" / "frame.py")
+frame = sys.modules.setdefault(_spec.name, importlib.util.module_from_spec(_spec))
+_spec.loader.exec_module(frame)  # registered first: its dataclasses look themselves up
+
+
+def frame_problem(dims, seed):
+    """The benchmark's problem on a frame of ``dims`` (bays X, bays Y, storeys, elements
+    per member): model at its start, configurations, modes, error-free data, truth."""
+    fr = frame.build_frame(*dims, seed=seed)
+    added = 0.01 * fr.total_mass
+    configs = [Configuration(BASE)] + [
+        mass_at(c, added, name=f"m{i + 1:02d}@{c}")
+        for i, c in enumerate(frame.mass_sites(fr, 20, seed=seed + 1))]
+    modes = list(range(1, 11))
+    sols = solve_configurations(fr.model.with_values(fr.truth), configs, 10)
+    data = {(c.name, k): Measurement(c.name, k, float(s.frequencies_hz[k - 1]))
+            for c, s in zip(configs, sols, strict=True) for k in modes}
+    return fr.model, configs, modes, data, fr.truth
+
+
+def _error(res, model, truth):
+    return float(np.max(np.abs(np.array([res.parameters[n] for n in model.names]) / truth - 1)))
+
+
+def test_first_step_stays_within_the_initial_trust_region():
+    """2 x 2 bays, 5 storeys, seed 3 (2,160 coordinates). SciPy's dogbox starts with a
+    region of |z0|_inf, all of a parameter: its first step took a parameter by 100 % to
+    the floor of its bounds, along a direction the data hardly see, and the fit crept
+    back (not converged at the 20-iteration limit, 14 % off; 27 iterations to converge).
+    From INITIAL_REGION: converged in 9 (measured)."""
+    model, configs, modes, data, truth = frame_problem((2, 2, 5, 4), 3)
+    res = update(model, configs, modes, data)
+    assert res.success and _error(res, model, truth) <= 1e-8, res.message
+    assert res.nit <= 12
+    start, first = res.history[0].parameters, res.history[1].parameters
+    change = max(abs(first[n] / start[n] - 1) for n in model.names)
+    assert change <= INITIAL_REGION * (1 + 1e-12)
+
+
+def test_a_group_of_close_modes_cut_by_the_last_measured_mode_is_tracked_not_summed():
+    """Benchmark (b)'s frame (2 x 2 bays, 5 storeys, seed 1): in 18 of 21 configurations
+    modes 9 and 10 are close and the model's mode 11 (not measured) as close. Fitted
+    through the sums of 9 and 10 (which miss mode 11, and are not smooth where it crosses
+    in), the update was 3.5 % off the truth at 20 iterations and converged at 30, after
+    releasing the clusters. Tracked instead: converged in 18 (measured)."""
+    model, configs, modes, data, truth = frame_problem((2, 2, 5, 4), 1)
+    res = update(model, configs, modes, data, max_iterations=25)
+    assert res.success and _error(res, model, truth) <= 1e-8, res.message
+    cut = [n for n in res.pairing["notes"] if n["kind"] == "cut group"]
+    assert len(cut) >= 10 and all(n["modes"] == [9, 10] for n in cut)
+    assert "not fitted" in cut[0]["reason"]
+    assert not any(c[1] == [9, 10] for c in res.pairing["clusters"])

@@ -397,3 +397,37 @@ def test_no_precision_claim_where_the_residual_is_not_the_stated_noise(monkeypat
     monkeypatch.setattr(fit_module, "CHI2_LEVEL", 1.0)
     res = update(start, configs, modes, data, method="weighted-least-squares")
     assert "data's precision" in res.message
+
+
+@pytest.mark.parametrize("optimizer", ["gauss-newton", "trust-region"])
+def test_a_fit_at_the_eigen_solvers_precision_is_converged(optimizer):
+    """Source: the model's own eigenvalues (error-free data). With the step and decrease
+    tests off (xtol = ftol = 0) the fit runs until no step lowers the objective, which
+    happens where the residuals are the eigen-solver's own rounding: then the objective
+    lies below what eigenvalue errors of SOLVER_RTOL give (Fit.solver_floor), and that is
+    convergence, not the "no step lowers the objective" failure (status 3) it was. Data
+    that no parameters fit (one frequency 1 % off) end far above that floor, and the
+    floor claims nothing there (Gauss-Newton stops at the least-squares minimum by its
+    decrease test, the trust region still fails by the line search)."""
+    from eigenupdate.identify.optimizers import SOLVER_RTOL
+
+    truth = fig2()
+    start = truth.with_values(truth.values * 1.03)
+    modes = [1, 2, 3, 4]
+    data = simulate(truth, FIG2_CONFIGS, modes)
+    res = update(start, FIG2_CONFIGS, modes, data, optimizer=optimizer, xtol=0.0, ftol=0.0,
+                 max_iterations=40)
+    assert res.success, res.message
+    assert "eigen-solver's precision" in res.message
+    lam = np.array([(2 * np.pi * m.frequency_hz) ** 2 for m in data.values()])
+    assert 2 * res.cost <= float(np.sum((SOLVER_RTOL * lam) ** 2))
+    got = np.array([res.parameters[n] for n in truth.names])
+    assert np.max(np.abs(got / truth.values - 1)) <= 1e-6
+
+    key = next(iter(data))
+    bad = dict(data)
+    bad[key] = Measurement(key[0], key[1], data[key].frequency_hz * 1.01)
+    res = update(start, FIG2_CONFIGS, modes, bad, optimizer=optimizer, xtol=0.0, ftol=0.0,
+                 max_iterations=40)
+    assert "precision" not in res.message
+    assert 2 * res.cost > 1e6 * float(np.sum((SOLVER_RTOL * lam) ** 2))

@@ -30,7 +30,9 @@ SIZES = [(2, 2, 5, 4), (1, 1, 5, 3), (2, 1, 5, 3), (3, 2, 6, 3), (3, 3, 6, 2), (
 SEEDS = (1, 3)
 
 
-def one(dims, seed: int, supports: str, max_iterations: int) -> dict:
+def problem(dims, seed: int, supports: str = "clamped"):
+    """The benchmark's problem on a frame of ``dims`` (bays X, bays Y, storeys, elements
+    per member): (model at its start, configurations, modes, error-free data, truth)."""
     fr = build_frame(*dims, seed=seed, supports=supports)
     added = 0.01 * fr.total_mass
     configs = [Configuration(BASE)] + [
@@ -40,12 +42,17 @@ def one(dims, seed: int, supports: str, max_iterations: int) -> dict:
     sols = solve_configurations(fr.model.with_values(fr.truth), configs, 10)
     data = {(c.name, k): Measurement(c.name, k, float(s.frequencies_hz[k - 1]))
             for c, s in zip(configs, sols, strict=True) for k in modes}
+    return fr.model, configs, modes, data, fr.truth
+
+
+def one(dims, seed: int, supports: str, max_iterations: int) -> dict:
+    model, configs, modes, data, truth = problem(dims, seed, supports)
     t = time.perf_counter()
-    res = update(fr.model, configs, modes, data, max_iterations=max_iterations)
-    got = np.array([res.parameters[n] for n in fr.model.names])
-    err = float(np.max(np.abs(got / fr.truth - 1)))
+    res = update(model, configs, modes, data, max_iterations=max_iterations)
+    got = np.array([res.parameters[n] for n in model.names])
+    err = float(np.max(np.abs(got / truth - 1)))
     notes = res.pairing["notes"]
-    return {"frame": list(dims), "seed": seed, "supports": supports, "coordinates": fr.model.n,
+    return {"frame": list(dims), "seed": seed, "supports": supports, "coordinates": model.n,
             "converged": bool(res.success), "iterations": res.nit, "max_rel_error": err,
             "truth": bool(res.success and err <= 1e-6), "seconds": time.perf_counter() - t,
             "clusters": len(res.pairing["clusters"]),

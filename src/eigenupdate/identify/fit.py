@@ -231,7 +231,7 @@ class Fit:
         """The objective that eigenvalue errors of SOLVER_RTOL alone can give at p: below
         it the residuals are the eigen-solver's own, and a step the line search cannot
         make is no failure. (On a free-free frame with error-free data the fit stalled
-        at 6e-13 against this floor's 2e-12, 8e-8 from the truth, and said 'not
+        at 6.0e-13 against this floor's 7.9e-12, 8e-8 from the truth, and said 'not
         converged'.)"""
         lam = np.abs(self.pairing.paired(p.lin.eigenvalues, p.lin.normalised, p.perm)[0])
         e = self.pairing.weights * (self.pairing.S @ (SOLVER_RTOL * lam))

@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.optimize import least_squares, lsq_linear
 
+from eigenupdate.solve.eigen import LANCZOS_RTOL
 from eigenupdate.solve.jacobian import Linearisation
 
 if TYPE_CHECKING:
@@ -54,7 +55,7 @@ family (benchmarks/README.md) 16 converge against 15; the 103k frame's first ste
 (47 %) fits inside it."""
 
 
-SOLVER_RTOL = 1e-10
+SOLVER_RTOL = LANCZOS_RTOL
 """Relative error the sparse eigen-solver may leave in an eigenvalue: Lanczos' residual
 tolerance (the certified Rayleigh-Ritz path is tighter, 1e-11). An objective that errors of
 this size alone can give is converged where no step lowers it (:meth:`Fit.solver_floor`)."""
@@ -127,14 +128,14 @@ def gauss_newton(fit: Fit, point: Point, max_iterations: int, offset: int = 0
             kind = Step.HALVED
             trial = fit.attempt(point.z + alpha * dz, point.obj)
             refused = fit.refusal or refused
-        floor = fit.solver_floor(point)
-        if (trial is None or not trial.obj < point.obj) and point.obj <= floor:
-            status, message = 2, (
-                f"converged at the eigen-solver's precision: no step lowers the objective "
-                f"{point.obj:.2e}, below the {floor:.2e} that eigenvalue errors of "
-                f"{SOLVER_RTOL:g} alone give")
-            break
         if trial is None or not trial.obj < point.obj:
+            floor = fit.solver_floor(point)
+            if point.obj <= floor:
+                status, message = 2, (
+                    f"converged at the eigen-solver's precision: no step lowers the "
+                    f"objective {point.obj:.2e}, below the {floor:.2e} that eigenvalue "
+                    f"errors of {SOLVER_RTOL:g} alone give")
+                break
             status = 3
             message = (
                 f"iteration {offset + it}: no step along the Gauss-Newton direction lowers "

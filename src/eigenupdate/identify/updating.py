@@ -50,15 +50,17 @@ deviation (the data cannot resolve it), or when the decrease it predicts is belo
 ``JOINT`` (0.1) posterior std of the current point, all parameters together (the decrease
 it predicts is below 0.01 of one datum's variance; weighted and Bayesian methods, where
 the objective passes the chi-square test; the message says "converged at the data's
-precision"). A fit
-of noisy data on weakly determined parameters creeps (its steps cut to a fraction of
-Gauss-Newton's) for many iterations after the test on each parameter alone would stop it.
-All are checked before the step's point is solved, so a converged fit costs no extra
-eigen-solution. At the iteration limit the message gives the same distance.
-The trust region also stops where the Gauss-Newton steps contract so fast
-that the step after the next one is predicted below ``xtol``: it takes that last step
-without solving its point (:func:`eigenupdate.identify.optimizers.finish_step`; the
-history marks it, the message gives the prediction).
+precision"). A fit of noisy data on weakly determined parameters creeps (its steps cut to
+a fraction of Gauss-Newton's) for many iterations after the test on each parameter alone
+would stop it. All are checked before the step's point is solved, so a converged fit
+costs no extra eigen-solution. At the iteration limit the message gives the same
+distance. The trust region also stops where the Gauss-Newton steps contract so fast that
+the step after the next one is predicted below ``xtol``: it takes that last step without
+solving its point (:func:`eigenupdate.identify.optimizers.finish_step`; the history marks
+it, the message gives the prediction). Where no step lowers the objective and it lies
+below what eigenvalue errors of the eigen-solver's tolerance alone give
+(:meth:`eigenupdate.identify.fit.Fit.solver_floor`), the fit has converged "at the
+eigen-solver's precision"; above that floor it is a failure (status 3).
 """
 
 from __future__ import annotations

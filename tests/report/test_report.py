@@ -118,7 +118,7 @@ def test_update_table_is_the_update(fig2_page):
                  xtol=study.tolerance)
     doc = parse(fig2_page)
     (params,) = named(doc, "parameters-updated")
-    updated = column(params, 2)
+    updated = column(params, 3)
     assert set(updated) == set(res.parameters)
     for n, v in res.parameters.items():
         assert updated[n] == pytest.approx(v, rel=1e-5)

@@ -79,6 +79,8 @@ class UpdateResult:
         plus ``linearisations``); None on the dense path.
     optimizer : ``trust-region`` or ``gauss-newton``.
     pairing : equations, clusters and re-pairings (:meth:`Pairing.to_dict`).
+    units : the stated unit of each parameter that has one, by name
+        (:attr:`~eigenupdate.model.parameters.Parameter.unit`).
     """
 
     SCHEMA: ClassVar[str] = "eigenupdate.update/2"
@@ -107,6 +109,7 @@ class UpdateResult:
     solver: dict | None = field(default=None, repr=False)
     optimizer: str = "trust-region"
     pairing: dict | None = field(default=None, repr=False)
+    units: dict[str, str] = field(default_factory=dict, repr=False)
 
     def __getitem__(self, key: str):
         if key not in self.keys():
@@ -150,6 +153,7 @@ class UpdateResult:
             "identifiability": self.identifiability.to_dict(),
             "solver": self.solver,
             "pairing": self.pairing,
+            "units": self.units,
         }
 
     @classmethod
@@ -194,7 +198,9 @@ class UpdateResult:
                 r.raw("identifiability", dict), source),
             model=None if model is None else model.with_values(values),
             solver=r.raw("solver", dict, optional=True), optimizer=r.str("optimizer"),
-            pairing=r.raw("pairing", dict, optional=True))
+            pairing=r.raw("pairing", dict, optional=True),
+            units={str(k): str(v) for k, v in (r.raw("units", dict, optional=True)
+                                               or {}).items()})
 
 
 def _checked_values(values: dict[str, float], model: ParametricModel, r: Reader

@@ -248,6 +248,7 @@ def _result(fit: Fit, point: Point, lin0: Linearisation, status: int, message: s
         solver={**fit.solver.as_dict(), "linearisations": fit.n_lin} if fit.n_lin else None,
         optimizer=optimizer,
         pairing=pairing.to_dict(),
+        units={p.name: p.unit for p in fit.model.parameters if p.unit},
     )
 
 

@@ -31,7 +31,14 @@ from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_constraints import constraint_equations
 from eigenupdate.io.nastran_continuum import assemble_continuum
 from eigenupdate.io.nastran_deck import Deck, load_deck
-from eigenupdate.io.nastran_fields import FIELDS, NOT_LINEAR, get_field, set_field, stores
+from eigenupdate.io.nastran_fields import (
+    FIELDS,
+    NOT_LINEAR,
+    field_unit,
+    get_field,
+    set_field,
+    stores,
+)
 from eigenupdate.io.nastran_lines import assemble_lines
 from eigenupdate.io.nastran_points import (
     assemble_cbush,
@@ -327,8 +334,9 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
         gone = np.zeros(0, int)
     coords = (10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))[rows_ind[keep]]
     params = []
-    for (p, _), v in zip(specs, values, strict=True):
-        params.append(Parameter(p.name, v, p.std, p.update))
+    for (p, where), v in zip(specs, values, strict=True):
+        params.append(Parameter(p.name, v, p.std, p.update, p.unit).with_unit(
+            field_unit(where.card, where.field)))
     parts: dict[str, list] = {"k": [], "m": []}
     for kind, ts in (("k", kt), ("m", mt)):
         parts[kind] += [Term(_kept(t, keep), ((j, 1.0),)) for j, t in enumerate(ts) if t.nnz]

@@ -33,6 +33,29 @@ FIELDS = {
     "PCOMP": {f"T{k + 1}": ("_ply", k) for k in range(99)},
 }
 
+def field_unit(card: str, field: str) -> str:
+    """Dimension of a parameter field in the deck's own units: NASTRAN has no unit
+    system, and a mass is as the deck enters it (before PARAM WTMASS). A scalar spring
+    or mass on a rotation is force*length/rad or mass*length^2, which the field alone
+    cannot tell.
+
+    >>> field_unit("MAT1", "E"), field_unit("PBAR", "I1"), field_unit("CONM1", "M64")
+    ('force/length^2', 'length^4', 'mass*length^2')
+    """
+    if card == "MAT1":
+        return {"E": "force/length^2", "RHO": "mass/length^3"}.get(field, "")
+    if card in ("PBAR", "PBEAM", "PROD"):
+        return "length^2" if field == "A" else "length^4"
+    if card in ("PBARL", "PBEAML", "PSHELL", "PCOMP"):
+        return "length"
+    if card == "PBUSH":
+        return "force/length" if field in ("K1", "K2", "K3") else "force*length/rad"
+    if card == "CONM1":
+        rotations = sum(int(c) > 3 for c in field[1:])
+        return ("mass", "mass*length", "mass*length^2")[rotations]
+    return "force/length" if field == "K" else "mass" if field == "M" else ""
+
+
 NOT_LINEAR = {
     ("MAT1", "NU"): "G = E / (2 (1 + NU)) is not linear in NU",
     ("MAT1", "G"): "give E (G follows it when the card leaves G blank)",

@@ -36,11 +36,14 @@ def _parameter(r: TableReader, seen: dict[str, str], default_value: Any = ...) -
     value = r.get("value", "float", default_value)
     std = r.get("std", "float", None)
     update = r.get("update", "bool", True)
+    unit = r.get("unit", "str", "")
+    if len(unit) > 40 or not unit.isprintable():
+        raise r.error("unit", f"must be a short printable label such as \"N/m\", got {unit!r}")
     if value < 0:
         raise r.error("value", f"must be >= 0, got {value}")
     if std is not None and std <= 0:
         raise r.error("std", f"must be > 0, got {std}")
-    return Parameter(name, value, std, update)
+    return Parameter(name, value, std, update, unit.strip())
 
 
 def _positive(r: TableReader, p: Parameter) -> None:

@@ -79,7 +79,8 @@ def beam_model(
     nodes : node positions x (m), strictly increasing; spacing may be non-uniform.
     EI, mass_per_length : one value for every element, or one per element.
     EI_std, mass_per_length_std : prior standard deviations, likewise.
-    point_masses : (parameter, coordinate) pairs added to M's diagonal.
+    point_masses : (parameter, coordinate) pairs added to M's diagonal: a mass (kg) at a
+        translation (odd coordinate), a rotary inertia (kg m^2) at a rotation (even).
     restrained : coordinates fixed to ground (removed from the matrices).
 
     Examples
@@ -144,11 +145,12 @@ def beam_model(
     params, kt, mt = [], [], []
     ei_names, rho_names = element_parameter_names(ne)
     for e in range(ne):
-        params.append(Parameter(ei_names[e], ei[e], _std(ei_std, e), update_EI))
+        params.append(Parameter(ei_names[e], ei[e], _std(ei_std, e), update_EI, "N m^2"))
         kt.append(element_term(e, element_stiffness(lengths[e])))
         mt.append(None)
     for e in range(ne):
-        params.append(Parameter(rho_names[e], rho[e], _std(rho_std, e), update_mass_per_length))
+        params.append(Parameter(rho_names[e], rho[e], _std(rho_std, e), update_mass_per_length,
+                                "kg/m"))
         kt.append(None)
         mt.append(element_term(e, element_mass(lengths[e])))
     for p, c in point_masses:
@@ -157,7 +159,7 @@ def beam_model(
         if c in restrained:
             raise InputError(f"coordinate {c} is restrained", field=f"point_mass {p.name}")
         i = int(np.flatnonzero(keep == c)[0])
-        params.append(p)
+        params.append(p.with_unit("kg" if c % 2 else "kg m^2"))  # odd: a translation
         kt.append(None)
         mt.append(sp.csr_array(([1.0], ([i], [i])), shape=(keep.size, keep.size)))
     zero = sp.csr_array((keep.size, keep.size))

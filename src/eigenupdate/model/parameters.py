@@ -24,6 +24,10 @@ class Parameter:
         Prior standard deviation (same units), used by the Bayesian estimator.
     update : bool
         True if the parameter is unknown and updated; False holds it fixed.
+    unit : str
+        Unit of ``value`` and ``std``, for tables and reports only (``""``: not stated).
+        The models of this package state SI units (``"N/m"``, ``"kg"``, ``"N m^2"``); a
+        NASTRAN field's is a dimension in the deck's own units (``"F/L^2"`` for MAT1 E).
 
     Examples
     --------
@@ -32,12 +36,15 @@ class Parameter:
     1200000.0
     >>> Parameter("m_L", 0.0).scale   # a zero initial value keeps scale 1
     1.0
+    >>> Parameter("k1", 1.2e6, unit="N/m").with_value(1.3e6).unit
+    'N/m'
     """
 
     name: str
     value: float
     std: float | None = None
     update: bool = True
+    unit: str = ""
 
     def __post_init__(self) -> None:
         if not self.name:
@@ -56,6 +63,10 @@ class Parameter:
 
     def with_value(self, value: float) -> Parameter:
         return replace(self, value=float(value))
+
+    def with_unit(self, unit: str) -> Parameter:
+        """The parameter with ``unit`` where none is stated (a stated one is kept)."""
+        return self if self.unit else replace(self, unit=unit)
 
 
 def check_unique(parameters: list[Parameter] | tuple[Parameter, ...], source: str | None = None):

@@ -74,11 +74,11 @@ def spring_mass_model(
             )
     params, kt, mt = [], [], []
     for m in masses:
-        params.append(m.parameter)
+        params.append(m.parameter.with_unit("kg"))
         kt.append(None)
         mt.append(sp.csr_array(([1.0], ([m.coordinate - 1], [m.coordinate - 1])), shape=(n, n)))
     for s in springs:
-        params.append(s.parameter)
+        params.append(s.parameter.with_unit("N/m"))
         rows, cols, vals = [], [], []
         coords = [c - 1 for c in s.coordinates if c != 0]
         for i in coords:

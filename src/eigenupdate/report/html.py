@@ -86,8 +86,9 @@ def _study_section(study: Study) -> Section:
     deck = study.model_type == "nastran"
     sec.blocks.append(table(
         "Parameters of the initial model (" + ("the deck's units" if deck else "SI units") + ")",
-        ["parameter", "initial value", "prior std", "updated"],
-        [[p.name, p.value, p.std, p.update] for p in model.parameters], "parameters"))
+        ["parameter", "unit", "initial value", "prior std", "updated"],
+        [[p.name, p.unit or None, p.value, p.std, p.update] for p in model.parameters],
+        "parameters"))
     rows = []
     for c in study.configurations:
         if not c.additions:
@@ -282,9 +283,11 @@ def _update_section(study: Study, res: UpdateResult, origin: str) -> Section:
     rows = []
     for n in names:
         v0, v = initial[n], res.parameters[n]
-        rows.append([n, v0, v, None if v0 == 0 else 100.0 * (v - v0) / v0, res.std.get(n)])
+        rows.append([n, res.units.get(n), v0, v, None if v0 == 0 else 100.0 * (v - v0) / v0,
+                     res.std.get(n)])
     sec.blocks.append(table("Parameters: initial, updated, change and posterior std",
-                             ["parameter", "initial", "updated", "change %", "posterior std"],
+                             ["parameter", "unit", "initial", "updated", "change %",
+                              "posterior std"],
                              rows, "parameters-updated"))
     if any(initial[n] != 0 for n in names):
         sec.blocks.append(figure_image(

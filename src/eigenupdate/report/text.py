@@ -81,8 +81,8 @@ def _sig3(x: float | None) -> str:
 def update_text(r: UpdateResult, initial: dict[str, float], title: str) -> str:
     head = f"{title}: {r.method} ({r.optimizer}), {r.message} after {r.nit} iteration(s)"
     params = table(
-        ["parameter", "initial", "updated", "std", "change %"],
-        [[n, initial[n], v, _sig3(r.std.get(n)),
+        ["parameter", "unit", "initial", "updated", "std", "change %"],
+        [[n, r.units.get(n, "-"), initial[n], v, _sig3(r.std.get(n)),
           _pct(100 * (v - initial[n]) / initial[n] if initial[n] else None)]
          for n, v in r.parameters.items() if n in r.std],
     )

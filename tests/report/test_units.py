@@ -1,0 +1,73 @@
+"""Parameter units: stated by each model (SI for the package's own models, the field's
+dimension for a NASTRAN deck), overridden by a study's ``unit`` key, carried by the
+update result and printed in its table."""
+
+import shutil
+
+import pytest
+from conftest import EXAMPLES
+
+import eigenupdate as eu
+from eigenupdate.errors import InputError
+from eigenupdate.model.beam import beam_model
+from eigenupdate.model.parameters import Parameter
+from eigenupdate.report.text import update_text
+
+
+@pytest.fixture(scope="module")
+def fig2():
+    return eu.load_study(EXAMPLES / "paper_fig2" / "study.toml")
+
+
+def test_spring_mass_units_reach_the_result_and_its_table(fig2):
+    units = {p.name: p.unit for p in fig2.model.parameters}
+    assert units == {**{f"m{i}": "kg" for i in range(1, 5)},
+                     **{f"k{i}": "N/m" for i in range(1, 7)}}
+    res = eu.update_study(fig2)
+    assert res.units == units
+    assert res.to_dict()["units"] == units
+    lines = update_text(res, {p.name: p.value for p in fig2.model.parameters},
+                        fig2.title).splitlines()
+    header = next(line for line in lines if line.split()[:2] == ["parameter", "unit"])
+    assert header.split()[2:4] == ["initial", "updated"]
+    assert next(line for line in lines if line.split()[:1] == ["k1"]).split()[1] == "N/m"
+
+
+def test_beam_units_mass_on_translation_inertia_on_rotation():
+    model = beam_model([0.0, 0.5, 1.0], 10.0, 2.0,
+                       point_masses=[(Parameter("m", 0.1), 3), (Parameter("J", 0.01), 4)])
+    units = {p.name: p.unit for p in model.parameters}
+    assert units == {"EI1": "N m^2", "EI2": "N m^2", "rhoA1": "kg/m", "rhoA2": "kg/m",
+                     "m": "kg", "J": "kg m^2"}
+
+
+def test_a_studys_unit_overrides_and_a_bad_one_is_refused(tmp_path, fig2):
+    src = EXAMPLES / "paper_fig2"
+    for f in src.iterdir():
+        if f.is_file():
+            shutil.copy(f, tmp_path / f.name)
+    text = (src / "study.toml").read_text()
+    stated = text.replace('name = "k1"\n', 'name = "k1"\nunit = "kN/mm"\n', 1)
+    assert stated != text
+    (tmp_path / "study.toml").write_text(stated)
+    model = eu.load_study(tmp_path / "study.toml").model
+    assert {p.name: p.unit for p in model.parameters}["k1"] == "kN/mm"
+    assert {p.name: p.unit for p in model.parameters}["k2"] == "N/m"
+    (tmp_path / "study.toml").write_text(stated.replace('"kN/mm"', '"kN\\u0007"'))
+    with pytest.raises(InputError, match=r"model\.spring\[1\]\.unit"):
+        eu.load_study(tmp_path / "study.toml")
+
+
+def test_a_result_without_units_reads_back_with_none(fig2):
+    res = eu.update_study(fig2)
+    doc = res.to_dict()
+    del doc["units"]  # a result written before units were stated
+    assert type(res).from_dict(doc, "old.json", fig2.model).units == {}
+
+
+@pytest.mark.nastran
+def test_nastran_parameters_state_their_fields_dimension():
+    pytest.importorskip("pyNastran")
+    study = eu.load_study(EXAMPLES / "stiffened_panel" / "study.toml")
+    assert {p.name: p.unit for p in study.model.parameters} == {
+        "t_skin": "length", "t_blade": "length", "E": "force/length^2"}

@@ -112,7 +112,9 @@ def cmd_design(args) -> int:
         print(text.dumps({**res.to_dict(), **({"validation": validation_doc(val)} if val
                                                else {})}))
     else:
-        print(design_text(res, initial, study.title) + (validation_text(val) if val else ""))
+        units = {p.name: p.unit for p in study.model.parameters}
+        print(design_text(res, initial, study.title, units)
+              + (validation_text(val) if val else ""))
     text.progress(f"wrote the plan to {args.output}")
     return 0
 

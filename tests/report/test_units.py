@@ -71,3 +71,20 @@ def test_nastran_parameters_state_their_fields_dimension():
     study = eu.load_study(EXAMPLES / "stiffened_panel" / "study.toml")
     assert {p.name: p.unit for p in study.model.parameters} == {
         "t_skin": "length", "t_blade": "length", "E": "force/length^2"}
+
+
+def test_the_design_table_states_units(fig2):
+    from eigenupdate.report.design import design_text
+
+    d = eu.design(fig2).plan
+    initial = {p.name: p.value for p in fig2.model.parameters}
+    units = {p.name: p.unit for p in fig2.model.parameters}
+    lines = design_text(d, initial, fig2.title, units).splitlines()
+    header = next(line for line in lines if line.split()[:2] == ["parameter", "unit"])
+    assert header.split()[2] == "initial"
+    rows = {line.split()[0]: line.split() for line in lines if line.split()[:1] in
+            (["k1"], ["m1"])}
+    assert rows["k1"][1] == "N/m" and rows["m1"][1] == "kg"
+    # without units the table is as before
+    assert not any(line.split()[:2] == ["parameter", "unit"]
+                   for line in design_text(d, initial, fig2.title).splitlines())

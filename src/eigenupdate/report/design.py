@@ -6,7 +6,10 @@ from eigenupdate.design.plan import DesignResult
 from eigenupdate.report.text import table
 
 
-def design_text(r: DesignResult, initial: dict[str, float], title: str) -> str:
+def design_text(r: DesignResult, initial: dict[str, float], title: str,
+                units: dict[str, str] | None = None) -> str:
+    """The design's tables; ``units`` (the model's, by parameter name) adds a unit
+    column to the predicted accuracy."""
     crit = r.criterion if isinstance(r.criterion, str) else "sum over " + ", ".join(r.criterion)
     lines = [f"{title}: test plan, criterion {crit}, method {r.method}, modes "
              f"{', '.join(map(str, r.modes))}",
@@ -27,14 +30,18 @@ def design_text(r: DesignResult, initial: dict[str, float], title: str) -> str:
         lines += ["", "predicted std of the updated parameters (linearised at the prior mean; "
                       "no draws: prior_draws = 0 or a parameter without a prior std):"]
     labels = [p.label for p in r.plans]
-    rows = [[n, initial[n], *[_pm(p.std[n], p.std_error[n]) for p in r.plans]] for n in r.names]
-    rows.append([f"criterion {crit}" + (" / (1 - gross risk)" if r.draws else ""), None,
-                 *[p.criterion for p in r.plans]])
-    rows.append(["perturbed configurations", None, *[len(p.configurations) for p in r.plans]])
+    unit = [] if units is None else [None]  # the column's cell in the summary rows
+    rows = [[n, *([] if units is None else [units.get(n) or "-"]), initial[n],
+             *[_pm(p.std[n], p.std_error[n]) for p in r.plans]] for n in r.names]
+    rows.append([f"criterion {crit}" + (" / (1 - gross risk)" if r.draws else ""), *unit,
+                 None, *[p.criterion for p in r.plans]])
+    rows.append(["perturbed configurations", *unit, None,
+                 *[len(p.configurations) for p in r.plans]])
     if r.draws:
-        rows.append(["risk of reordered or crowded modes", None,
+        rows.append(["risk of reordered or crowded modes", *unit, None,
                      *[_pct(p.gross_risk) for p in r.plans]])
-    lines.append(table(["parameter", "initial", *labels], rows))
+    lines.append(table(["parameter", *([] if units is None else ["unit"]), "initial",
+                        *labels], rows))
     if r.draws:
         p = r.plans[0]
         lines += ["", "designed plan: over the prior against linearised at the prior mean:"]

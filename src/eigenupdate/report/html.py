@@ -360,7 +360,7 @@ def _comparison_section(data: ReportData) -> Section | None:
 
 
 def _design_section(d: DesignResult, validation: dict | None, initial: dict[str, float],
-                    name: str) -> Section:
+                    name: str, units: dict[str, str]) -> Section:
     """A test design (``eigenupdate design --json``, optionally with ``--validate``): the
     plan with its shifts and mode gaps, the predicted accuracy per parameter (over the
     prior, with its Monte Carlo error, and at the prior mean), and the validation."""
@@ -385,12 +385,12 @@ def _design_section(d: DesignResult, validation: dict | None, initial: dict[str,
     plan = d.plans[0]
     sec.blocks.append(table(
         "Predicted std of each updated parameter for the plans compared",
-        ["parameter", "initial", *[p.label for p in d.plans],
+        ["parameter", "unit", "initial", *[p.label for p in d.plans],
          "+- (designed)", "at prior mean (designed)"],
-        [[n, initial.get(n), *[p.std[n] for p in d.plans], plan.std_error.get(n),
-          plan.linear_std.get(n)] for n in plan.std]
-        + [["risk of reordered or crowded modes", None, *[p.gross_risk for p in d.plans],
-            None, None]],
+        [[n, units.get(n) or None, initial.get(n), *[p.std[n] for p in d.plans],
+          plan.std_error.get(n), plan.linear_std.get(n)] for n in plan.std]
+        + [["risk of reordered or crowded modes", None, None,
+            *[p.gross_risk for p in d.plans], None, None]],
         "design-accuracy"))
     val = validation
     if val:
@@ -511,7 +511,8 @@ def render_report(data: ReportData, *, command: str | None = None,
               (Section("update", "The update", paragraphs=[data.update_origin])
                if data.update_origin else None),
               _comparison_section(data),
-              _design_section(data.design, data.validation, initial, data.design_name)
+              _design_section(data.design, data.validation, initial, data.design_name,
+                              {p.name: p.unit for p in study.model.parameters})
               if data.design is not None else None,
               _montecarlo_section(data.montecarlo, data.montecarlo_name)
               if data.montecarlo is not None else None):

@@ -97,6 +97,55 @@ def test_displacement_systems_do_not_change_frequencies(tmp_path):
     assert a_.size == 6 and np.allclose(a_, b_, rtol=1e-10, atol=0)
 
 
+def ring_deck(kind: str, cd: int) -> str:
+    """A free steel ring in cylindrical system 7 (GRID CP 7, CD ``cd``): CQUAD4 (12
+    around, 2 along), CQUAD8 (6 around, 1 along, mid-side grids) or CHEXA (8 nodes, 12
+    around, 1 through the wall, 2 along); R 0.1, length 0.1, wall 0.01, coupled mass."""
+    q8 = kind == "CQUAD8"
+    nt, nz = 12, 2  # lattice points (CQUAD8: 6 x 1 elements with their mid-side grids)
+    radii = (0.095, 0.105) if kind == "CHEXA" else (0.1,)
+    gid = {}
+    lines = ["CORD2C,7,,0.,0.,0.,0.,0.,1.\n,1.,0.,0."]
+    for r, rad in enumerate(radii):
+        for j in range(nz + 1):
+            for i in range(nt):
+                if q8 and i % 2 and j % 2:
+                    continue
+                gid[r, i, j] = len(gid) + 1
+                lines.append(f"GRID,{gid[r, i, j]},7,{rad!r},{30.0 * i!r},"
+                             f"{0.05 * j!r},{cd or ''}")
+
+    def g(r, i, j):
+        return gid[r, i % nt, j]
+
+    if kind == "CQUAD4":
+        lines += [f"CQUAD4,{1 + i + nt * j},1,{g(0, i, j)},{g(0, i + 1, j)},"
+                  f"{g(0, i + 1, j + 1)},{g(0, i, j + 1)}" for i in range(nt) for j in range(nz)]
+        prop = "PSHELL,1,1,0.01,1,,1\n"
+    elif q8:
+        lines += [f"CQUAD8,{1 + i},1,{g(0, i, 0)},{g(0, i + 2, 0)},{g(0, i + 2, 2)},"
+                  f"{g(0, i, 2)},{g(0, i + 1, 0)},{g(0, i + 2, 1)}\n,{g(0, i + 1, 2)},"
+                  f"{g(0, i, 1)}" for i in range(0, nt, 2)]
+        prop = "PSHELL,1,1,0.01,1,,1\n"
+    else:
+        lines += [f"CHEXA,{1 + i + nt * j},1,{g(0, i, j)},{g(0, i + 1, j)},{g(1, i + 1, j)},"
+                  f"{g(1, i, j)},{g(0, i, j + 1)},{g(0, i + 1, j + 1)}\n,{g(1, i + 1, j + 1)},"
+                  f"{g(1, i, j + 1)}" for i in range(nt) for j in range(nz)]
+        prop = "PSOLID,1,1\n"
+    return ("BEGIN BULK\nPARAM,COUPMASS,1\n" + prop + STEEL + "\n".join(lines)
+            + "\nENDDATA\n")
+
+
+@pytest.mark.parametrize("kind", ["CQUAD4", "CQUAD8", "CHEXA"])
+def test_cylindrical_displacement_systems_do_not_change_frequencies(tmp_path, kind):
+    """Source: invariance, as above, with CD axes that differ from grid to grid (a
+    cylindrical CD): the coupled mass's blocks between two grids must be turned too
+    (they were not: a 32 x 16 CQUAD4 cylinder's n = 2 modes moved 0.7 %)."""
+    a_ = _read_freqs(tmp_path, ring_deck(kind, 0), "basic.bdf")
+    b_ = _read_freqs(tmp_path, ring_deck(kind, 7), "cylindrical.bdf")
+    assert a_.size == 6 and np.allclose(a_, b_, rtol=1e-10, atol=0)
+
+
 def test_mid3_blank_is_the_shear_rigid_plate(tmp_path):
     """Source: Navier's Kirchhoff plate, here thick (a/h = 10: shear deformation lowers
     the Mindlin plate's first frequency by about pi^2 (h/a)^2 / (kappa (1 - nu)) ~ 7 %).

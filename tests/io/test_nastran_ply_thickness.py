@@ -241,3 +241,32 @@ def test_small_field_pcomp_is_written_back_with_the_inherited_ply(tmp_path):
     back = _read(tmp_path / "out.bdf", ["a3", "b2"])
     assert back.model.values.tolist() == [0.45e-3, 0.7e-3]  # short decimals: exact
     assert back.bdf.properties[2].thicknesses == [1e-3, 0.7e-3, 0.8e-3, 1e-3]
+
+
+def test_free_field_continuation_markers_are_written_back(tmp_path):
+    """Source: the written deck read back (pyNastran) against the hand-edited deck. A
+    free-field line's field 10 is its continuation field (MSC QRG, free-field format):
+    a marker there (+P1, +M2) is not data, so a PCOMP T1 and a MAT1 E on cards continued
+    that way are written in place, the MAT1's ST, SC, SS continuation kept."""
+    deck = ("PCOMP,1,,0.5,,,,,SYM,+P1\n+P1,1,{a1!r},0.,,1,2.5e-4,45.,,+P2\n+P2,1,4.e-4,90.\n"
+            "PCOMP,2\n,2,1.e-3,0.,,2,8.e-4,0.,\n,2,,0.,,2,1.e-3,0.\n"
+            "MAT8,1,1.4e11,1.0e10,0.3,5.0e9,5.0e9,3.0e9,1600.\n"
+            "MAT1,2,{e!r},,0.33,2700.,,,,+M2\n+M2,2.5e8,2.4e8,1.5e8\n")
+    params = [(Parameter("a1", 0.0), CardField("PCOMP", 1, "T1")),
+              (Parameter("E", 0.0), CardField("MAT1", 2, "E"))]
+
+    def read(path, p=params):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", EigenupdateWarning)
+            return read_nastran(path, p)
+
+    nm = read(plate(tmp_path / "m.bdf", deck.format(a1=5e-4, e=7e10)))
+    write_updated_bdf(nm, tmp_path / "out.bdf", {"a1": 5.5e-4, "E": 7.2e10})
+    back = read(tmp_path / "out.bdf")
+    assert back.model.values.tolist() == [5.5e-4, 7.2e10]  # short decimals: exact
+    mat = back.bdf.materials[2]
+    assert (mat.St, mat.Sc, mat.Ss) == (2.5e8, 2.4e8, 1.5e8)
+    ref = read(plate(tmp_path / "h.bdf", deck.format(a1=5.5e-4, e=7.2e10)), []).model
+    # the same element integrals summed in the same order: a few ulps of the largest
+    for a, b in ((back.model.stiffness(), ref.stiffness()), (back.model.mass(), ref.mass())):
+        assert abs(a - b).max() <= 1e-12 * abs(b).max()

@@ -399,7 +399,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             hit = {p: c[s] for p, c in d.items() if np.any(c[s])}
             out.append(_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6)
                        if hit else None)
-        m = elem.shell_mass(xyz_e[s], lumped, labels[s])  # rotation-invariant
+        # a node's lumped block m I is the same in any axes, but the coupled mass's
+        # blocks between grids with different CD axes (cylindrical) are not
+        m = _to_cd(elem.shell_mass(xyz_e[s], lumped, labels[s]), frames, nodes[s], 6)
         out.append(mbase[s, None, None] * m if np.any(mbase[s]) else None)
         out += [None if d is None or not np.any(d[s]) else d[s, None, None] * m
                 for d in deriv_m]
@@ -540,7 +542,7 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
 
     def blocks(s: slice) -> list:
         ku = _to_cd(solids.solid_stiffness(xyz_e[s], unit[s], labels[s]), frames, nodes[s], 3)
-        m = solids.solid_mass(xyz_e[s], lumped, labels[s])
+        m = _to_cd(solids.solid_mass(xyz_e[s], lumped, labels[s]), frames, nodes[s], 3)
         return ([kfac[s, None, None] * ku if np.any(kfac[s]) else None]
                 + [None if d is None or not np.any(d[s]) else d[s, None, None] * ku
                    for d in dk]

@@ -48,8 +48,10 @@ def _split(text: str, kind: str) -> list[str]:
     """The data fields of one line (8 small or free, 4 large)."""
     body = text.split("$")[0].expandtabs(8) if kind != "free" else text.split("$")[0]
     if kind == "free":
+        # field 10 (the 9th token) is the continuation field: a marker such as +P1
+        # is not data (the rendered card continues with a leading comma instead)
         tokens = [t.strip() for t in body.split(",")[1:]]
-        if len(tokens) > 9 or (len(tokens) == 9 and tokens[8]):
+        if len(tokens) > 9:
             raise InputError(f"free-field line with more than 8 data fields: {text.strip()}")
         return (tokens + [""] * 8)[:8]
     width, count = (16, 4) if kind == "large" else (8, 8)

@@ -29,7 +29,7 @@ def cylinder():
 def test_cylinder_beam_axial_and_torsion_modes_agree_with_msc(cylinder):
     """Source: MSC Nastran 70.7's frequencies (ref.json), tolerance 1 % (ref.json's for
     shells: formulations differ between codes). Modes 1-2 and 9-10 (the cylinder bending
-    as a beam), 3 and 6: measured 4e-5 .. 5.7e-4. The six rigid-body modes are found and
+    as a beam), 3 and 6: measured 4e-5 .. 1.1e-3. The six rigid-body modes are found and
     excluded (the deck is free-free)."""
     err, ref = cylinder
     assert np.all(np.abs(err[[0, 1, 2, 5, 8, 9]]) <= ref["tolerance"]), err

@@ -163,3 +163,57 @@ def test_study_update_writes_the_thicknesses_into_the_bdf(tmp_path, run_cli):
     back = _read(out, _spec(FIELDS[:2])).model.values
     assert back == pytest.approx([truth["t1"], truth["t2"]], rel=1e-6)
     assert "PSHELL" in out.read_text() and "eigenupdate: updated" in out.read_text()
+
+
+def graded_plate(path, t, nx=12, triangles=False):
+    """A trapezoid of graded elements, every one of its own size (more than
+    MAX_SIZES), simply supported as :func:`plate`, one PSHELL of thickness ``t``."""
+    xyz, el = square_mesh(nx, 1.0, triangles)
+    x, y = xyz[:, 0], xyz[:, 1]
+    edge = [i + 1 for i in range(len(xyz)) if min(x[i], y[i]) < 1e-12 or max(x[i], y[i])
+            > 1 - 1e-12]
+    gx, gy = x**1.4, y**1.25 * (1.0 + 0.3 * x)
+    lines = [f"GRID,{i + 1},,{a!r},{b!r},0." for i, (a, b) in enumerate(zip(gx, gy,
+                                                                             strict=True))]
+    card = "CTRIA3" if triangles else "CQUAD4"
+    lines += [f"{card},{k + 1},1," + ",".join(str(n + 1) for n in e) for k, e in enumerate(el)]
+    lines += [f"SPC1,1,126,1,THRU,{len(xyz)}"] + [f"SPC1,1,3,{n}" for n in edge]
+    path.write_text("BEGIN BULK\nPARAM,COUPMASS,1\n" f"PSHELL,1,1,{t!r},1,,1\n"
+                    f"MAT1,1,{E!r},,{NU!r},{RHO!r}\n" + "\n".join(lines) + "\nENDDATA\n")
+    return path
+
+
+@pytest.mark.parametrize("triangles", [False, True], ids=["CQUAD4", "CTRIA3"])
+def test_a_graded_mesh_linearises_its_shear_about_the_decks_T(tmp_path, triangles):
+    """Past MAX_SIZES element sizes the shear part is s(T0) + s'(T0) (T - T0) per
+    element. Sources: the deck read without parameters (equal at T0); central
+    differences (tests/bounds.py); and the deck rewritten with T = 1.05 T0: the model
+    there differs from the exact elements only in the shear part, by at most
+    eps = max_e |s_lin / s - 1| of it, so (Courant-Fischer, K_shear <= K) every
+    eigenvalue within a factor 1 +- eps (measured: eps 6.6e-3, eigenvalues 4.7e-4 off
+    with CQUAD4, 5.4e-4 with CTRIA3)."""
+    from eigenupdate.io.nastran_continuum import MAX_SIZES
+    from eigenupdate.model import shells
+
+    t0 = 0.002
+    deck = graded_plate(tmp_path / "a.bdf", t0, triangles=triangles)
+    with pytest.warns(EigenupdateWarning, match=r"PSHELL 1 field T: the transverse shear "
+                      r"of its \d+ element sizes is linearised about the deck's T"):
+        nm = read_nastran(deck, _spec([("t", "PSHELL", 1, "T")]))
+    plain = _read(deck).model
+    for a, b in ((nm.model.stiffness(), plain.stiffness()), (nm.model.mass(), plain.mass())):
+        assert abs(a - b).max() <= 1e-12 * abs(b).max()
+    assert_matrix_derivatives(nm.model)
+    # the elements' sizes, as the reader takes them
+    xyz, el = square_mesh(12, 1.0, triangles)
+    g = np.column_stack([xyz[:, 0]**1.4, xyz[:, 1]**1.25 * (1 + 0.3 * xyz[:, 0]), xyz[:, 2]])
+    h = shells.stabilisation_size(g[el])
+    assert np.unique(h).size > MAX_SIZES
+    t1 = 1.05 * t0
+    s0, ds = shells.shear_thickness(t0, h), shells.shear_thickness_derivative(t0, h)
+    eps = np.max(np.abs((s0 + ds * (t1 - t0)) / shells.shear_thickness(t1, h) - 1))
+    exact = _read(graded_plate(tmp_path / "b.bdf", t1, triangles=triangles)).model
+    f_exact = solve_elastic(exact.stiffness(), exact.mass(), 6).eigenvalues
+    f_lin = solve_elastic(nm.model.stiffness([t1]), nm.model.mass([t1]), 6).eigenvalues
+    assert 0 < eps < 0.01
+    assert np.all(np.abs(f_lin / f_exact - 1) <= eps + 1e-9)

@@ -19,10 +19,11 @@ they orient the plies of a PCOMP.
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
 from eigenupdate.io.nastran_plies import clear_linear, ply_terms
 from eigenupdate.model import laminate, shells, solids
@@ -376,8 +377,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             thick = np.array([p["mass"].get(cid, (0.0, 0.0))[1] for p in rows])
             if thick.any():
                 deriv_m[slots["RHO"]] = wtmass * thick
+    fixed_shear = np.zeros(n)
     thick = [(*t, None) for t in _thickness_terms(elems, rows, pindex, size, wtmass,
-                                                   deriv_k, deriv_m)]
+                                                   deriv_k, deriv_m, fixed_shear)]
     thick += ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, k == 4)
     base = {part: tot - sum((values[j] * d[part] for j, d in enumerate(deriv_k) if part in d),
                             np.zeros(n)) for part, tot in total.items()}
@@ -387,6 +389,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         on = np.isin([e.pid for e in elems], list({t[0] for t in thick}))
         for c in base.values():
             c[on] = 0.0
+        base["shear"] += fixed_shear
         mbase[on] = wtmass * np.array([p["nsm"] + p.get("fixed_mass", 0.0)
                                        for p in rows])[on]
     lumped = not consistent
@@ -435,16 +438,24 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
 
 
 MAX_SIZES = 64
-"""Most distinct CTRIA3 sizes of one PSHELL whose T is a parameter: each size's shear
-part T^3 / (T^2 + alpha h^2) is a term of its own."""
+"""Most distinct CQUAD4, CTRIA3, CTRIA6 sizes of one PSHELL whose T is a parameter for
+which each size's shear part T^3 / (T^2 + alpha h^2) is a term of its own; beyond it the
+shear part is linearised about the deck's T (:func:`_thickness_terms`)."""
 
 
-def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m) -> list:
-    """(pid, part, element mask, term) of every PSHELL whose T is a parameter: membrane
-    and drilling E1 T, bending E2 T^3 (12I/T^3 in the moduli), shear G3 s(T) (T on a
-    CQUAD8, per size on a CQUAD4, CTRIA3, CTRIA6), mass WTMASS RHO1 T (NSM stays fixed);
-    a MAT1 E or RHO that is a parameter too multiplies in. Clears those elements' linear
-    derivatives."""
+def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m,
+                     fixed_shear: np.ndarray) -> list:
+    """(pid, part, element weights, term) of every PSHELL whose T is a parameter:
+    membrane and drilling E1 T, bending E2 T^3 (12I/T^3 in the moduli), shear G3 s(T) (T
+    on a CQUAD8, per size on a CQUAD4, CTRIA3, CTRIA6), mass WTMASS RHO1 T (NSM stays
+    fixed); a MAT1 E or RHO that is a parameter too multiplies in. Clears those elements'
+    linear derivatives.
+
+    An auto-meshed region has as many sizes as elements. Beyond MAX_SIZES the shear part
+    is s(T0) + s'(T0) (T - T0) per element, T0 the deck's T: exact value and derivative
+    at the deck, second order in T - T0 elsewhere (a note says so; an update from the
+    written BDF removes it). Its part without T is added to ``fixed_shear`` (G3 times it,
+    per element) where E is not a parameter too."""
     out = []
     pids = np.array([e.pid for e in elems])
     for (card, pid), slots in sorted(pindex.items()):
@@ -469,16 +480,27 @@ def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m) -> lis
         if p["G3"]:
             pw, c = times(p["mid3"], p["G3"], p["tied3"])
             c = c if not pw else p["G3"] / p["E3"]
-            for h in np.unique(size[on]):
+            sizes = np.unique(size[on])
+            if sizes.size > MAX_SIZES:
+                # s(T) = a + b T per element (CQUAD8: h = 0, s = T: a = 0, b = 1 exactly)
+                T0 = float(p["T"])
+                b = np.where(on, shells.shear_thickness_derivative(T0, size), 0.0)
+                a = np.where(on, shells.shear_thickness(T0, size), 0.0) - b * T0
+                out.append((pid, "shear", b, Term(None, ((t, 1.0),) + pw, c)))
+                if pw:
+                    out.append((pid, "shear", a, Term(None, pw, c)))
+                else:
+                    fixed_shear += c * a
+                warnings.warn(
+                    f"PSHELL {pid} field T: the transverse shear of its {sizes.size} element "
+                    f"sizes is linearised about the deck's T = {T0:g} (exact there, second "
+                    f"order in the change elsewhere); after a large change, update again "
+                    f"from the written BDF", EigenupdateWarning, stacklevel=2)
+            for h in sizes if sizes.size <= MAX_SIZES else ():
                 mask = on & (size == h)
                 if h == 0:  # CQUAD8: s(T) = T
                     out.append((pid, "shear", mask, Term(None, ((t, 1.0),) + pw, c)))
                     continue
-                if len(np.unique(size[on])) > MAX_SIZES:
-                    raise InputError(f"PSHELL {pid} field T: its CQUAD4, CTRIA3, CTRIA6 "
-                                     f"have more than {MAX_SIZES} different sizes (each "
-                                     f"size's shear part is a term); not supported as a "
-                                     f"parameter")
                 out.append((pid, "shear", mask, FunctionTerm(
                     None, (t, *(j for j, _ in pw)),
                     shells.ShearThickness(float(shells.ALPHA * h**2), float(c), bool(pw)))))

@@ -49,3 +49,58 @@ def test_table_without_rows():
 
     assert table(["parameter", "bias"], []).splitlines() == ["parameter  bias",
                                                               "---------  ----"]
+
+
+FIG2_STUDY = ROOT / "examples" / "paper_fig2" / "study.toml"
+
+
+def _one_line(code, err, *fragments):
+    assert code == 2, err
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    for f in fragments:
+        assert f in lines[0], lines[0]
+
+
+def test_sweep_max_mass_beyond_the_number_range(tmp_path, run_cli):
+    """--max-mass 1e308 passed as finite, made the sweep's percentage axis inf and ended in
+    matplotlib's ValueError (traceback, exit 1); CLI numbers now have the study's range."""
+    code, _, err = run_cli("sweep", FIG2_STUDY, "--coordinate", "1", "--max-mass", "1e308",
+                           "-o", tmp_path / "s.png")
+    _one_line(code, err, "--max-mass", "1e100")
+    assert not (tmp_path / "s.png").exists()
+
+
+@pytest.mark.parametrize("command", ["montecarlo", "design"])
+def test_absurd_worker_count_refused_before_any_cluster(tmp_path, run_cli, command):
+    """--workers 1000000 started a local cluster of a million processes (the run hung)."""
+    extra = ["--trials", "3"] if command == "montecarlo" else ["-o", tmp_path / "p.toml"]
+    code, _, err = run_cli(command, FIG2_STUDY, *extra, "--workers", "1000000")
+    _one_line(code, err, "--workers", "per core")
+
+
+@pytest.mark.parametrize("device", ["/dev/zero", "/dev/urandom"])
+def test_endless_measurement_file_is_refused_unread(tmp_path, run_cli, device):
+    """A measurement CSV named /dev/zero was read whole: memory until the process died
+    (under a 2 GB limit, "out of memory" naming the study instead)."""
+    study = tmp_path / "study.toml"
+    study.write_text(FIG2_STUDY.read_text().replace('"measured.csv"', f'"{device}"'))
+    code, _, err = run_cli("update", study)
+    _one_line(code, err, device, "not a regular file")
+
+
+@pytest.mark.parametrize("command", [["check"], ["extract", "-o", "x.csv"]])
+def test_endless_study_or_frf_file_is_refused_unread(tmp_path, run_cli, command):
+    code, _, err = run_cli(command[0], "/dev/zero", *[tmp_path / a if a.endswith(".csv")
+                                                      else a for a in command[1:]])
+    _one_line(code, err, "/dev/zero", "not a regular file")
+
+
+def test_endless_matrix_market_file_is_refused_unread(tmp_path, run_cli):
+    (tmp_path / "study.toml").write_text(
+        '[model]\ntype = "matrices"\nK0 = "/dev/zero"\nM0 = "/dev/zero"\n'
+        '[[model.parameter]]\nname = "a"\nvalue = 1.0\nK = "/dev/zero"\n'
+        '[measurement]\nmodes = [1]\nfrequencies = "m.csv"\n')
+    code, _, err = run_cli("frequencies", tmp_path / "study.toml")
+    _one_line(code, err, "/dev/zero", "not a regular file")

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from eigenupdate.errors import InputError, shorten
 from eigenupdate.io.atomic import write_text
+from eigenupdate.io.inputs import require_regular
 from eigenupdate.io.numbers import parse_float, parse_int
 from eigenupdate.measure.measurement import Measurement
 
@@ -29,6 +30,7 @@ def read_measurements(
     """
     path = Path(path)
     src = str(path)
+    require_regular(path, "measurement file")
     try:
         if path.stat().st_size > MAX_FILE_BYTES:
             raise InputError(f"file is {path.stat().st_size} bytes; a measurement file is at "

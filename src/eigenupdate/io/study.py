@@ -17,6 +17,7 @@ from eigenupdate.budget import require_nesting
 from eigenupdate.choices import ESTIMATORS, FRF_KINDS, OPTIMIZERS
 from eigenupdate.design.spec import CRITERIA, DesignSpec
 from eigenupdate.errors import InputError
+from eigenupdate.io.inputs import require_regular
 from eigenupdate.io.measurements import read_measurements
 from eigenupdate.io.study_models import (
     _beam,
@@ -101,6 +102,7 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
     """
     path = Path(path)
     src = str(path)
+    require_regular(path, "study file")
     try:
         # utf-8-sig: editors on Windows start the file with a byte-order mark
         text = path.read_bytes().decode("utf-8-sig")

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from eigenupdate.budget import require
 from eigenupdate.design.montecarlo import (  # its own imports are light
     MIN_CONVERGED,
     MonteCarloResult,
@@ -271,6 +272,9 @@ def design(study: Study, *, validate: int | None = None, seed: int | None = 0,
         raise InputError(f"must be >= {MIN_CONVERGED} (the statistics need at least "
                          f"{MIN_CONVERGED} converged trials), got {validate}",
                          field="--validate")
+    if validate is not None:  # before the design's search, not after
+        require("trials", validate, f"{validate:,} virtual tests asked for",
+                field="--validate")
     res = design_plan(study.model, study.design, study.method, study.configurations[1:],
                       executor=executor)
     val = None
@@ -315,6 +319,7 @@ def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
     if trials < MIN_CONVERGED:  # fewer could never give statistics: refused before running
         raise InputError(f"must be >= {MIN_CONVERGED} (the statistics need at least "
                          f"{MIN_CONVERGED} converged trials), got {trials}", field="--trials")
+    require("trials", trials, f"{trials:,} virtual tests asked for", field="--trials")
     if executor is None:
         here = not (scheduler or workers) if in_process is None else in_process
         start = time.perf_counter()

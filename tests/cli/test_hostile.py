@@ -104,3 +104,18 @@ def test_endless_matrix_market_file_is_refused_unread(tmp_path, run_cli):
         '[measurement]\nmodes = [1]\nfrequencies = "m.csv"\n')
     code, _, err = run_cli("frequencies", tmp_path / "study.toml")
     _one_line(code, err, "/dev/zero", "not a regular file")
+
+
+BEAM_STUDY = ROOT / "examples" / "paper_beam" / "study.toml"
+
+
+@pytest.mark.parametrize("flag, args", [
+    ("--trials", ["montecarlo", BEAM_STUDY, "--trials", "1000000000", "--in-process"]),
+    ("--validate", ["design", BEAM_STUDY, "-o", "plan.toml", "--validate", "1000000000"])])
+def test_a_billion_trials_refused_before_any_runs(tmp_path, run_cli, flag, args, monkeypatch):
+    """--trials 1e9 spawned a billion seeds (memory until the process died; 60 s and
+    counting under a 2 GB limit); --validate 1e9 did so after the whole design search."""
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run_cli(*args)
+    _one_line(code, err, flag, "1,000,000,000", "EIGENUPDATE_MAX_TRIALS")
+    assert not (tmp_path / "plan.toml").exists()

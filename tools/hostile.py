@@ -363,7 +363,7 @@ case("frf extract --uff55 = input", BF, ["extract", S, "-o", "@e.csv", "--uff55"
 case("frf extract --plots = frf dir", BF, ["extract", S, "-o", "@e.csv", "--plots", "@frf"])
 case("frf csv frf reversed", BF, ["extract", "@a.csv", "-o", "@e.csv"],
      lambda w: (w / "a.csv").write_text("frequency_hz,real,imag\n" + "".join(
-         f"{f},{1e-6/(1-(f/100)**2+0.02j).real},{(1e-6/(1-(f/100)**2+0.02j)).imag}\n" for f in range(400, 0, -1))))
+         f"{f},{(1e-6/(1-(f/100)**2+0.02j)).real},{(1e-6/(1-(f/100)**2+0.02j)).imag}\n" for f in range(400, 0, -1))))
 case("frf csv frf duplicated freq", BF, ["extract", "@a.csv", "-o", "@e.csv"],
      lambda w: (w / "a.csv").write_text("frequency_hz,real,imag\n" + "".join(
          f"{f//2},{(1e-6/(1-(f/200)**2+0.02j)).real},{(1e-6/(1-(f/200)**2+0.02j)).imag}\n" for f in range(2, 800))))
@@ -381,6 +381,95 @@ case("frf frf --damping csv", BF, ["frf", S, "--input", "11", "--output", "1", "
 case("frf report -o uff", BF, ["report", S, "--saved-only", "-o", "@frf/base.uff"])
 case("frf report extracted rad", BF, ["report", S, "--saved-only", "--extracted", "@extracted.csv", "-o", "@r.html"],
      lambda w: sub(w / "extracted.csv", "configuration,mode", "configuration,mode"))
+
+NF = "nastran_frame"
+NP = NASTRAN
+
+
+def bdf(w, old, new, count=1):
+    sub(w / "frame.bdf", old, new, count)
+
+
+def nas(name, argv, mutate=None):
+    case("nas " + name, NF, argv, mutate, NP)
+
+
+nas("baseline check", ["check", S])
+nas("pert at SPC'd grid 1001 comp 1", ["check", S],
+    lambda w: sub(w / "study.toml", "grid = 3001\ncomponent = 1", "grid = 1001\ncomponent = 1"))
+nas("pert at SPC'd grid 1006 comp 1", ["check", S],
+    lambda w: sub(w / "study.toml", "grid = 3001\ncomponent = 1", "grid = 1006\ncomponent = 1"))
+nas("pert at grid missing", ["check", S],
+    lambda w: sub(w / "study.toml", "grid = 3001\ncomponent = 1", "grid = 9999\ncomponent = 1"))
+nas("pert component 0", ["check", S],
+    lambda w: sub(w / "study.toml", "grid = 3001\ncomponent = 1", "grid = 3001\ncomponent = 0"))
+nas("pert component 7", ["check", S],
+    lambda w: sub(w / "study.toml", "grid = 3001\ncomponent = 1", "grid = 3001\ncomponent = 7"))
+nas("pert component 12", ["check", S],
+    lambda w: sub(w / "study.toml", "grid = 3001\ncomponent = 1", "grid = 3001\ncomponent = 12"))
+nas("param card id missing", ["check", S],
+    lambda w: sub(w / "study.toml", 'card = "CONM2"\nid = 901', 'card = "CONM2"\nid = 999'))
+nas("param field missing", ["check", S],
+    lambda w: sub(w / "study.toml", 'field = "M"', 'field = "X1"'))
+nas("param field lowercase", ["check", S],
+    lambda w: sub(w / "study.toml", 'field = "M"', 'field = "m"'))
+nas("param same field twice", ["check", S],
+    lambda w: sub(w / "study.toml", 'card = "CONM2"\nid = 901\nfield = "M"', 'card = "MAT1"\nid = 2\nfield = "RHO"'))
+nas("param nu", ["check", S],
+    lambda w: sub(w / "study.toml", 'card = "CONM2"\nid = 901\nfield = "M"', 'card = "MAT1"\nid = 2\nfield = "NU"'))
+nas("conm2 negative", ["check", S], lambda w: bdf(w, "CONM2        902    3002            150.", "CONM2        902    3002           -150."))
+nas("mat1 E nan", ["check", S], lambda w: bdf(w, "MAT1           1  2.1+11", "MAT1           1     nan"))
+nas("mat1 E 1e308", ["check", S], lambda w: bdf(w, "MAT1           1  2.1+11", "MAT1           1  1.+308"))
+nas("mat1 rho 0", ["check", S], lambda w: bdf(w, "2.1+11              .3   7850.", "2.1+11              .3      0.", 2))
+nas("pbar A 0", ["check", S], lambda w: bdf(w, "PBAR           1       1  .00543", "PBAR           1       1      0."))
+nas("duplicate GRID", ["check", S], lambda w: bdf(w, "GRID        1002              0.      3.      0.", "GRID        1001              0.      3.      0."))
+nas("duplicate GRID same", ["check", S], lambda w: bdf(w, "GRID        1002              0.      3.      0.", "GRID        1002              0.      3.      0.\nGRID        1002              0.      3.      0."))
+nas("duplicate GRID diff coords", ["check", S], lambda w: bdf(w, "GRID        1002              0.      3.      0.", "GRID        1002              0.      3.      0.\nGRID        1002              0.      4.      0."))
+nas("duplicate CONM2 id", ["check", S], lambda w: bdf(w, "CONM2        902    3002", "CONM2        901    3002"))
+nas("duplicate MAT1 id", ["check", S], lambda w: bdf(w, "MAT1           2  2.1+11", "MAT1           1  2.1+11"))
+nas("INCLUDE self", ["check", S], lambda w: bdf(w, "$PARAMS", "INCLUDE 'frame.bdf'"))
+nas("INCLUDE missing", ["check", S], lambda w: bdf(w, "$PARAMS", "INCLUDE 'nope.bdf'"))
+nas("INCLUDE dev zero", ["check", S], lambda w: bdf(w, "$PARAMS", "INCLUDE '/dev/zero'"))
+nas("INCLUDE dir", ["check", S], lambda w: bdf(w, "$PARAMS", "INCLUDE '/tmp'"))
+nas("bdf CRLF BOM", ["check", S], lambda w: (w / "frame.bdf").write_bytes(b"\xef\xbb\xbf" + (w / "frame.bdf").read_bytes().replace(b"\n", b"\r\n")))
+nas("bdf tabs", ["check", S], lambda w: bdf(w, "GRID        1001              0.", "GRID\t1001\t\t0."))
+nas("bdf truncated", ["check", S], lambda w: (w / "frame.bdf").write_text((w / "frame.bdf").read_text()[:5000]))
+nas("bdf empty", ["check", S], lambda w: (w / "frame.bdf").write_text(""))
+nas("bdf binary", ["check", S], lambda w: (w / "frame.bdf").write_bytes(bytes(range(256)) * 40))
+nas("bdf no SPC (free)", ["check", S], lambda w: bdf(w, "  SPC = 1\n", ""))
+nas("bdf SPC set 2 selected", ["check", S], lambda w: bdf(w, "  SPC = 1\n", "  SPC = 2\n"))
+nas("bdf unicode comment", ["check", S], lambda w: bdf(w, "$PARAMS", "$ paramètres ✓ 日本"))
+nas("bdf grid huge id", ["check", S], lambda w: bdf(w, "GRID        1001", "GRID    99999999"))
+nas("csv rad/s", ["update", S], lambda w: csv_map(w / "measured.csv", scale_freq(2 * 3.141592653589793)))
+nas("save-bdf over frame", ["update", S, "--save-bdf", "@frame.bdf"])
+nas("save-bdf over study", ["update", S, "--save-bdf", S])
+nas("save-bdf /dev/null", ["update", S, "--save-bdf", "/dev/null"])
+nas("frf coord bad component", ["frf", S, "--input", "60117", "--output", "60112", "-o", "@f.png"])
+nas("frf coord SPC'd", ["frf", S, "--input", "10011", "--output", "60112", "-o", "@f.png"])
+nas("sweep SPC'd", ["sweep", S, "--coordinate", "10011", "--max-mass", "10", "-o", "@s.png"])
+nas("sweep coord 6011 (grid only)", ["sweep", S, "--coordinate", "6011", "--max-mass", "10", "-o", "@s.png"])
+
+
+def rename(new):
+    return lambda w: sub(w / "study.toml", 'name = "0.35 kg at 2"', f'name = {new}')
+
+
+def roundtrip(name, new):
+    """simulate the truth with a renamed configuration, then update from what it wrote"""
+    def mutate(w):
+        for f in ("study.toml", "truth.toml"):
+            sub(w / f, 'name = "0.35 kg at 2"', f'name = {new}')
+    case("fig2 roundtrip name " + name, F2, ["simulate", "@truth.toml", "-o", M], mutate)
+    case("fig2 roundtrip+update name " + name, F2, ["update", S], lambda w: (mutate(w), subprocess.run(
+        [CORE, "-m", "eigenupdate", "simulate", str(w / "truth.toml"), "-o", str(w / "measured.csv")],
+        env=dict(os.environ, PYTHONPATH=str(ROOT / "src")), capture_output=True, check=True)))
+
+
+for label, new in [("hash", '"#2"'), ("lead space", '" 0.35 kg at 2"'), ("newline", '"a\\nb"'),
+                   ("quote", "'a\"b'"), ("comma", '"a,b"'), ("base space", '"base "'),
+                   ("empty", '""'), ("tab", '"a\\tb"'), ("unicode", '"0,35 kg à 2 ✓"'),
+                   ("cr", '"a\\rb"'), ("nul", '"a\\u0000b"'), ("bidi", '"a\\u202eb"')]:
+    roundtrip(label, new)
 
 
 def main():

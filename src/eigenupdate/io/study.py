@@ -265,6 +265,9 @@ def _measurement(top: TableReader, names: list[str] | None, path: Path
     meas.finish()
     if names is None:  # no model and no perturbations: the FRF table names them
         names = sorted(frf_table, key=lambda n: n != BASE)
+        for n in names:
+            if config_name_problem(n):
+                raise meas.error("frf", f"{n!r} {config_name_problem(n)}")
     frf = _frf_files(frf_table, names, path.parent, src)
     return modes, freq, frf, frf_options
 
@@ -290,6 +293,23 @@ def _study_without_model(path: Path, top: TableReader, title: str) -> Study:
                                           path.parent, src))
 
 
+def config_name_problem(name: str) -> str | None:
+    """Why ``name`` cannot label a configuration's rows in a measurement CSV, or None.
+
+    The CSV reader strips spaces, skips lines starting with '#' and splits lines at line
+    breaks: such names were accepted here and written by ``simulate``, whose file then
+    could not be read back ('base ' even read as the bare structure's second row)."""
+    if not name:
+        return "is empty"
+    if name != name.strip():
+        return "begins or ends with white space (the measurement CSV strips it)"
+    if name.startswith("#"):
+        return "begins with '#' (a comment line in the measurement CSV)"
+    if not name.isprintable():
+        return "holds a control or format character (a line break, tab, NUL, bidi mark)"
+    return None
+
+
 def _perturbation(r: TableReader, nastran=None) -> Configuration:
     adds = []
     if "add" in r.data and {"coordinate", "grid", "mass", "stiffness"} & set(r.data):
@@ -309,6 +329,9 @@ def _perturbation(r: TableReader, nastran=None) -> Configuration:
     name = r.get("name", "str", default if len(adds) == 1 else ...)
     if name == BASE:
         raise r.error("name", f"{BASE!r} is the bare structure; choose another name")
+    bad = config_name_problem(name)
+    if bad:
+        raise r.error("name", f"{name!r} {bad}")
     r.finish()
     return Configuration(name, tuple(adds))
 

@@ -472,6 +472,62 @@ for label, new in [("hash", '"#2"'), ("lead space", '" 0.35 kg at 2"'), ("newlin
     roundtrip(label, new)
 
 
+# negative and singular physics
+nas("pbar I1 negative", ["frequencies", S], lambda w: bdf(w, "PBAR           2       2  .00285.0000194", "PBAR           2       2  .00285-.000019"))
+nas("pbar A negative", ["frequencies", S], lambda w: bdf(w, "PBAR           2       2  .00285", "PBAR           2       2 -.00285"))
+nas("celas2 stays but param removed, K negative", ["frequencies", S],
+    lambda w: (bdf(w, "CELAS2       8015000000.", "CELAS2       801-5000000."),
+               sub(w / "study.toml", 'name = "k_support"\ncard = "CELAS2"\nid = 801\nfield = "K"\nstd = 2.0e6\n', 'name = "k_support"\ncard = "CONM2"\nid = 902\nfield = "M"\nstd = 2.0e6\n')))
+nas("conm2 inertia negative", ["frequencies", S], lambda w: bdf(w, "CONM2        902    3002            150.", "CONM2        902    3002            150.                        \n         -10.      0.     10.      0.      0.     10."))
+nas("mat1 rho negative (beams param)", ["frequencies", S], lambda w: bdf(w, "MAT1           1  2.1+11              .3   7850.", "MAT1           1  2.1+11              .3  -7850."))
+nas("mat1 nu 0.5", ["frequencies", S], lambda w: bdf(w, "MAT1           1  2.1+11              .3", "MAT1           1  2.1+11              .5"))
+nas("mat1 nu -1", ["frequencies", S], lambda w: bdf(w, "MAT1           1  2.1+11              .3", "MAT1           1  2.1+11             -1."))
+nas("mat1 E negative non-param", ["frequencies", S],
+    lambda w: (bdf(w, "MAT1           1  2.1+11", "MAT1           1 -2.1+11"),
+               sub(w / "study.toml", 'name = "E_columns"\ncard = "MAT1"\nid = 1\nfield = "E"', 'name = "E_columns"\ncard = "CONM2"\nid = 903\nfield = "M"')))
+nas("wtmass 0", ["frequencies", S], lambda w: bdf(w, "PARAM   COUPMASS       1", "PARAM   COUPMASS       1\nPARAM   WTMASS        0."))
+nas("wtmass negative", ["frequencies", S], lambda w: bdf(w, "PARAM   COUPMASS       1", "PARAM   COUPMASS       1\nPARAM   WTMASS      -1.0"))
+nas("grid coords nan", ["frequencies", S], lambda w: bdf(w, "GRID        1002              0.      3.      0.", "GRID        1002              0.     nan      0."))
+nas("two grids same place", ["frequencies", S], lambda w: bdf(w, "GRID        1002              0.      3.      0.", "GRID        1002              0.      0.      0."))
+MX = "mtx"
+
+
+def mtx_setup(w, edit=None):
+    sys.path.insert(0, str(ROOT / "tools"))
+    import fuzz
+    sys.path.insert(0, str(ROOT / "src"))
+    fuzz._mtx(w)
+    if edit:
+        edit(w)
+
+
+def mx(name, argv, edit=None):
+    case("mtx " + name, F2, argv, lambda w: mtx_setup(w, edit))
+
+
+mx("baseline", ["update", S])
+mx("M param negative diag", ["frequencies", S], lambda w: (w / "m1.mtx").write_text((w / "m1.mtx").read_text().replace("1 1 1", "1 1 -1")))
+mx("K param nonsymmetric general", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real general\n4 4 3\n1 1 1\n1 2 -1\n2 2 1\n"))
+mx("K param nonsym 1e-12", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real general\n4 4 4\n1 1 1\n1 2 -1\n2 1 -1.000000000001\n2 2 1\n"))
+mx("K param complex", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate complex symmetric\n4 4 1\n1 1 1 0\n"))
+mx("K param pattern", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate pattern symmetric\n4 4 1\n1 1\n"))
+mx("K param integer", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate integer symmetric\n4 4 3\n1 1 1\n2 1 -1\n2 2 1\n"))
+mx("K param skew", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real skew-symmetric\n4 4 1\n2 1 1\n"))
+mx("K param upper triangle only symmetric", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real symmetric\n4 4 3\n1 1 1\n1 2 -1\n2 2 1\n"))
+mx("K param wrong size", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real symmetric\n5 5 1\n1 1 1\n"))
+mx("K param index 0", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real symmetric\n4 4 1\n0 0 1\n"))
+mx("K param index 5", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real symmetric\n4 4 1\n5 5 1\n"))
+mx("K param fewer entries", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real symmetric\n4 4 3\n1 1 1\n"))
+mx("K param more entries", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real symmetric\n4 4 1\n1 1 1\n2 2 1\n3 3 1\n"))
+mx("K param nan", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real symmetric\n4 4 1\n1 1 nan\n"))
+mx("K param header 1e10 entries", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real symmetric\n4 4 10000000000\n1 1 1\n"))
+mx("K param CRLF", ["frequencies", S], lambda w: (w / "k2.mtx").write_bytes((w / "k2.mtx").read_bytes().replace(b"\n", b"\r\n")))
+mx("K param BOM", ["frequencies", S], lambda w: (w / "k2.mtx").write_bytes(b"\xef\xbb\xbf" + (w / "k2.mtx").read_bytes()))
+mx("K param indefinite (negative stiffness)", ["frequencies", S], lambda w: (w / "k2.mtx").write_text("%%MatrixMarket matrix coordinate real symmetric\n4 4 3\n1 1 -1\n2 1 1\n2 2 -1\n"))
+mx("K0 = study.toml", ["frequencies", S], lambda w: sub(w / "study.toml", 'K0 = "K0.mtx"', 'K0 = "study.toml"'))
+mx("same mtx for two params", ["frequencies", S], lambda w: sub(w / "study.toml", 'K = "k2.mtx"', 'K = "k1.mtx"'))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("-k", default="")

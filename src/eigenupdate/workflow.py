@@ -106,9 +106,15 @@ def simulate_study(study: Study, noise_hz: float = 0.0, std_hz: float | None = N
                    seed: int | None = None, noise_relative: float = 0.0) -> list[Measurement]:
     """The measurements this study's model, taken as the truth, would give
     (``eigenupdate simulate``); see :func:`eigenupdate.measure.synthetic.simulate_measurements`."""
-    return simulate_measurements(study.model, study.configurations, study.require_modes(),
+    rows = simulate_measurements(study.model, study.configurations, study.require_modes(),
                                  noise_hz=noise_hz, std_hz=std_hz, seed=seed,
                                  noise_relative=noise_relative)
+    for m in rows:  # what the measurement CSV refuses is not written
+        if m.std_hz is not None and m.std_hz >= m.frequency_hz:
+            raise InputError(f"std {m.std_hz:g} Hz of {m.configuration!r} mode {m.mode} is "
+                             f"not below its frequency {m.frequency_hz:g} Hz",
+                             field="--std-hz" if std_hz is not None else "--noise-hz")
+    return rows
 
 
 @dataclass(frozen=True)

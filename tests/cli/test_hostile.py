@@ -4,6 +4,7 @@ command that computes with them. Each must end with exit 0, 1 or 2 and one line.
 
 import json
 import re
+import shutil
 import sys
 from pathlib import Path
 
@@ -186,3 +187,23 @@ def test_names_with_commas_quotes_and_accents_round_trip(tmp_path, run_cli):
     code, out, err = run_cli("update", tmp_path / "study.toml")
     assert code == 0, err
     assert '0,35 kg "à" 2' in out
+
+
+def test_a_frequency_std_as_large_as_the_frequency_is_refused(tmp_path, run_cli):
+    """std_hz = 1e6 on the beam's 200-1100 Hz (a std in mHz, or a variance): the Bayesian
+    update returned the prior unchanged as 'converged' after 0 iterations, exit 0."""
+    lines = (ROOT / "examples" / "paper_beam" / "measured.csv").read_text().splitlines()
+    rows = [ln if ln.startswith(("#", "configuration")) else ln.rsplit(",", 1)[0] + ",1e6"
+            for ln in lines]
+    (tmp_path / "measured.csv").write_text("\n".join(rows) + "\n")
+    shutil.copy(BEAM_STUDY, tmp_path / "study.toml")
+    code, out, err = run_cli("update", tmp_path / "study.toml")
+    _one_line(code, err, "measured.csv", "line 3", "std_hz 1e+06 is not below frequency_hz")
+    assert out == ""
+
+
+def test_simulate_writes_no_std_the_reader_refuses(tmp_path, run_cli):
+    code, _, err = run_cli("simulate", ROOT / "examples" / "paper_fig2" / "truth.toml",
+                           "-o", tmp_path / "m.csv", "--std-hz", "50")
+    _one_line(code, err, "--std-hz", "not below its frequency")
+    assert not (tmp_path / "m.csv").exists()

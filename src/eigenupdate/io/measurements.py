@@ -82,6 +82,10 @@ def read_measurements(
                              source=src)
         if std is not None and not std > 0:
             raise InputError(f"{where}: std_hz must be > 0, got {std}", source=src)
+        if std is not None and std >= f:  # 1e6 on 200 Hz: the Bayesian fit kept the prior
+            raise InputError(f"{where}: std_hz {std:g} is not below frequency_hz {f:g}; a "
+                             f"frequency's std is a small part of it (std in another unit, "
+                             f"or a variance?)", source=src)
         if (cfg, mode) in out:
             raise InputError(f"{where}: second row for {cfg!r} mode {mode}", source=src)
         out[(cfg, mode)] = Measurement(cfg, mode, f, std)

@@ -528,6 +528,34 @@ mx("K0 = study.toml", ["frequencies", S], lambda w: sub(w / "study.toml", 'K0 = 
 mx("same mtx for two params", ["frequencies", S], lambda w: sub(w / "study.toml", 'K = "k2.mtx"', 'K = "k1.mtx"'))
 
 
+
+def frf_opt(text):
+    return lambda w: sub(w / "study.toml", "[measurement.frf]", "[measurement.frf_options]\n" + text + "\n\n[measurement.frf]")
+
+
+case("frf extract exclude negative", BF, ["extract", S, "-o", "@e.csv"], frf_opt("exclude_below_hz = -5.0"))
+case("frf extract exclude huge", BF, ["extract", S, "-o", "@e.csv"], frf_opt("exclude_below_hz = 1e9"))
+case("frf extract bands reversed", BF, ["extract", S, "-o", "@e.csv"], frf_opt("bands_hz = [[215, 190], [530, 575]]"))
+case("frf extract bands overlapping", BF, ["extract", S, "-o", "@e.csv"], frf_opt("bands_hz = [[150, 600], [500, 700]]"))
+case("frf extract bands one", BF, ["extract", S, "-o", "@e.csv"], frf_opt("bands_hz = [[190, 215]]"))
+case("frf extract bands outside data", BF, ["extract", S, "-o", "@e.csv"], frf_opt("bands_hz = [[1e6, 2e6], [3e6, 4e6]]"))
+case("frf extract kind bogus", BF, ["extract", S, "-o", "@e.csv"], frf_opt('kind = "velocity"'))
+case("frf extract kind accelerance wrong", BF, ["extract", S, "-o", "@e.csv"], frf_opt('kind = "accelerance"'))
+case("frf extract frf file missing", BF, ["extract", S, "-o", "@e.csv"], lambda w: (w / "frf/base.uff").unlink())
+case("frf extract frf key unknown config", BF, ["extract", S, "-o", "@e.csv"], lambda w: sub(w / "study.toml", '"base" = "frf/base.uff"', '"base" = "frf/base.uff"\n"bogus" = "frf/base.uff"'))
+case("frf extract same frf for two configs", BF, ["extract", S, "-o", "@e.csv"], lambda w: sub(w / "study.toml", '"0.2 kg at 1" = "frf/0.2_kg_at_1.uff"', '"0.2 kg at 1" = "frf/base.uff"'))
+case("frf update extracted other study", BF, ["update", S], lambda w: shutil.copy(EX / "paper_beam" / "measured.csv", w / "extracted.csv"))
+case("frf frf --damping from other run", BF, ["frf", S, "--input", "11", "--output", "1", "--damping", "@m55.uff", "-o", "@f.png"],
+     lambda w: subprocess.run([CORE, "-m", "eigenupdate", "extract", str(w / "frf/base.uff"), "-o", str(w / "x.csv"), "--uff55", str(w / "m55.uff")],
+                              env=dict(os.environ, PYTHONPATH=str(ROOT / "src")), capture_output=True))
+case("frf report --extraction garbage json", BF, ["report", S, "--saved-only", "--extraction", "@x.json", "-o", "@r.html"],
+     lambda w: (w / "x.json").write_text('{"schema": "eigenupdate.extraction/1", "configurations": 5}'))
+case("frf report --result nested json", BF, ["report", S, "--saved-only", "--result", "@x.json", "-o", "@r.html"],
+     lambda w: (w / "x.json").write_text("[" * 100000 + "]" * 100000))
+case("frf report --design huge number", BF, ["report", S, "--saved-only", "--design", "@x.json", "-o", "@r.html"],
+     lambda w: (w / "x.json").write_text('{"a": 1e999, "b": NaN, "c": "x"}'))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("-k", default="")

@@ -222,3 +222,21 @@ def test_mirrored_solids_and_valid_quadratics_still_run(tmp_path, capsys):
         got.append(capsys.readouterr().out)
     a, b = (np.array(json.loads(g)["configurations"][0]["frequencies_hz"]) for g in got)
     assert np.allclose(a, b, rtol=1e-9)
+
+
+@pytest.mark.parametrize("coordinate, says", [
+    (60117, "no GRID component"),                   # component 7
+    (6011, "GRID 601 has no free coordinate"),       # GRID 6011 without its component
+    (10011, "GRID 1001 has no free coordinate"),     # a base clamped in all six
+    (99991, "GRID 9999 has no free coordinate")])    # no such GRID
+def test_missing_nastran_coordinate_named_for_what_it_is(tmp_path, capsys, coordinate, says):
+    """Coordinates are 10 * GRID + component: every one of these was called 'restrained'
+    (a gap in 1..max, as on a beam), 6011 and 60117 with no such component in the deck."""
+    from conftest import EXAMPLES
+
+    code = main(["sweep", str(EXAMPLES / "nastran_frame" / "study.toml"), "--coordinate",
+                 str(coordinate), "--max-mass", "10", "-o", str(tmp_path / "s.png")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2
+    assert says in err[-1] and "is restrained" not in err[-1], err
+    assert not (tmp_path / "s.png").exists()

@@ -57,6 +57,8 @@ def _quiet() -> Iterator[None]:
 
 def _read_bytes(path: PathLike) -> bytes:
     src = str(path)
+    if os.path.isdir(path):
+        raise InputError("is a directory, not a universal file", source=src)
     require_regular(path, "universal file")
     try:
         with open(path, "rb") as fh:

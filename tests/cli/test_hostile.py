@@ -207,3 +207,22 @@ def test_simulate_writes_no_std_the_reader_refuses(tmp_path, run_cli):
                            "-o", tmp_path / "m.csv", "--std-hz", "50")
     _one_line(code, err, "--std-hz", "not below its frequency")
     assert not (tmp_path / "m.csv").exists()
+
+
+@pytest.mark.parametrize("command", [["report", "--saved-only", "-o", "r.html"],
+                                     ["frf", "--input", "1", "--output", "1", "-o", "f.png"]])
+def test_a_result_of_an_earlier_version_of_the_study_is_refused(tmp_path, run_cli, command,
+                                                                 monkeypatch):
+    """Saved from the Fig. 2 study, then m1's initial value edited 9.7 -> 19.7: the report
+    printed 'initial 19.7, updated 10, change -49 %' beside an iteration table starting
+    at 9.7, exit 0."""
+    monkeypatch.chdir(tmp_path)
+    for name in ("study.toml", "measured.csv"):
+        shutil.copy(ROOT / "examples" / "paper_fig2" / name, tmp_path / name)
+    assert run_cli("update", "study.toml", "--save", "r.json")[0] == 0
+    study = tmp_path / "study.toml"
+    study.write_text(study.read_text().replace("value = 9.7  # kg", "value = 19.7", 1))
+    flag = "--result" if command[0] == "report" else "--updated"
+    code, _, err = run_cli(command[0], "study.toml", flag, "r.json", *command[1:])
+    _one_line(code, err, "r.json", "started from m1 = 9.7", "19.7")
+    assert not (tmp_path / command[-1]).exists()

@@ -349,6 +349,21 @@ def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
 _DEFAULT_LOSS_FACTOR = 0.01  # as `eigenupdate frf` without --damping
 
 
+def _same_data(res: UpdateResult, study: Study, path) -> None:
+    """The saved update fitted the study's measurement file as it is now: a result of
+    other data was shown beside the file's name, its 'measured' column not the file's."""
+    if study.frequencies is None or not Path(study.frequencies).is_file():
+        return
+    now = study.measurements()
+    for (c, k), f in zip(res.rows, res.measured_hz.tolist(), strict=True):
+        m = now.get((c, k))
+        if m is None or not np.isclose(m.frequency_hz, f, rtol=1e-12, atol=0.0):
+            got = "no row" if m is None else f"{m.frequency_hz!r} Hz"
+            raise InputError(f"the saved update fitted {c!r} mode {k} at {f!r} Hz, "
+                             f"{Path(study.frequencies).name} has {got}: a result of other "
+                             f"data; update again", source=str(path), field="frequencies")
+
+
 def report_data(study: Study, *, result: str | Path | None = None,
                 extraction: str | Path | None = None, extracted: str | Path | None = None,
                 design: str | Path | None = None, montecarlo: str | Path | None = None,
@@ -391,6 +406,7 @@ def report_data(study: Study, *, result: str | Path | None = None,
     if result is not None:
         out.update(update=read_result(result, study.model),
                    update_origin="read from the saved result")
+        _same_data(out["update"], study, result)
     elif solve and study.frequencies is not None and study.modes:
         study.measurements()  # a bad file stops the report
         try:

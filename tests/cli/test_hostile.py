@@ -226,3 +226,20 @@ def test_a_result_of_an_earlier_version_of_the_study_is_refused(tmp_path, run_cl
     code, _, err = run_cli(command[0], "study.toml", flag, "r.json", *command[1:])
     _one_line(code, err, "r.json", "started from m1 = 9.7", "19.7")
     assert not (tmp_path / command[-1]).exists()
+
+
+def test_a_result_of_other_measured_data_is_refused_by_the_report(tmp_path, run_cli,
+                                                                   monkeypatch):
+    """Saved, then one frequency of measured.csv edited: the report showed the saved
+    'measured' column under the file's name, exit 0."""
+    monkeypatch.chdir(tmp_path)
+    for name in ("study.toml", "measured.csv"):
+        shutil.copy(ROOT / "examples" / "paper_fig2" / name, tmp_path / name)
+    assert run_cli("update", "study.toml", "--save", "r.json")[0] == 0
+    csv = tmp_path / "measured.csv"
+    csv.write_text(csv.read_text().replace("base,1,42.86564108114408,", "base,1,42.9,"))
+    code, _, err = run_cli("report", "study.toml", "--saved-only", "--result", "r.json",
+                           "-o", "r.html")
+    _one_line(code, err, "r.json", "'base' mode 1 at 42.86564108114408 Hz",
+              "measured.csv has 42.9 Hz")
+    assert not (tmp_path / "r.html").exists()

@@ -32,7 +32,7 @@ from eigenupdate.identify.checked import checked_update
 from eigenupdate.identify.identifiability import IdentifiabilityReport, check
 from eigenupdate.identify.updating import UpdateResult
 from eigenupdate.identify.weights import estimator_weights
-from eigenupdate.io.frf_files import read_frf_files
+from eigenupdate.io.frf_files import read_frf_files, require_distinct
 from eigenupdate.io.results import read_json, read_loss_factors, read_result
 from eigenupdate.io.study import Study, load_study
 from eigenupdate.measure.frf import FRF
@@ -137,6 +137,8 @@ def extract_study(study: Study, progress: Callable[[str], None] | None = None
     if missing:
         raise InputError(f"no FRF file for configuration(s) {missing}", source=str(study.path),
                          field="measurement.frf")
+    require_distinct({c.name: study.frf[c.name] for c in study.configurations},
+                     str(study.path))
     frfs = {c.name: read_frf_files(study.frf[c.name],
                                    [study.frf_kinds.get(p) for p in study.frf[c.name]])
             for c in study.configurations}
@@ -157,6 +159,7 @@ def extract_files(paths: Sequence[str | Path], kind: str | None = None,
     if len(set(names)) != len(names):
         raise InputError(f"two files with one name in {[str(p) for p in paths]}",
                          field="inputs")
+    require_distinct({p.stem: [p] for p in paths})
     frfs = {p.stem: read_frf_files([p], [kind]) for p in paths}
     return StudyExtraction(frfs, extract_test(frfs, progress=progress))
 
@@ -439,6 +442,7 @@ def report_data(study: Study, *, result: str | Path | None = None,
 
 
 def _study_frfs(study: Study) -> dict[str, list[FRF]]:
+    require_distinct(study.frf, str(study.path))
     return {c.name: read_frf_files(study.frf[c.name],
                                    [study.frf_kinds.get(p) for p in study.frf[c.name]])
             for c in study.configurations if study.frf.get(c.name)}

@@ -243,3 +243,27 @@ def test_a_result_of_other_measured_data_is_refused_by_the_report(tmp_path, run_
     _one_line(code, err, "r.json", "'base' mode 1 at 42.86564108114408 Hz",
               "measured.csv has 42.9 Hz")
     assert not (tmp_path / "r.html").exists()
+
+
+FRF_EXAMPLE = ROOT / "examples" / "paper_beam_frf"
+
+
+def test_one_frf_file_for_two_configurations_is_refused(tmp_path, run_cli):
+    """'0.2 kg at 1' naming the bare structure's file: extract gave it the bare
+    structure's frequencies (199.9 Hz where the model predicts 179 Hz), numbered and
+    accepted, exit 0."""
+    shutil.copytree(FRF_EXAMPLE, tmp_path / "ex")
+    study = tmp_path / "ex" / "study.toml"
+    study.write_text(study.read_text().replace('"0.2 kg at 1" = "frf/0.2_kg_at_1.uff"',
+                                               '"0.2 kg at 1" = "frf/base.uff"'))
+    code, _, err = run_cli("extract", study, "-o", tmp_path / "e.csv")
+    _one_line(code, err, "measurement.frf.0.2 kg at 1", "base.uff", "same FRFs")
+    assert not (tmp_path / "e.csv").exists()
+
+
+def test_a_copied_frf_file_is_refused(tmp_path, run_cli):
+    shutil.copy(FRF_EXAMPLE / "frf" / "base.uff", tmp_path / "a.uff")
+    shutil.copy(FRF_EXAMPLE / "frf" / "base.uff", tmp_path / "b.uff")
+    code, _, err = run_cli("extract", tmp_path / "a.uff", tmp_path / "b.uff", "-o",
+                           tmp_path / "e.csv")
+    _one_line(code, err, "b.uff", "same FRFs for 'a'")

@@ -14,7 +14,9 @@ Flags: TB (traceback), NEW/MOD (files created or changed by a failed run), HANG,
 from __future__ import annotations
 
 import argparse
+import csv
 import hashlib
+import io
 import os
 import re
 import resource
@@ -49,15 +51,17 @@ def sub(path: Path, old: str, new: str, count: int = 1) -> None:
 
 
 def csv_map(path: Path, fn) -> None:
-    lines = path.read_text().splitlines()
+    lines = [ln for ln in path.read_text().splitlines() if not ln.startswith("#")]
     path.write_text("\n".join([lines[0]] + [fn(ln) for ln in lines[1:]]) + "\n")
 
 
 def scale_freq(factor):
     def fn(ln):
-        f = ln.split(",")
+        f = next(csv.reader([ln]))
         f[2] = repr(float(f[2]) * factor)
-        return ",".join(f)
+        out = io.StringIO()
+        csv.writer(out, lineterminator="").writerow(f)
+        return out.getvalue()
     return fn
 
 

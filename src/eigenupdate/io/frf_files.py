@@ -10,7 +10,7 @@ from eigenupdate.errors import InputError
 from eigenupdate.io.frf_csv import read_frf_csv
 from eigenupdate.io.uff import read_frfs
 from eigenupdate.io.uff._pyuff import PathLike
-from eigenupdate.measure.frf import FRF
+from eigenupdate.measure.frf import FRF, dof_label
 from eigenupdate.model.configurations import Configuration
 
 
@@ -30,6 +30,15 @@ def read_frf_files(
             out.append(read_frf_csv(p))
         else:
             out += read_frfs(p, default_kind=kind)
+    seen: dict[bytes, FRF] = {}
+    for f in out:  # a file concatenated to itself: the std shrank by sqrt(2), silently
+        key = hashlib.sha256(f.frequency_hz.tobytes() + f.receptance.tobytes()).digest()
+        first = seen.setdefault(key, f)
+        if first is not f:
+            raise InputError(f"FRF {dof_label(f.response)}/{dof_label(f.reference)} is given "
+                             f"twice with the same "
+                             f"values (also in {Path(first.source).name}): a copied "
+                             f"dataset would count as two measurements", source=f.source)
     return out
 
 

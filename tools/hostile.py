@@ -560,6 +560,26 @@ case("frf report --design huge number", BF, ["report", S, "--saved-only", "--des
      lambda w: (w / "x.json").write_text('{"a": 1e999, "b": NaN, "c": "x"}'))
 
 
+
+def des(text, old="criterion = \"A\""):
+    return lambda w: sub(w / "study.toml", old, old + "\n" + text)
+
+
+for label, text in [("prior_draws 1e9", "prior_draws = 1000000000"), ("prior_draws -1", "prior_draws = -1"),
+                    ("max_added_mass 0", "max_added_mass = 0.0"), ("min_shift 1e9", "min_shift_in_std = 1e9"),
+                    ("gap 2", "min_relative_gap = 2.0"), ("risk -1", "max_exchange_risk = -1.0"),
+                    ("additions 1e9", "additions = 1000000000"), ("rel std 10", "frequency_std_relative = 10.0"),
+                    ("stiffnesses neg", "stiffnesses = [-1e5]"), ("unknown key", "bogus = 1"),
+                    ("criterion unknown param", "criterion = [\"nope\"]")]:
+    case("fig2 design " + label, F2, ["design", S, "-o", "@p.toml"], des(text))
+case("beam design prior_draws 1e6", "paper_beam", ["design", S, "-o", "@p.toml"],
+     lambda w: sub(w / "study.toml", "[design]", "[design]\nprior_draws = 1000000"))
+case("fig2 design masses 1e-90", F2, ["design", S, "-o", "@p.toml"],
+     lambda w: sub(w / "study.toml", "masses = [0.35, 1.0, 2.0]", "masses = [1e-90]"))
+case("fig2 design masses 1e90", F2, ["design", S, "-o", "@p.toml"],
+     lambda w: sub(w / "study.toml", "masses = [0.35, 1.0, 2.0]", "masses = [1e90]"))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("-k", default="")

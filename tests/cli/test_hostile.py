@@ -277,3 +277,15 @@ def test_a_universal_file_holding_a_dataset_twice_is_refused(tmp_path, run_cli):
     code, _, err = run_cli("extract", tmp_path / "dup.uff", "-o", tmp_path / "e.csv")
     _one_line(code, err, "dup.uff", "given twice with the same values")
     assert not (tmp_path / "e.csv").exists()
+
+
+@pytest.mark.parametrize("line, key", [("max_added_mass = 0.0", "max_added_mass"),
+                                       ("min_relative_gap = 2.0", "min_relative_gap"),
+                                       ("min_shift_in_std = -1.0", "min_shift_in_std")])
+def test_design_limits_named_by_their_own_key(tmp_path, run_cli, line, key):
+    """max_added_mass = 0 and min_relative_gap = 2 were reported as min_shift_in_std."""
+    study = tmp_path / "study.toml"
+    study.write_text(FIG2_STUDY.read_text().replace('criterion = "A"',
+                                                    f'criterion = "A"\n{line}'))
+    code, _, err = run_cli("design", study, "-o", tmp_path / "p.toml")
+    _one_line(code, err, f"design.{key}: must be")

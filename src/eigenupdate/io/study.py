@@ -455,9 +455,11 @@ def _design(r: TableReader, model: ParametricModel, model_type: str,
     shift = r.get("min_shift_in_std", "float", 3.0)
     gap = r.get("min_relative_gap", "float", 0.02)
     limit = r.get("max_added_mass", "float", None)
-    if shift < 0 or not 0 <= gap < 1 or (limit is not None and limit <= 0):
-        raise r.error("min_shift_in_std", "min_shift_in_std >= 0, 0 <= min_relative_gap < 1 and "
-                                          "max_added_mass > 0 are required")
+    for key, bad, need in (("min_shift_in_std", shift < 0, ">= 0"),
+                           ("min_relative_gap", not 0 <= gap < 1, "from 0 to below 1"),
+                           ("max_added_mass", limit is not None and limit <= 0, "> 0")):
+        if bad:  # each named: max_added_mass = 0 was reported as min_shift_in_std
+            raise r.error(key, f"must be {need}, got {r.data[key]!r}")
     draws = r.get("prior_draws", "int", 64)
     if not 0 <= draws <= 10_000:
         raise r.error("prior_draws", f"must be from 0 to 10000, got {draws}")

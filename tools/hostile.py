@@ -466,7 +466,7 @@ def roundtrip(name, new):
     case("fig2 roundtrip name " + name, F2, ["simulate", "@truth.toml", "-o", M], mutate)
     case("fig2 roundtrip+update name " + name, F2, ["update", S], lambda w: (mutate(w), subprocess.run(
         [CORE, "-m", "eigenupdate", "simulate", str(w / "truth.toml"), "-o", str(w / "measured.csv")],
-        env=dict(os.environ, PYTHONPATH=str(ROOT / "src")), capture_output=True, check=True)))
+        env=dict(os.environ, PYTHONPATH=str(ROOT / "src")), capture_output=True)))
 
 
 for label, new in [("hash", '"#2"'), ("lead space", '" 0.35 kg at 2"'), ("newline", '"a\\nb"'),
@@ -583,9 +583,10 @@ case("fig2 design masses 1e90", F2, ["design", S, "-o", "@p.toml"],
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("-k", default="")
+    ap.add_argument("--start", type=int, default=0, help="skip the first cases")
     ap.add_argument("--keep", action="store_true", help="print stdout and stderr")
     a = ap.parse_args()
-    for c in CASES:
+    for c in CASES[a.start:]:
         if a.k in c[0]:
             run(*c, keep=a.keep)
 

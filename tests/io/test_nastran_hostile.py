@@ -202,6 +202,11 @@ def test_deep_include_chain_and_a_device_are_refused(tmp_path, capsys):
     (tmp_path / "study.toml").write_text('[model]\ntype = "nastran"\nbdf = "/dev/zero"\n')
     assert main(["frequencies", str(tmp_path / "study.toml")]) == 2
     assert "not a regular file" in capsys.readouterr().err
+    # as an INCLUDE: it was "INCLUDE file /dev/zero not found (looked in ...)"
+    (tmp_path / "deck.bdf").write_text(text.replace("INCLUDE 'i0.bdf'", "INCLUDE '/dev/zero'"))
+    (tmp_path / "study.toml").write_text('[model]\ntype = "nastran"\nbdf = "deck.bdf"\n')
+    assert main(["frequencies", str(tmp_path / "study.toml")]) == 2
+    assert "INCLUDE /dev/zero is not a regular file" in capsys.readouterr().err
 
 
 def test_mirrored_solids_and_valid_quadratics_still_run(tmp_path, capsys):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import re
 
 from eigenupdate import __version__
@@ -22,19 +23,28 @@ def _number(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
 
 
+# as numbers in a study (io/study_table.py): beyond, sums and ratios overflow (a sweep's
+# --max-mass 1e308 made its percentage axis inf: a traceback from matplotlib)
+_RANGE = "of magnitude 1e-100 to 1e100"
+
+
+def _in_range(v: float) -> bool:
+    return math.isfinite(v) and (v == 0 or 1e-100 <= abs(v) <= 1e100)
+
+
 def nonnegative(text: str) -> float:
-    """argparse type: a finite number >= 0."""
+    """argparse type: 0 or a number >= 1e-100 and <= 1e100."""
     v = _number(text)
-    if not math.isfinite(v) or v < 0:
-        raise argparse.ArgumentTypeError(f"{text!r} must be a finite number >= 0")
+    if not _in_range(v) or v < 0:
+        raise argparse.ArgumentTypeError(f"{text!r} must be 0 or a number {_RANGE}")
     return v
 
 
 def positive(text: str) -> float:
-    """argparse type: a finite number > 0."""
+    """argparse type: a number > 0, 1e-100 to 1e100."""
     v = _number(text)
-    if not math.isfinite(v) or v <= 0:
-        raise argparse.ArgumentTypeError(f"{text!r} must be a finite number > 0")
+    if not _in_range(v) or v <= 0:
+        raise argparse.ArgumentTypeError(f"{text!r} must be a number > 0 {_RANGE}")
     return v
 
 
@@ -58,6 +68,17 @@ def count(text: str) -> int:
     value = _integer(text)
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
+    return value
+
+
+def workers(text: str) -> int:
+    """argparse type: worker processes of a local cluster, 1 to 4 per core (each is a
+    Python process with NumPy and SciPy: --workers 1000000 forked until the run hung)."""
+    value = count(text)
+    most = 4 * (os.cpu_count() or 1)
+    if value > most:
+        raise argparse.ArgumentTypeError(
+            f"must be at most {most} (4 per core of this machine), got {value}")
     return value
 
 
@@ -145,7 +166,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the plan as a study file")
     s.add_argument("--scheduler", metavar="tcp://HOST:PORT", type=scheduler,
                    help="screen the candidates on this Dask scheduler (default: in this process)")
-    s.add_argument("--workers", type=count,
+    s.add_argument("--workers", type=workers,
                    help="screen the candidates on a local Dask cluster of this many processes")
     s.add_argument("--validate", type=int, metavar="N",
                    help="then run N virtual tests of the plan (truth drawn from the prior) and "
@@ -163,7 +184,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--scheduler", metavar="tcp://HOST:PORT", type=scheduler,
                    help=f"existing Dask scheduler (or ${SCHEDULER_ENV}); default: a local "
                         f"cluster, one worker process per core")
-    s.add_argument("--workers", type=count, help="worker processes of the local cluster")
+    s.add_argument("--workers", type=workers, help="worker processes of the local cluster")
     s.add_argument("--in-process", action="store_true", help="no Dask: run here, one by one")
     s.add_argument("--json", action="store_true")
 

@@ -2,7 +2,8 @@
 
 A small input can ask for a huge computation: a Matrix Market header declaring 3e6 x 3e6,
 a beam of 10,000 nodes (20,000 parameter matrices of 20,000 rows each), a [design] table
-whose combinations run to billions, a TOML or JSON file nested thousands deep. Each is
+whose combinations run to billions, a TOML or JSON file nested thousands deep, a Monte
+Carlo of 1e9 trials. Each is
 estimated from the input's own numbers and refused beyond a default limit, with the
 estimate and the environment variable that raises the limit.
 
@@ -29,6 +30,9 @@ LIMITS: dict[str, tuple[str, int]] = {
     "candidates": ("EIGENUPDATE_MAX_CANDIDATES", 20_000),
     # arrays and tables inside each other in a TOML or JSON file
     "nesting": ("EIGENUPDATE_MAX_NESTING", 64),
+    # Monte Carlo trials (--trials, --validate): one seed and one result kept per trial
+    # (--trials 1000000000 spawned its seeds until memory ran out)
+    "trials": ("EIGENUPDATE_MAX_TRIALS", 100_000),
 }
 """name -> (environment variable, default limit)."""
 

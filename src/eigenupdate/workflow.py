@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from eigenupdate.budget import require
 from eigenupdate.design.montecarlo import (  # its own imports are light
     MIN_CONVERGED,
     MonteCarloResult,
@@ -31,7 +32,7 @@ from eigenupdate.identify.checked import checked_update
 from eigenupdate.identify.identifiability import IdentifiabilityReport, check
 from eigenupdate.identify.updating import UpdateResult
 from eigenupdate.identify.weights import estimator_weights
-from eigenupdate.io.frf_files import read_frf_files
+from eigenupdate.io.frf_files import read_frf_files, require_distinct
 from eigenupdate.io.results import read_json, read_loss_factors, read_result
 from eigenupdate.io.study import Study, load_study
 from eigenupdate.measure.frf import FRF
@@ -105,9 +106,15 @@ def simulate_study(study: Study, noise_hz: float = 0.0, std_hz: float | None = N
                    seed: int | None = None, noise_relative: float = 0.0) -> list[Measurement]:
     """The measurements this study's model, taken as the truth, would give
     (``eigenupdate simulate``); see :func:`eigenupdate.measure.synthetic.simulate_measurements`."""
-    return simulate_measurements(study.model, study.configurations, study.require_modes(),
+    rows = simulate_measurements(study.model, study.configurations, study.require_modes(),
                                  noise_hz=noise_hz, std_hz=std_hz, seed=seed,
                                  noise_relative=noise_relative)
+    for m in rows:  # what the measurement CSV refuses is not written
+        if m.std_hz is not None and m.std_hz >= m.frequency_hz:
+            raise InputError(f"std {m.std_hz:g} Hz of {m.configuration!r} mode {m.mode} is "
+                             f"not below its frequency {m.frequency_hz:g} Hz",
+                             field="--std-hz" if std_hz is not None else "--noise-hz")
+    return rows
 
 
 @dataclass(frozen=True)
@@ -130,6 +137,8 @@ def extract_study(study: Study, progress: Callable[[str], None] | None = None
     if missing:
         raise InputError(f"no FRF file for configuration(s) {missing}", source=str(study.path),
                          field="measurement.frf")
+    require_distinct({c.name: study.frf[c.name] for c in study.configurations},
+                     str(study.path))
     frfs = {c.name: read_frf_files(study.frf[c.name],
                                    [study.frf_kinds.get(p) for p in study.frf[c.name]])
             for c in study.configurations}
@@ -150,6 +159,7 @@ def extract_files(paths: Sequence[str | Path], kind: str | None = None,
     if len(set(names)) != len(names):
         raise InputError(f"two files with one name in {[str(p) for p in paths]}",
                          field="inputs")
+    require_distinct({p.stem: [p] for p in paths})
     frfs = {p.stem: read_frf_files([p], [kind]) for p in paths}
     return StudyExtraction(frfs, extract_test(frfs, progress=progress))
 
@@ -271,6 +281,9 @@ def design(study: Study, *, validate: int | None = None, seed: int | None = 0,
         raise InputError(f"must be >= {MIN_CONVERGED} (the statistics need at least "
                          f"{MIN_CONVERGED} converged trials), got {validate}",
                          field="--validate")
+    if validate is not None:  # before the design's search, not after
+        require("trials", validate, f"{validate:,} virtual tests asked for",
+                field="--validate")
     res = design_plan(study.model, study.design, study.method, study.configurations[1:],
                       executor=executor)
     val = None
@@ -315,6 +328,7 @@ def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
     if trials < MIN_CONVERGED:  # fewer could never give statistics: refused before running
         raise InputError(f"must be >= {MIN_CONVERGED} (the statistics need at least "
                          f"{MIN_CONVERGED} converged trials), got {trials}", field="--trials")
+    require("trials", trials, f"{trials:,} virtual tests asked for", field="--trials")
     if executor is None:
         here = not (scheduler or workers) if in_process is None else in_process
         start = time.perf_counter()
@@ -336,6 +350,21 @@ def montecarlo(study: Study, trials: int, *, truth: str | Path | None = None,
 
 
 _DEFAULT_LOSS_FACTOR = 0.01  # as `eigenupdate frf` without --damping
+
+
+def _same_data(res: UpdateResult, study: Study, path) -> None:
+    """The saved update fitted the study's measurement file as it is now: a result of
+    other data was shown beside the file's name, its 'measured' column not the file's."""
+    if study.frequencies is None or not Path(study.frequencies).is_file():
+        return
+    now = study.measurements()
+    for (c, k), f in zip(res.rows, res.measured_hz.tolist(), strict=True):
+        m = now.get((c, k))
+        if m is None or not np.isclose(m.frequency_hz, f, rtol=1e-12, atol=0.0):
+            got = "no row" if m is None else f"{m.frequency_hz!r} Hz"
+            raise InputError(f"the saved update fitted {c!r} mode {k} at {f!r} Hz, "
+                             f"{Path(study.frequencies).name} has {got}: a result of other "
+                             f"data; update again", source=str(path), field="frequencies")
 
 
 def report_data(study: Study, *, result: str | Path | None = None,
@@ -380,6 +409,7 @@ def report_data(study: Study, *, result: str | Path | None = None,
     if result is not None:
         out.update(update=read_result(result, study.model),
                    update_origin="read from the saved result")
+        _same_data(out["update"], study, result)
     elif solve and study.frequencies is not None and study.modes:
         study.measurements()  # a bad file stops the report
         try:
@@ -412,6 +442,7 @@ def report_data(study: Study, *, result: str | Path | None = None,
 
 
 def _study_frfs(study: Study) -> dict[str, list[FRF]]:
+    require_distinct(study.frf, str(study.path))
     return {c.name: read_frf_files(study.frf[c.name],
                                    [study.frf_kinds.get(p) for p in study.frf[c.name]])
             for c in study.configurations if study.frf.get(c.name)}

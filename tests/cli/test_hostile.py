@@ -2,7 +2,9 @@
 accepted range (1e-100, 1e100) on a model with a zero parameter matrix, for every
 command that computes with them. Each must end with exit 0, 1 or 2 and one line."""
 
+import json
 import re
+import shutil
 import sys
 from pathlib import Path
 
@@ -11,6 +13,8 @@ from conftest import ROOT
 
 sys.path.insert(0, str(ROOT / "tools"))
 import fuzz  # noqa: E402
+
+from eigenupdate.io.study import load_study  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -49,3 +53,239 @@ def test_table_without_rows():
 
     assert table(["parameter", "bias"], []).splitlines() == ["parameter  bias",
                                                               "---------  ----"]
+
+
+FIG2_STUDY = ROOT / "examples" / "paper_fig2" / "study.toml"
+
+
+def _one_line(code, err, *fragments):
+    assert code == 2, err
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    for f in fragments:
+        assert f in lines[0], lines[0]
+
+
+def test_sweep_max_mass_beyond_the_number_range(tmp_path, run_cli):
+    """--max-mass 1e308 passed as finite, made the sweep's percentage axis inf and ended in
+    matplotlib's ValueError (traceback, exit 1); CLI numbers now have the study's range."""
+    code, _, err = run_cli("sweep", FIG2_STUDY, "--coordinate", "1", "--max-mass", "1e308",
+                           "-o", tmp_path / "s.png")
+    _one_line(code, err, "--max-mass", "1e100")
+    assert not (tmp_path / "s.png").exists()
+
+
+@pytest.mark.parametrize("command", ["montecarlo", "design"])
+def test_absurd_worker_count_refused_before_any_cluster(tmp_path, run_cli, command):
+    """--workers 1000000 started a local cluster of a million processes (the run hung)."""
+    extra = ["--trials", "3"] if command == "montecarlo" else ["-o", tmp_path / "p.toml"]
+    code, _, err = run_cli(command, FIG2_STUDY, *extra, "--workers", "1000000")
+    _one_line(code, err, "--workers", "per core")
+
+
+@pytest.mark.parametrize("device", ["/dev/zero", "/dev/urandom"])
+def test_endless_measurement_file_is_refused_unread(tmp_path, run_cli, device):
+    """A measurement CSV named /dev/zero was read whole: memory until the process died
+    (under a 2 GB limit, "out of memory" naming the study instead)."""
+    study = tmp_path / "study.toml"
+    study.write_text(FIG2_STUDY.read_text().replace('"measured.csv"', f'"{device}"'))
+    code, _, err = run_cli("update", study)
+    _one_line(code, err, device, "not a regular file")
+
+
+@pytest.mark.parametrize("command", [["check"], ["extract", "-o", "x.csv"]])
+def test_endless_study_or_frf_file_is_refused_unread(tmp_path, run_cli, command):
+    code, _, err = run_cli(command[0], "/dev/zero", *[tmp_path / a if a.endswith(".csv")
+                                                      else a for a in command[1:]])
+    _one_line(code, err, "/dev/zero", "not a regular file")
+
+
+def test_endless_matrix_market_file_is_refused_unread(tmp_path, run_cli):
+    (tmp_path / "study.toml").write_text(
+        '[model]\ntype = "matrices"\nK0 = "/dev/zero"\nM0 = "/dev/zero"\n'
+        '[[model.parameter]]\nname = "a"\nvalue = 1.0\nK = "/dev/zero"\n'
+        '[measurement]\nmodes = [1]\nfrequencies = "m.csv"\n')
+    code, _, err = run_cli("frequencies", tmp_path / "study.toml")
+    _one_line(code, err, "/dev/zero", "not a regular file")
+
+
+BEAM_STUDY = ROOT / "examples" / "paper_beam" / "study.toml"
+
+
+@pytest.mark.parametrize("flag, args", [
+    ("--trials", ["montecarlo", BEAM_STUDY, "--trials", "1000000000", "--in-process"]),
+    ("--validate", ["design", BEAM_STUDY, "-o", "plan.toml", "--validate", "1000000000"])])
+def test_a_billion_trials_refused_before_any_runs(tmp_path, run_cli, flag, args, monkeypatch):
+    """--trials 1e9 spawned a billion seeds (memory until the process died; 60 s and
+    counting under a 2 GB limit); --validate 1e9 did so after the whole design search."""
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run_cli(*args)
+    _one_line(code, err, flag, "1,000,000,000", "EIGENUPDATE_MAX_TRIALS")
+    assert not (tmp_path / "plan.toml").exists()
+
+
+def _scaled_fig2(tmp_path, factor):
+    for name in ("study.toml", "measured.csv"):
+        text = (ROOT / "examples" / "paper_fig2" / name).read_text()
+        if name == "measured.csv":
+            lines = text.splitlines()
+            rows = [ln.split(",") for ln in lines[1:]]
+            text = "\n".join([lines[0]] + [",".join([c, m, repr(float(f) * factor), s])
+                                           for c, m, f, s in rows]) + "\n"
+        (tmp_path / name).write_text(text)
+    return tmp_path / "study.toml"
+
+
+@pytest.mark.parametrize("factor, hint", [(2 * 3.141592653589793, "rad/s"), (1e-3, "kHz"),
+                                          (60.0, "per minute")])
+def test_frequencies_in_the_wrong_unit_are_refused(tmp_path, run_cli, factor, hint):
+    """The Fig. 2 data in rad/s: every eigenvalue 4 pi^2 times the Hz data's, which the
+    model with every spring times 4 pi^2 fits exactly (the added masses are small beside
+    the structure's, so they do not pin the scale): exit 0 with k1..k6 +3,190 % and
+    more. In kHz it ran 20 iterations to 'not converged' (exit 1)."""
+    code, out, err = run_cli("update", _scaled_fig2(tmp_path, factor))
+    _one_line(code, err, "measured.csv", "times the initial model's", hint)
+    assert out == ""
+
+
+def test_a_model_three_times_off_is_still_updated(tmp_path, run_cli):
+    """Within the factor 4 the update runs: the Fig. 2 data (simulated from truth.toml)
+    times 3 are those of the truth with every spring times 9 and the masses as they are
+    (K' = 9 K: every eigenvalue times 9), which the update reaches."""
+    code, out, err = run_cli("update", _scaled_fig2(tmp_path, 3.0), "--json")
+    assert code == 0, err
+    truth = load_study(ROOT / "examples" / "paper_fig2" / "truth.toml").model
+    got = json.loads(out)["parameters"]
+    for p in truth.parameters:
+        expected = p.value * (9 if p.name.startswith("k") else 1)
+        # the update stops at normalised steps below 1e-8; 1e-6 leaves 100x for cond(J)
+        assert abs(got[p.name] / expected - 1) < 1e-6, (p.name, got[p.name], expected)
+
+
+@pytest.mark.parametrize("name, why", [('"base "', "white space"), ('" at 2"', "white space"),
+                                       ('"#2"', "'#'"), ('""', "empty"),
+                                       ('"a\\nb"', "control"), ('"a\\u202eb"', "control")])
+def test_configuration_names_the_measurement_csv_cannot_carry(tmp_path, run_cli, name, why):
+    """Such names were accepted and `simulate` wrote them, but the CSV reader strips
+    spaces, skips '#' lines and splits at line breaks: its own file was then refused ('base '
+    as a second row of the bare structure, '#2' as missing)."""
+    study = tmp_path / "truth.toml"
+    study.write_text((ROOT / "examples" / "paper_fig2" / "truth.toml").read_text()
+                     .replace('name = "0.35 kg at 2"', f"name = {name}"))
+    code, _, err = run_cli("simulate", study, "-o", tmp_path / "m.csv")
+    _one_line(code, err, "perturbation[2].name", why)
+    assert not (tmp_path / "m.csv").exists()
+
+
+def test_names_with_commas_quotes_and_accents_round_trip(tmp_path, run_cli):
+    """What the CSV quotes survives: simulate, then update from its file."""
+    for f in ("truth.toml", "study.toml"):
+        (tmp_path / f).write_text((ROOT / "examples" / "paper_fig2" / f).read_text()
+                                  .replace('name = "0.35 kg at 2"', "name = '0,35 kg \"à\" 2'"))
+    assert run_cli("simulate", tmp_path / "truth.toml", "-o", tmp_path / "measured.csv")[0] == 0
+    code, out, err = run_cli("update", tmp_path / "study.toml")
+    assert code == 0, err
+    assert '0,35 kg "à" 2' in out
+
+
+def test_a_frequency_std_as_large_as_the_frequency_is_refused(tmp_path, run_cli):
+    """std_hz = 1e6 on the beam's 200-1100 Hz (a std in mHz, or a variance): the Bayesian
+    update returned the prior unchanged as 'converged' after 0 iterations, exit 0."""
+    lines = (ROOT / "examples" / "paper_beam" / "measured.csv").read_text().splitlines()
+    rows = [ln if ln.startswith(("#", "configuration")) else ln.rsplit(",", 1)[0] + ",1e6"
+            for ln in lines]
+    (tmp_path / "measured.csv").write_text("\n".join(rows) + "\n")
+    shutil.copy(BEAM_STUDY, tmp_path / "study.toml")
+    code, out, err = run_cli("update", tmp_path / "study.toml")
+    _one_line(code, err, "measured.csv", "line 3", "std_hz 1e+06 is not below frequency_hz")
+    assert out == ""
+
+
+def test_simulate_writes_no_std_the_reader_refuses(tmp_path, run_cli):
+    code, _, err = run_cli("simulate", ROOT / "examples" / "paper_fig2" / "truth.toml",
+                           "-o", tmp_path / "m.csv", "--std-hz", "50")
+    _one_line(code, err, "--std-hz", "not below its frequency")
+    assert not (tmp_path / "m.csv").exists()
+
+
+@pytest.mark.parametrize("command", [["report", "--saved-only", "-o", "r.html"],
+                                     ["frf", "--input", "1", "--output", "1", "-o", "f.png"]])
+def test_a_result_of_an_earlier_version_of_the_study_is_refused(tmp_path, run_cli, command,
+                                                                 monkeypatch):
+    """Saved from the Fig. 2 study, then m1's initial value edited 9.7 -> 19.7: the report
+    printed 'initial 19.7, updated 10, change -49 %' beside an iteration table starting
+    at 9.7, exit 0."""
+    monkeypatch.chdir(tmp_path)
+    for name in ("study.toml", "measured.csv"):
+        shutil.copy(ROOT / "examples" / "paper_fig2" / name, tmp_path / name)
+    assert run_cli("update", "study.toml", "--save", "r.json")[0] == 0
+    study = tmp_path / "study.toml"
+    study.write_text(study.read_text().replace("value = 9.7  # kg", "value = 19.7", 1))
+    flag = "--result" if command[0] == "report" else "--updated"
+    code, _, err = run_cli(command[0], "study.toml", flag, "r.json", *command[1:])
+    _one_line(code, err, "r.json", "started from m1 = 9.7", "19.7")
+    assert not (tmp_path / command[-1]).exists()
+
+
+def test_a_result_of_other_measured_data_is_refused_by_the_report(tmp_path, run_cli,
+                                                                   monkeypatch):
+    """Saved, then one frequency of measured.csv edited: the report showed the saved
+    'measured' column under the file's name, exit 0."""
+    monkeypatch.chdir(tmp_path)
+    for name in ("study.toml", "measured.csv"):
+        shutil.copy(ROOT / "examples" / "paper_fig2" / name, tmp_path / name)
+    assert run_cli("update", "study.toml", "--save", "r.json")[0] == 0
+    csv = tmp_path / "measured.csv"
+    csv.write_text(csv.read_text().replace("base,1,42.86564108114408,", "base,1,42.9,"))
+    code, _, err = run_cli("report", "study.toml", "--saved-only", "--result", "r.json",
+                           "-o", "r.html")
+    _one_line(code, err, "r.json", "'base' mode 1 at 42.86564108114408 Hz",
+              "measured.csv has 42.9 Hz")
+    assert not (tmp_path / "r.html").exists()
+
+
+FRF_EXAMPLE = ROOT / "examples" / "paper_beam_frf"
+
+
+def test_one_frf_file_for_two_configurations_is_refused(tmp_path, run_cli):
+    """'0.2 kg at 1' naming the bare structure's file: extract gave it the bare
+    structure's frequencies (199.9 Hz where the model predicts 179 Hz), numbered and
+    accepted, exit 0."""
+    shutil.copytree(FRF_EXAMPLE, tmp_path / "ex")
+    study = tmp_path / "ex" / "study.toml"
+    study.write_text(study.read_text().replace('"0.2 kg at 1" = "frf/0.2_kg_at_1.uff"',
+                                               '"0.2 kg at 1" = "frf/base.uff"'))
+    code, _, err = run_cli("extract", study, "-o", tmp_path / "e.csv")
+    _one_line(code, err, "measurement.frf.0.2 kg at 1", "base.uff", "same FRFs")
+    assert not (tmp_path / "e.csv").exists()
+
+
+def test_a_copied_frf_file_is_refused(tmp_path, run_cli):
+    shutil.copy(FRF_EXAMPLE / "frf" / "base.uff", tmp_path / "a.uff")
+    shutil.copy(FRF_EXAMPLE / "frf" / "base.uff", tmp_path / "b.uff")
+    code, _, err = run_cli("extract", tmp_path / "a.uff", tmp_path / "b.uff", "-o",
+                           tmp_path / "e.csv")
+    _one_line(code, err, "b.uff", "same FRFs for 'a'")
+
+
+def test_a_universal_file_holding_a_dataset_twice_is_refused(tmp_path, run_cli):
+    """base.uff concatenated to itself: both copies were combined as two measurements,
+    the std of mode 1 shrinking from 0.0075 to 0.0053 Hz (1/sqrt(2)), exit 0."""
+    data = (FRF_EXAMPLE / "frf" / "base.uff").read_bytes()
+    (tmp_path / "dup.uff").write_bytes(data + data)
+    code, _, err = run_cli("extract", tmp_path / "dup.uff", "-o", tmp_path / "e.csv")
+    _one_line(code, err, "dup.uff", "given twice with the same values")
+    assert not (tmp_path / "e.csv").exists()
+
+
+@pytest.mark.parametrize("line, key", [("max_added_mass = 0.0", "max_added_mass"),
+                                       ("min_relative_gap = 2.0", "min_relative_gap"),
+                                       ("min_shift_in_std = -1.0", "min_shift_in_std")])
+def test_design_limits_named_by_their_own_key(tmp_path, run_cli, line, key):
+    """max_added_mass = 0 and min_relative_gap = 2 were reported as min_shift_in_std."""
+    study = tmp_path / "study.toml"
+    study.write_text(FIG2_STUDY.read_text().replace('criterion = "A"',
+                                                    f'criterion = "A"\n{line}'))
+    code, _, err = run_cli("design", study, "-o", tmp_path / "p.toml")
+    _one_line(code, err, f"design.{key}: must be")

@@ -202,6 +202,11 @@ def test_deep_include_chain_and_a_device_are_refused(tmp_path, capsys):
     (tmp_path / "study.toml").write_text('[model]\ntype = "nastran"\nbdf = "/dev/zero"\n')
     assert main(["frequencies", str(tmp_path / "study.toml")]) == 2
     assert "not a regular file" in capsys.readouterr().err
+    # as an INCLUDE: it was "INCLUDE file /dev/zero not found (looked in ...)"
+    (tmp_path / "deck.bdf").write_text(text.replace("INCLUDE 'i0.bdf'", "INCLUDE '/dev/zero'"))
+    (tmp_path / "study.toml").write_text('[model]\ntype = "nastran"\nbdf = "deck.bdf"\n')
+    assert main(["frequencies", str(tmp_path / "study.toml")]) == 2
+    assert "INCLUDE /dev/zero is not a regular file" in capsys.readouterr().err
 
 
 def test_mirrored_solids_and_valid_quadratics_still_run(tmp_path, capsys):
@@ -222,3 +227,21 @@ def test_mirrored_solids_and_valid_quadratics_still_run(tmp_path, capsys):
         got.append(capsys.readouterr().out)
     a, b = (np.array(json.loads(g)["configurations"][0]["frequencies_hz"]) for g in got)
     assert np.allclose(a, b, rtol=1e-9)
+
+
+@pytest.mark.parametrize("coordinate, says", [
+    (60117, "no GRID component"),                   # component 7
+    (6011, "GRID 601 has no free coordinate"),       # GRID 6011 without its component
+    (10011, "GRID 1001 has no free coordinate"),     # a base clamped in all six
+    (99991, "GRID 9999 has no free coordinate")])    # no such GRID
+def test_missing_nastran_coordinate_named_for_what_it_is(tmp_path, capsys, coordinate, says):
+    """Coordinates are 10 * GRID + component: every one of these was called 'restrained'
+    (a gap in 1..max, as on a beam), 6011 and 60117 with no such component in the deck."""
+    from conftest import EXAMPLES
+
+    code = main(["sweep", str(EXAMPLES / "nastran_frame" / "study.toml"), "--coordinate",
+                 str(coordinate), "--max-mass", "10", "-o", str(tmp_path / "s.png")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2
+    assert says in err[-1] and "is restrained" not in err[-1], err
+    assert not (tmp_path / "s.png").exists()

@@ -17,6 +17,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from eigenupdate.budget import require
 from eigenupdate.design.covariance import posterior_covariance
 from eigenupdate.design.executor import InProcess, Progress
 from eigenupdate.design.plan import frequency_std
@@ -444,6 +445,7 @@ def montecarlo(setup: TrialSetup, trials: int, seed: int | None = None, executor
     """
     if trials < 1:
         raise InputError(f"must be >= 1, got {trials}", field="--trials")
+    require("trials", trials, f"{trials:,} trials asked for", field="--trials")
     if setup.truth is None:
         draw_values(setup.model, np.random.default_rng(0))  # refuses a parameter without prior
     root = np.random.SeedSequence(seed)

@@ -32,6 +32,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 
+import numpy as np
 from scipy.stats import norm
 
 from eigenupdate.errors import InputError
@@ -40,6 +41,10 @@ from eigenupdate.measure.measurement import Measurement
 from eigenupdate.model.configurations import BASE, Configuration
 
 RTOL = 1e-3
+
+SCALE_LIMIT = 4.0
+"""Measured frequencies all this many times the initial model's (or all below its
+inverse) are refused (:func:`check_frequency_scale`)."""
 
 
 def n_std_for(comparisons: int) -> float:
@@ -139,3 +144,45 @@ def _law(masses: bool, sign: float, low: int, r: int) -> str:
     if masses and sign > 0:
         return "added mass cannot raise an eigenvalue"
     return "interlacing"
+
+
+def check_frequency_scale(rows: Sequence[tuple[str, int]], measured_hz: np.ndarray,
+                          model_hz: np.ndarray, *, source: str | None = None) -> None:
+    """Raise InputError if every measured frequency is at least :data:`SCALE_LIMIT` times
+    the initial model's, or every one at most its inverse.
+
+    Data in rad/s (2 pi = 6.28 times the Hz), kHz or cycles per minute pass the ordering
+    laws, and so does a deck in mm with E in Pa: scaled alike, every frequency fits a
+    model scaled alike. The Fig. 2 data in rad/s converged, exit status 0, to springs
+    39.5 (4 pi^2) times the truth. A factor 4 in every frequency is a factor 16 in every
+    eigenvalue: not an initial model an update can start from, whatever the cause.
+
+    >>> check_frequency_scale([("base", 1)], np.array([120.0]), np.array([100.0]))
+    >>> try:
+    ...     check_frequency_scale([("base", 1)], np.array([628.3]), np.array([100.0]))
+    ... except InputError as exc:
+    ...     print(str(exc)[:62])
+    every measured frequency is 6.28 to 6.28 times the initial mod
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.asarray(measured_hz, float) / np.asarray(model_hz, float)
+    ratio = ratio[np.isfinite(ratio) & (ratio > 0)]
+    if ratio.size == 0:
+        return
+    lo, hi = float(ratio.min()), float(ratio.max())
+    if lo < SCALE_LIMIT and hi > 1 / SCALE_LIMIT:
+        return
+    mean = math.exp(float(np.mean(np.log(ratio))))
+    if abs(mean / (2 * math.pi) - 1) < 0.3:
+        hint = "rad/s given as Hz (2 pi = 6.28)?"
+    elif mean < 2e-3:
+        hint = "kHz given as Hz?"
+    elif abs(mean / 60 - 1) < 0.3:
+        hint = "cycles per minute given as Hz?"
+    else:
+        hint = "units of the model (mm with E in Pa?) or of the frequencies?"
+    raise InputError(
+        f"every measured frequency is {lo:.3g} to {hi:.3g} times the initial model's "
+        f"({len(ratio)} of them, e.g. {rows[0][0]!r} mode {rows[0][1]}): {hint} frequency_hz "
+        f"is in Hz, and an update starts within a factor {SCALE_LIMIT:g} of the data",
+        source=source)

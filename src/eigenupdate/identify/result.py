@@ -4,6 +4,7 @@ their JSON document (schema ``eigenupdate.update/2``) both ways."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, fields
 from typing import ClassVar
 
@@ -188,6 +189,8 @@ class UpdateResult:
             raise r.fail("cov" if cov is not None and jac.shape[1:] == (len(names),)
                          else "jac", "does not match the number of names")
         history = tuple(Iterate.from_dict(h) for h in r.items("history"))
+        if model is not None and history:
+            _check_start(history[0].parameters, model, r)
         return cls(
             x=x, names=names, success=r.bool("success"), status=r.int("status"),
             message=r.str("message"), nit=r.int("nit"), nfev=r.int("nfev"),
@@ -201,6 +204,19 @@ class UpdateResult:
             pairing=r.raw("pairing", dict, optional=True),
             units={str(k): str(v) for k, v in (r.raw("units", dict, optional=True)
                                                or {}).items()})
+
+
+def _check_start(start: dict[str, float], model: ParametricModel, r: Reader) -> None:
+    """The saved update started from the study's model: a result of an earlier version
+    of the study (another initial value) was reported beside the edited study's initial
+    values, its change % against values it never started from."""
+    for p in model.parameters:
+        v = start.get(p.name)
+        if v is None or not math.isclose(v, p.value, rel_tol=1e-12, abs_tol=0.0):
+            raise r.fail("history[1].parameters",
+                         f"the saved update started from {p.name} = {v!r}, the study's model "
+                         f"has {p.value!r}: a result of another version of the study; "
+                         f"update again")
 
 
 def _checked_values(values: dict[str, float], model: ParametricModel, r: Reader

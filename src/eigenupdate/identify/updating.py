@@ -74,7 +74,7 @@ from eigenupdate.identify.fit import FLOOR, JOINT, PRECISION, Fit
 from eigenupdate.identify.identifiability import IdentifiabilityReport
 from eigenupdate.identify.optimizers import Point, Step, gauss_newton, trust_region
 from eigenupdate.identify.pairing import Pairing, PairingNote
-from eigenupdate.identify.plausibility import check_measured_frequencies
+from eigenupdate.identify.plausibility import check_frequency_scale, check_measured_frequencies
 from eigenupdate.identify.result import UpdateResult
 from eigenupdate.identify.weights import OPTIMIZERS, estimator_weights
 from eigenupdate.measure.measurement import Measurement, select, to_eigenvalue
@@ -161,6 +161,9 @@ def update(
     z = fit.z0.copy() if start is None else np.asarray(start, dtype=float)[upd] / fit.scale
     point = fit.cluster(fit.evaluate(z))
     lin0 = point.lin
+    if start is None:  # the data against the initial model: units
+        check_frequency_scale(rows, f_meas, np.sqrt(np.maximum(lin0.eigenvalues, 0.0))
+                              / (2 * np.pi), source=source)
     plan = fit.report(point)
     if not plan.identifiable:
         # the minimum-norm step would leave the undetermined combinations at their initial

@@ -20,6 +20,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.atomic import atomic_write
+from eigenupdate.io.inputs import require_regular
 from eigenupdate.io.numbers import parse_float
 from eigenupdate.measure.frf import FRF, dof_label
 
@@ -58,6 +59,7 @@ def read_frf_csv(path: PathLike) -> FRF:
         increasing.
     """
     src = str(path)
+    require_regular(path, "FRF file")
     try:
         with open(path, encoding="utf-8-sig", newline="") as fh:
             lines = fh.read().splitlines()

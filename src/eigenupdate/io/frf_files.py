@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import hashlib
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.frf_csv import read_frf_csv
 from eigenupdate.io.uff import read_frfs
 from eigenupdate.io.uff._pyuff import PathLike
-from eigenupdate.measure.frf import FRF
+from eigenupdate.measure.frf import FRF, dof_label
 from eigenupdate.model.configurations import Configuration
 
 
@@ -29,7 +30,44 @@ def read_frf_files(
             out.append(read_frf_csv(p))
         else:
             out += read_frfs(p, default_kind=kind)
+    seen: dict[bytes, FRF] = {}
+    for f in out:  # a file concatenated to itself: the std shrank by sqrt(2), silently
+        key = hashlib.sha256(f.frequency_hz.tobytes() + f.receptance.tobytes()).digest()
+        first = seen.setdefault(key, f)
+        if first is not f:
+            raise InputError(f"FRF {dof_label(f.response)}/{dof_label(f.reference)} is given "
+                             f"twice with the same "
+                             f"values (also in {Path(first.source).name}): a copied "
+                             f"dataset would count as two measurements", source=f.source)
     return out
+
+
+def require_distinct(files: Mapping[str, Sequence[PathLike]], source: str | None = None
+                     ) -> None:
+    """InputError if one file's bytes are given twice (two configurations, or twice in
+    one): the study's '0.2 kg at 1' named the bare structure's file by a slip, and
+    `extract` gave it the bare structure's frequencies, numbered and accepted (a
+    configuration that adds mass may equal the bare structure within interlacing); twice in
+    one configuration its FRFs count double and its std shrinks by sqrt(2). Measured files
+    of two tests never agree to the byte (their noise differs)."""
+    seen: dict[bytes, tuple[str, PathLike]] = {}
+    for config, paths in files.items():
+        for p in paths:
+            if not Path(p).is_file():  # /dev/zero, a directory: the reader refuses it unread
+                continue
+            try:
+                digest = hashlib.sha256(Path(p).read_bytes()).digest()
+            except OSError:
+                continue  # the reader names it
+            first = seen.setdefault(digest, (config, p))
+            if first != (config, p):
+                where = ("twice for" if first[0] == config
+                         else f"for {first[0]!r} (as {Path(first[1]).name}) and for")
+                slip = " (a slip in [measurement.frf]?)" if source else ""
+                raise InputError(f"{Path(p).name} holds the same FRFs {where} {config!r}: "
+                                 f"one file per test{slip}",
+                                 source=source or str(p),
+                                 field=f"measurement.frf.{config}" if source else "inputs")
 
 
 def write_frf_sets(directory: PathLike, sets: Sequence[tuple[Configuration, list[FRF]]],

@@ -13,6 +13,7 @@ import scipy.sparse as sp
 
 from eigenupdate.budget import require, require_model_size
 from eigenupdate.errors import InputError
+from eigenupdate.io.inputs import require_regular
 from eigenupdate.model.matrices import matrix_model
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel
@@ -24,6 +25,7 @@ MAX_LINE = 1024
 def read_matrix(path: str | Path, n: int | None = None) -> sp.csr_array:
     """Read one square, symmetric, real matrix from a Matrix Market file."""
     path = Path(path)
+    require_regular(path, "Matrix Market file")  # mminfo reads /dev/zero's "line" forever
     _check_header(path, n)
     try:
         a = scipy.io.mmread(path)

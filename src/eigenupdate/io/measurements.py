@@ -11,6 +11,7 @@ from pathlib import Path
 
 from eigenupdate.errors import InputError, shorten
 from eigenupdate.io.atomic import write_text
+from eigenupdate.io.inputs import require_regular
 from eigenupdate.io.numbers import parse_float, parse_int
 from eigenupdate.measure.measurement import Measurement
 
@@ -29,6 +30,7 @@ def read_measurements(
     """
     path = Path(path)
     src = str(path)
+    require_regular(path, "measurement file")
     try:
         if path.stat().st_size > MAX_FILE_BYTES:
             raise InputError(f"file is {path.stat().st_size} bytes; a measurement file is at "
@@ -80,6 +82,10 @@ def read_measurements(
                              source=src)
         if std is not None and not std > 0:
             raise InputError(f"{where}: std_hz must be > 0, got {std}", source=src)
+        if std is not None and std >= f:  # 1e6 on 200 Hz: the Bayesian fit kept the prior
+            raise InputError(f"{where}: std_hz {std:g} is not below frequency_hz {f:g}; a "
+                             f"frequency's std is a small part of it (std in another unit, "
+                             f"or a variance?)", source=src)
         if (cfg, mode) in out:
             raise InputError(f"{where}: second row for {cfg!r} mode {mode}", source=src)
         out[(cfg, mode)] = Measurement(cfg, mode, f, std)

@@ -186,6 +186,9 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
         if len(stack) > MAX_INCLUDE_DEPTH:
             raise InputError(f"{path.name}:{start + 1}: INCLUDE {name}: more than "
                              f"{MAX_INCLUDE_DEPTH} nested INCLUDE levels")
+        if target.exists() and not target.is_file():  # was "not found" for /dev/zero
+            raise InputError(f"{path.name}:{start + 1}: INCLUDE {name} is not a regular "
+                             f"file (a directory, device or FIFO)")
         if not target.is_file():
             raise InputError(f"{path.name}:{start + 1}: INCLUDE file {name} not found "
                              f"(looked in {path.parent})")

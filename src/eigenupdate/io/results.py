@@ -11,6 +11,7 @@ from typing import Any
 from eigenupdate.budget import require_nesting
 from eigenupdate.errors import InputError
 from eigenupdate.identify.updating import UpdateResult
+from eigenupdate.io.inputs import require_regular
 from eigenupdate.io.uff import read_modes
 from eigenupdate.model.parametric import ParametricModel
 
@@ -18,6 +19,7 @@ from eigenupdate.model.parametric import ParametricModel
 def read_json(path: str | Path) -> Any:
     """A JSON file's document; InputError naming the file when it cannot be read."""
     src = str(path)
+    require_regular(path, "JSON file")
     try:
         text = Path(path).read_text(encoding="utf-8-sig")
         require_nesting(text, src)

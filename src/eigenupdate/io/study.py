@@ -17,6 +17,7 @@ from eigenupdate.budget import require_nesting
 from eigenupdate.choices import ESTIMATORS, FRF_KINDS, OPTIMIZERS
 from eigenupdate.design.spec import CRITERIA, DesignSpec
 from eigenupdate.errors import InputError
+from eigenupdate.io.inputs import require_regular
 from eigenupdate.io.measurements import read_measurements
 from eigenupdate.io.study_models import (
     _beam,
@@ -101,6 +102,7 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
     """
     path = Path(path)
     src = str(path)
+    require_regular(path, "study file")
     try:
         # utf-8-sig: editors on Windows start the file with a byte-order mark
         text = path.read_bytes().decode("utf-8-sig")
@@ -263,6 +265,9 @@ def _measurement(top: TableReader, names: list[str] | None, path: Path
     meas.finish()
     if names is None:  # no model and no perturbations: the FRF table names them
         names = sorted(frf_table, key=lambda n: n != BASE)
+        for n in names:
+            if config_name_problem(n):
+                raise meas.error("frf", f"{n!r} {config_name_problem(n)}")
     frf = _frf_files(frf_table, names, path.parent, src)
     return modes, freq, frf, frf_options
 
@@ -288,6 +293,23 @@ def _study_without_model(path: Path, top: TableReader, title: str) -> Study:
                                           path.parent, src))
 
 
+def config_name_problem(name: str) -> str | None:
+    """Why ``name`` cannot label a configuration's rows in a measurement CSV, or None.
+
+    The CSV reader strips spaces, skips lines starting with '#' and splits lines at line
+    breaks: such names were accepted here and written by ``simulate``, whose file then
+    could not be read back ('base ' even read as the bare structure's second row)."""
+    if not name:
+        return "is empty"
+    if name != name.strip():
+        return "begins or ends with white space (the measurement CSV strips it)"
+    if name.startswith("#"):
+        return "begins with '#' (a comment line in the measurement CSV)"
+    if not name.isprintable():
+        return "holds a control or format character (a line break, tab, NUL, bidi mark)"
+    return None
+
+
 def _perturbation(r: TableReader, nastran=None) -> Configuration:
     adds = []
     if "add" in r.data and {"coordinate", "grid", "mass", "stiffness"} & set(r.data):
@@ -307,6 +329,9 @@ def _perturbation(r: TableReader, nastran=None) -> Configuration:
     name = r.get("name", "str", default if len(adds) == 1 else ...)
     if name == BASE:
         raise r.error("name", f"{BASE!r} is the bare structure; choose another name")
+    bad = config_name_problem(name)
+    if bad:
+        raise r.error("name", f"{name!r} {bad}")
     r.finish()
     return Configuration(name, tuple(adds))
 
@@ -430,9 +455,11 @@ def _design(r: TableReader, model: ParametricModel, model_type: str,
     shift = r.get("min_shift_in_std", "float", 3.0)
     gap = r.get("min_relative_gap", "float", 0.02)
     limit = r.get("max_added_mass", "float", None)
-    if shift < 0 or not 0 <= gap < 1 or (limit is not None and limit <= 0):
-        raise r.error("min_shift_in_std", "min_shift_in_std >= 0, 0 <= min_relative_gap < 1 and "
-                                          "max_added_mass > 0 are required")
+    for key, bad, need in (("min_shift_in_std", shift < 0, ">= 0"),
+                           ("min_relative_gap", not 0 <= gap < 1, "from 0 to below 1"),
+                           ("max_added_mass", limit is not None and limit <= 0, "> 0")):
+        if bad:  # each named: max_added_mass = 0 was reported as min_shift_in_std
+            raise r.error(key, f"must be {need}, got {r.data[key]!r}")
     draws = r.get("prior_draws", "int", 64)
     if not 0 <= draws <= 10_000:
         raise r.error("prior_draws", f"must be from 0 to 10000, got {draws}")

@@ -277,10 +277,12 @@ class ParametricModel:
         """Row of a user coordinate number; InputError if the model has no such coordinate."""
         rows = np.flatnonzero(self.coordinates == coordinate)
         if rows.size == 0:
-            # rows are 1..n minus the restrained coordinates: a gap is a restrained one
-            gap = 1 <= coordinate <= self.coordinates.max(initial=0)
-            what = f"coordinate {coordinate} is restrained" if gap else \
-                f"unknown coordinate {coordinate}"
+            what = _nastran_gap(self.coordinate_table, coordinate)
+            if what is None:
+                # rows are 1..n minus the restrained coordinates: a gap is a restrained one
+                gap = 1 <= coordinate <= self.coordinates.max(initial=0)
+                what = f"coordinate {coordinate} is restrained" if gap else \
+                    f"unknown coordinate {coordinate}"
             raise InputError(f"{what} (the model has coordinates {_ranges(self.coordinates)})")
         return int(rows[0])
 
@@ -337,6 +339,24 @@ def _check_powers(parameters, parts, s: np.ndarray) -> None:
             if s[j] <= 0 and not (a >= 1 and float(a).is_integer()):
                 raise InputError(f"parameter {parameters[j].name!r} = {s[j]:g} enters K or M "
                                  f"with power {a:g}: it must be > 0")
+
+
+def _nastran_gap(table, coordinate: int) -> str | None:
+    """Why ``coordinate`` is missing when the model numbers 10 * GRID + component (a
+    NASTRAN deck), else None. Such numbers have gaps that are no coordinate at all:
+    6011 (GRID 601) and 60117 (component 7) were both called 'restrained'."""
+    records = table.coordinates
+    if not records or any(c.number != 10 * c.node + c.direction for c in records):
+        return None
+    grid, component = divmod(coordinate, 10)
+    if not 1 <= component <= 6:
+        return (f"coordinate {coordinate} is no GRID component (10 * GRID + component, "
+                f"component 1-6)")
+    if grid not in {c.node for c in records}:
+        return (f"coordinate {coordinate}: GRID {grid} has no free coordinate (not in the "
+                f"deck, or every component restrained)")
+    return (f"coordinate {coordinate}: GRID {grid} component {component} is restrained or "
+            f"has neither stiffness nor mass")
 
 
 def _ranges(coords: np.ndarray) -> str:

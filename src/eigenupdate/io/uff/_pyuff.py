@@ -33,13 +33,13 @@ import os
 import re
 import warnings
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 import pyuff
 
 from eigenupdate.errors import InputError
+from eigenupdate.io.inputs import require_regular
 
 PathLike = str | os.PathLike[str]
 
@@ -57,8 +57,9 @@ def _quiet() -> Iterator[None]:
 
 def _read_bytes(path: PathLike) -> bytes:
     src = str(path)
-    if Path(path).is_dir():
+    if os.path.isdir(path):
         raise InputError("is a directory, not a universal file", source=src)
+    require_regular(path, "universal file")
     try:
         with open(path, "rb") as fh:
             return fh.read()

@@ -192,7 +192,7 @@ def test_a_graded_mesh_linearises_its_shear_about_the_decks_T(tmp_path, triangle
     eps = max_e |s_lin / s - 1| of it, so (Courant-Fischer, K_shear <= K) every
     eigenvalue within a factor 1 +- eps (measured: eps 6.6e-3, eigenvalues 4.7e-4 off
     with CQUAD4, 5.4e-4 with CTRIA3)."""
-    from eigenupdate.io.nastran_continuum import MAX_SIZES
+    from eigenupdate.io.nastran_plies import MAX_SIZES
     from eigenupdate.model import shells
 
     t0 = 0.002

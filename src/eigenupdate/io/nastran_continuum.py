@@ -19,17 +19,15 @@ they orient the plies of a PCOMP.
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 
-from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
-from eigenupdate.io.nastran_plies import clear_linear, ply_terms
+from eigenupdate.io.nastran_plies import ply_terms, thickness_terms
 from eigenupdate.model import laminate, shells, solids
 from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model.assembly import assemble_many
-from eigenupdate.model.parametric import FunctionTerm, Term
 
 SHELLS = {"CQUAD4": 4, "CTRIA3": 3, "CQUAD8": 8, "CTRIA6": 6}
 SOLIDS = {("CHEXA", 8): "CHEXA8", ("CHEXA", 20): "CHEXA20", ("CPENTA", 6): "CPENTA6",
@@ -51,7 +49,7 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
                        values, k0, m0, kj, mj, extra) -> None:
     """Add the shells' and solids' K and M (and each parameter's K_j, M_j) to the
     triplets of :mod:`eigenupdate.io.nastran`; a PSHELL's T as a parameter adds its
-    terms to ``extra`` (:func:`_thickness_terms`)."""
+    terms to ``extra`` (:func:`~eigenupdate.io.nastran_plies.thickness_terms`)."""
     groups: dict = {}
     for eid, e in sorted(bdf.elements.items()):
         if e.type in SHELLS or e.type in ("CHEXA", "CPENTA", "CTETRA", "CPYRAM"):
@@ -378,7 +376,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             if thick.any():
                 deriv_m[slots["RHO"]] = wtmass * thick
     fixed_shear = np.zeros(n)
-    thick = [(*t, None) for t in _thickness_terms(elems, rows, pindex, size, wtmass,
+    thick = [(*t, None) for t in thickness_terms(elems, rows, pindex, size, wtmass,
                                                    deriv_k, deriv_m, fixed_shear)]
     thick += ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, k == 4)
     base = {part: tot - sum((values[j] * d[part] for j, d in enumerate(deriv_k) if part in d),
@@ -435,82 +433,6 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         _add(trip, mats[2 + len(kj) + len(mj) + i], 6)
         extra.append(("m" if part == "mass" else "k", trip, term))
     _add_all(mats, k0, kj, m0, mj, 6)
-
-
-MAX_SIZES = 64
-"""Most distinct CQUAD4, CTRIA3, CTRIA6 sizes of one PSHELL whose T is a parameter for
-which each size's shear part T^3 / (T^2 + alpha h^2) is a term of its own; beyond it the
-shear part is linearised about the deck's T (:func:`_thickness_terms`)."""
-
-
-def _thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m,
-                     fixed_shear: np.ndarray) -> list:
-    """(pid, part, element weights, term) of every PSHELL whose T is a parameter:
-    membrane and drilling E1 T, bending E2 T^3 (12I/T^3 in the moduli), shear G3 s(T) (T
-    on a CQUAD8, per size on a CQUAD4, CTRIA3, CTRIA6), mass WTMASS RHO1 T (NSM stays
-    fixed); a MAT1 E or RHO that is a parameter too multiplies in. Clears those elements'
-    linear derivatives.
-
-    An auto-meshed region has as many sizes as elements. Beyond MAX_SIZES the shear part
-    is s(T0) + s'(T0) (T - T0) per element, T0 the deck's T: exact value and derivative
-    at the deck, second order in T - T0 elsewhere (a note says so; an update from the
-    written BDF removes it). Its part without T is added to ``fixed_shear`` (G3 times it,
-    per element) where E is not a parameter too."""
-    out = []
-    pids = np.array([e.pid for e in elems])
-    for (card, pid), slots in sorted(pindex.items()):
-        on = pids == pid
-        if card != "PSHELL" or "T" not in slots or not on.any():
-            continue
-        p = rows[int(np.flatnonzero(on)[0])]
-        t = slots["T"]
-        clear_linear(deriv_k, deriv_m, on)
-
-        def times(mid, value, tied=True):
-            """(powers, coefficient) of a material's modulus: its E a parameter or not."""
-            e = pindex.get(("MAT1", mid), {}).get("E")
-            return ((((e, 1.0),), 1.0) if e is not None and tied else ((), value))
-
-        for part, mid, value, power in (("membrane", p["mid1"], p["E1"], 1.0),
-                                        ("drilling", p["mid1"], p["E1"], 1.0),
-                                        ("bending", p["mid2"], p["E2"], 3.0)):
-            if value:
-                pw, c = times(mid, value)
-                out.append((pid, part, on, Term(None, ((t, power),) + pw, c)))
-        if p["G3"]:
-            pw, c = times(p["mid3"], p["G3"], p["tied3"])
-            c = c if not pw else p["G3"] / p["E3"]
-            sizes = np.unique(size[on])
-            if sizes.size > MAX_SIZES:
-                # s(T) = a + b T per element (CQUAD8: h = 0, s = T: a = 0, b = 1 exactly)
-                T0 = float(p["T"])
-                b = np.where(on, shells.shear_thickness_derivative(T0, size), 0.0)
-                a = np.where(on, shells.shear_thickness(T0, size), 0.0) - b * T0
-                out.append((pid, "shear", b, Term(None, ((t, 1.0),) + pw, c)))
-                if pw:
-                    out.append((pid, "shear", a, Term(None, pw, c)))
-                else:
-                    fixed_shear += c * a
-                warnings.warn(
-                    f"PSHELL {pid} field T: the transverse shear of its {sizes.size} element "
-                    f"sizes is linearised about the deck's T = {T0:g} (exact there, second "
-                    f"order in the change elsewhere); after a large change, update again "
-                    f"from the written BDF", EigenupdateWarning, stacklevel=2)
-            for h in sizes if sizes.size <= MAX_SIZES else ():
-                mask = on & (size == h)
-                if h == 0:  # CQUAD8: s(T) = T
-                    out.append((pid, "shear", mask, Term(None, ((t, 1.0),) + pw, c)))
-                    continue
-                out.append((pid, "shear", mask, FunctionTerm(
-                    None, (t, *(j for j, _ in pw)),
-                    shells.ShearThickness(float(shells.ALPHA * h**2), float(c), bool(pw)))))
-        rho = [(mid, r) for mid, (r, _) in p["mass"].items()]
-        for mid, r in rho:
-            j = pindex.get(("MAT1", mid), {}).get("RHO")
-            pw, c = ((((j, 1.0),), wtmass) if j is not None else ((), wtmass * r))
-            if pw or r:
-                out.append((pid, "mass", on, Term(None, ((t, 1.0),) + pw, c)))
-    return out
 
 
 def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pindex,

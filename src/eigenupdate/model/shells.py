@@ -38,6 +38,16 @@ with the moduli of :func:`pshell_moduli` (MID1 plane-stress matrix; MID2's times
 (12 I / T^3) / 12; MID3's transverse shear moduli times TS/T), so a thickness parameter
 has the exact derivative dK/dT = K_membrane + K_drilling + 3 T^2 K_bending + s'(T) K_shear
 (:func:`pshell_matrices` forms both).
+An unsymmetric laminate (PCOMP, :mod:`eigenupdate.model.laminate`) adds the part
+``coupling``, T^2 times the integral of Bm^T Bc Bb + Bb^T Bc Bm (Bc its coupling moduli
+B / T^2; the resultants are N = A eps + B kappa, M = B eps + D kappa, the strain at z
+being eps + z kappa in the convention above). CQUAD4's incompatible modes are condensed
+by the membrane part alone; the coupling takes the membrane strain with the modes'
+amplitudes that condensation sets (-k_ii^-1 k_ic u), so that the energy stays the laminate's
+positive [eps, kappa] [[A, B], [B, D]] [eps, kappa] at each point (compatible strains
+alone against the softer condensed membrane made a [0/90] element indefinite: one
+negative eigenvalue), and the patch test holds (the modes are zero in constant strain
+states and do no work on a constant curvature). Where B = 0 the part is not formed.
 The mass has no rotary inertia (as NASTRAN's CQUAD4/CTRIA3 with MID4 blank): the
 consistent mass couples the translations with the bilinear (linear) shape functions,
 the lumped one puts the integral of each shape function at its node.
@@ -52,7 +62,9 @@ import numpy as np
 from eigenupdate.errors import InputError
 
 STIFFNESS_PARTS = ("membrane", "drilling", "bending", "shear")
-THICKNESS_POWER = {"membrane": 1, "drilling": 1, "bending": 3, "shear": 1}
+COUPLING = "coupling"
+"""The membrane-bending coupling part (only where given: not in STIFFNESS_PARTS)."""
+THICKNESS_POWER = {"membrane": 1, "drilling": 1, "bending": 3, "shear": 1, COUPLING: 2}
 """Thickness power of each part (CTRIA3's shear: :func:`shear_thickness` instead)."""
 ALPHA = 0.1
 """Shear stabilisation of CTRIA3 (Lyly, Stenberg & Vihinen's alpha)."""
@@ -69,7 +81,7 @@ Measured against NASTRAN's printed frequencies: the dakota cylinder's n = 2 mode
 +2.55 and +2.22 % to -0.36 and -0.56 %, nx_sine's modes 1-8 within 0.23 % (its mode 7
 was 122 % high), pyn_solid_shell_bar 0.24, 0.10, 0.61 % (was 0.30, 0.18, 0.81 %)."""
 _PART_COLUMNS = {"membrane": [0, 1], "drilling": [0, 1, 5], "bending": [3, 4],
-                 "shear": [2, 3, 4]}  # each part's columns of a node's six
+                 "shear": [2, 3, 4], COUPLING: [0, 1, 3, 4]}  # a part's columns of a node
 K6ROT = 100.0
 """MSC/NX NASTRAN's default PARAM K6ROT."""
 MAX_WARP = 0.05
@@ -294,11 +306,11 @@ def _expand(terms, n: int, m: int) -> np.ndarray:
 
 def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                  shear: np.ndarray, k6rot: float, labels: list[str] | None,
-                 condense_with: np.ndarray | None = None):
+                 condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None):
     """Element axes R and the stiffness parts in element axes, each as its columns and
     its block on them (membrane: u, v; drilling: u, v, rz; bending: rx, ry; shear: w,
-    rx, ry), all integration points in one product. ``condense_with`` (CQUAD4): see
-    :func:`local_parts`."""
+    rx, ry; coupling, when ``coupling`` moduli are given: u, v, rx, ry), all integration
+    points in one product. ``condense_with`` (CQUAD4): see :func:`local_parts`."""
     xyz = np.asarray(xyz, float)
     n, k = xyz.shape[:2]
     R, xy = shell_axes(xyz, labels)
@@ -312,6 +324,11 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     c0 = None if condense_with is None or k != 4 else \
         np.broadcast_to(np.asarray(condense_with, float), (n, 3, 3))
     db0 = []  # the membrane with the moduli whose incompatible modes are kept
+    cc = None if coupling is None else \
+        np.broadcast_to(np.asarray(coupling, float), (n, 3, 3))
+    kc = 0.0
+    if cc is not None and c0 is not None:
+        raise ValueError("coupling with condense_with is not formed")
     if k == 4:
         points, shape, shear_b = _QUAD_POINTS, _quad_shape, _quad_shear
         _, det0, inv0, _ = _jacobian(_quad_shape(0.0, 0.0)[1], xy)
@@ -334,6 +351,9 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 b = b[:, :, cols[name]]
             b_all[name].append(b)
             db_all[name].append(np.einsum("nab,nbj->naj", d, b) * w)
+        if cc is not None:  # membrane (with Wilson's modes) x curvature: (n, 2k(+4), 2k)
+            kc = kc + np.einsum("nai,nab,nbj->nij", bm * w, cc,
+                                _b_bending(g)[:, :, cols["bending"]])
         if c0 is not None:
             db0.append(np.einsum("nab,nbj->naj", c0, bm) * w)
     out = {name: (cols[name], np.einsum("nai,naj->nij", np.concatenate(b_all[name], 1),
@@ -343,6 +363,9 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
         c, km = out["membrane"]
         out["membrane"] = (c, km[:, :8, :8] - km[:, :8, 8:] @ np.linalg.solve(
             km[:, 8:, 8:], km[:, 8:, :8]))
+        if cc is not None:  # the modes' amplitudes as the membrane condensation sets them
+            kc = kc[:, :8] - np.swapaxes(np.linalg.solve(km[:, 8:, 8:], km[:, 8:, :8]), 1,
+                                         2) @ kc[:, 8:]
     elif k == 4:  # T^T k T, T = [I; -k0_ii^-1 k0_ic] from the moduli condense_with
         c, km = out["membrane"]
         k0 = np.einsum("nai,naj->nij", np.concatenate(b_all["membrane"], 1),
@@ -351,12 +374,17 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
         tt = np.swapaxes(t, 1, 2)
         out["membrane"] = (c, km[:, :8, :8] + km[:, :8, 8:] @ t + tt @ km[:, 8:, :8]
                            + tt @ km[:, 8:, 8:] @ t)
+    if cc is not None:
+        block = np.zeros((n, 4 * k, 4 * k))
+        im, ib = np.arange(4 * k).reshape(k, 2, 2).transpose(1, 0, 2).reshape(2, 2 * k)
+        block[:, im[:, None], ib[None, :]] = kc
+        out[COUPLING] = (cols[COUPLING], block + np.swapaxes(block, 1, 2))
     return R, out
 
 
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None,
-                condense_with: np.ndarray | None = None):
+                condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None):
     """Element axes R (n, 3, 3) and the stiffness parts per unit thickness power in
     element axes, compact: ``{part: (columns, (n, c, c) block)}``; :func:`combine` sums
     them with per-element factors and turns the sum to global axes (one rotation for
@@ -367,8 +395,12 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     are condensed as they are under A0 (T^T k T, T = [I; -k0_ii^-1 k0_ic]): linear in
     ``membrane``, so a laminate's membrane is the sum of its moduli's parts, equal to the
     exact condensation where membrane = A0 and stiffer by the square of the change of
-    A's shape elsewhere (a Ritz approximation with A0's incompatible modes)."""
-    return _local_parts(xyz, membrane, bending, shear, k6rot, labels, condense_with)
+    A's shape elsewhere (a Ritz approximation with A0's incompatible modes).
+
+    ``coupling`` (n, 3, 3) or (3, 3): a laminate's B / T^2 in element axes; the part
+    ``coupling`` (factor T^2, :data:`THICKNESS_POWER`) is formed only when it is given."""
+    return _local_parts(xyz, membrane, bending, shear, k6rot, labels, condense_with,
+                        coupling)
 
 
 def combine(R: np.ndarray, parts: dict, factors: dict[str, np.ndarray]) -> np.ndarray:

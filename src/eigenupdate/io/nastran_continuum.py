@@ -318,7 +318,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     xyz_e = xyz[nodes]
     T = np.array([p["T"] for p in rows])
     E1, E2, G3, E3 = (np.array([p[q] for p in rows]) for q in ("E1", "E2", "G3", "E3"))
-    cm, cb, cs = np.zeros((n, 3, 3)), np.zeros((n, 3, 3)), np.zeros((n, 2, 2))
+    cm, cb, cs, cc = (np.zeros((n, 3, 3)), np.zeros((n, 3, 3)), np.zeros((n, 2, 2)),
+                      np.zeros((n, 3, 3)))
     flat = np.array([p["laminate"] is None for p in rows])
     for i, p in enumerate(rows):
         if flat[i]:
@@ -336,15 +337,19 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                                       + theta[None, :])
             Tp = props[pid]["T"]
             big = np.abs(B).max(axis=(1, 2)) > 1e-9 * np.abs(A).max(axis=(1, 2)) * Tp
-            if big.any():
+            why = ("on CQUAD8/CTRIA6" if k in SHELL_EDGES else "with a ply thickness "
+                   "parameter" if ("PCOMP", pid) in pindex else "")
+            if big.any() and why:
                 raise InputError(f"PCOMP {pid}: membrane-bending coupling (an unsymmetric "
-                                 f"laminate, or Z0 != -T/2) is not supported")
+                                 f"laminate, or Z0 != -T/2) is not supported {why}")
             p = props[pid]  # moduli per unit E1, E2, G3 (1 unless one MAT1)
             cm[sel], cb[sel] = A / (Tp * p["E1"]), D / (Tp**3 * p["E2"])
+            cc[sel] = np.where(big[:, None, None], B / (Tp**2 * p["E1"]), 0.0)
             cs[sel] = H / (Tp * p["G3"])
     size = elem.stabilisation_size(xyz_e)
     total = {"membrane": E1 * T, "drilling": E1 * T, "bending": E2 * T**3,
-             "shear": G3 * shells.shear_thickness(T, size)}
+             "shear": G3 * shells.shear_thickness(T, size),
+             shells.COUPLING: np.where(np.abs(cc).max(axis=(1, 2)) > 0, E1 * T**2, 0.0)}
     mass = wtmass * np.array([sum(r * t for r, t in p["mass"].values()) + p["nsm"]
                               for p in rows])
     deriv_k: list[dict] = [{} for _ in kj]
@@ -368,7 +373,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             for part, mask, f in (("membrane", mids["mid1"] == cid, T),
                                   ("drilling", mids["mid1"] == cid, T),
                                   ("bending", mids["mid2"] == cid, T**3),
-                                  ("shear", (mids["mid3"] == cid) & tied3, sh * G3 / E3)):
+                                  ("shear", (mids["mid3"] == cid) & tied3, sh * G3 / E3),
+                                  (shells.COUPLING, (mids["mid1"] == cid) & (total[
+                                      shells.COUPLING] != 0), T**2)):
                 if mask.any():
                     d[part] = np.where(mask, f, 0.0)
         if "RHO" in slots:
@@ -393,7 +400,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     lumped = not consistent
 
     def blocks(s: slice) -> list:
-        R, parts = elem.local_parts(xyz_e[s], cm[s], cb[s], cs[s], k6rot, labels[s])
+        cpl = {"coupling": cc[s]} if np.any(total[shells.COUPLING][s]) else {}
+        R, parts = elem.local_parts(xyz_e[s], cm[s], cb[s], cs[s], k6rot, labels[s], **cpl)
         hit = {p: c[s] for p, c in base.items() if np.any(c[s])}
         out = [_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6) if hit else None]
         for d in deriv_k:

@@ -139,3 +139,24 @@ def test_cross_ply_plate_converges_to_navier_with_coupling(triangles, angles):
         assert abs(uncoupled / exact - 1) > 10 * e[2], (uncoupled, exact, f)
     else:
         assert uncoupled == exact
+
+
+def test_navier_reference_is_classical_laminate_theory_when_shear_rigid():
+    """Source: the classical (Kirchhoff) Navier solution of an antisymmetric cross-ply
+    square plate (Reddy 2004, sec. 5.3.2; Jones 1999, sec. 5.5): with alpha = pi / a,
+    c11 = (A11 + A66) alpha^2, c12 = (A12 + A66) alpha^2, c22 = (A66 + A22) alpha^2,
+    c13 = -B11 alpha^3, c23 = -B22 alpha^3, c33 = (D11 + 2 (D12 + 2 D66) + D22) alpha^4,
+    omega^2 the least eigenvalue of c / (rho h). The test's first-order reference with H
+    times 1e8 is within 1e-6 of it (its shear term ~ D alpha^2 / H ~ 1e-11, plus the
+    rounding of the 3 x 3 solve)."""
+    abdh = stack((0.0, 90.0), 0.005)
+    A, B, D, H = (m[0] for m in abdh)
+    al = np.pi
+    c = np.array([[(A[0, 0] + A[2, 2]) * al**2, (A[0, 1] + A[2, 2]) * al**2, -B[0, 0] * al**3],
+                  [0, (A[2, 2] + A[1, 1]) * al**2, -B[1, 1] * al**3],
+                  [0, 0, (D[0, 0] + 2 * (D[0, 1] + 2 * D[2, 2]) + D[1, 1]) * al**4]])
+    c = np.triu(c) + np.triu(c, 1).T
+    clt = np.sqrt(np.linalg.eigvalsh(c / (RHO * 0.01))[0])
+    rigid = navier_coupled(1.0, (A[None], B[None], D[None], 1e8 * H[None]), RHO * 0.01)
+    assert abs(rigid / clt - 1) <= 1e-6, (rigid, clt)
+    assert abs(navier_coupled(1.0, abdh, RHO * 0.01) / clt - 1) > 1e-4  # shear does show

@@ -11,6 +11,7 @@ from bounds import BACKWARD, EPS, solve_floor
 from laminate_plates import RHO, element_stiffness, fe_plate, navier_coupled, stack
 from plates import constant_strain_state
 
+from eigenupdate.model import shells
 from eigenupdate.model.assembly import node_dofs, scatter
 
 # MacNeal & Harder's distorted patch (as tests/model/test_shells.py)
@@ -160,3 +161,16 @@ def test_navier_reference_is_classical_laminate_theory_when_shear_rigid():
     rigid = navier_coupled(1.0, (A[None], B[None], D[None], 1e8 * H[None]), RHO * 0.01)
     assert abs(rigid / clt - 1) <= 1e-6, (rigid, clt)
     assert abs(navier_coupled(1.0, abdh, RHO * 0.01) / clt - 1) > 1e-4  # shear does show
+
+
+@pytest.mark.parametrize("elements", [PATCH_QUADS, PATCH_TRIAS], ids=["quad4", "tria3"])
+def test_coupling_leaves_the_other_parts_bit_identical(elements):
+    """Source: construction. The coupling part is added beside the others: membrane,
+    drilling, bending and shear are the same bits with or without it (B = 0 forms none)."""
+    xyz = np.column_stack([PATCH_XY, np.zeros(8)])[elements]
+    A, B, D, H = stack((0.0, 90.0), 0.002)
+    _, plain = shells.local_parts(xyz, A[0], D[0], H[0])
+    _, coupled = shells.local_parts(xyz, A[0], D[0], H[0], coupling=B[0])
+    assert set(coupled) - set(plain) == {shells.COUPLING} and shells.COUPLING not in plain
+    for name, (cols, block) in plain.items():
+        assert np.array_equal(cols, coupled[name][0]) and np.array_equal(block, coupled[name][1])

@@ -138,9 +138,17 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
                 for i, e in enumerate(_SYM3) if np.any(q0[:, e[0], e[1]])]
         hs = np.unique(size[on])
         if len(hs) > MAX_SIZES:
-            raise InputError(f"{where}: its CQUAD4, CTRIA3, CTRIA6 have more than "
-                             f"{MAX_SIZES} different sizes (each size's shear part is a "
-                             f"term); not supported as a parameter")
+            # the stabilisation f(T) = T^2 / (T^2 + alpha h^2) per element as f(T0) +
+            # f'(T0) (T - T0), T0 the deck's total: H f(T0) + H (T - T0) f'(T0)
+            T0 = float(np.sum(t0))
+            c = shells.ALPHA * size**2
+            f0 = np.where(on, T0**2 / (T0**2 + c), 0.0)
+            f1 = np.where(on, 2 * T0 * c / (T0**2 + c) ** 2, 0.0)
+            out += [(pid, "stiffness", w, term(kind, e, g0), (*basis[i], PARTS[2], a0))
+                    for w, kind in ((f0, "H"), (f1, "H1")) if np.any(w)
+                    for i, e in enumerate(_SYM2) if np.any(g0[:, e[0], e[1]])]
+            _linearised(f"PCOMP {pid} (its ply thicknesses)", len(hs), T0)
+            hs = []
         for h in hs:
             mask = on & (size == h)
             out += [(pid, "stiffness", mask,
@@ -155,9 +163,17 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
 
 
 MAX_SIZES = 64
-"""Most distinct CQUAD4, CTRIA3, CTRIA6 sizes of one PSHELL whose T is a parameter for
-which each size's shear part T^3 / (T^2 + alpha h^2) is a term of its own; beyond it the
-shear part is linearised about the deck's T (:func:`thickness_terms`)."""
+"""Most distinct CQUAD4, CTRIA3, CTRIA6 sizes of one PSHELL whose T (or PCOMP whose ply
+thicknesses) are parameters for which each size's shear part (T^3 / (T^2 + alpha h^2))
+is a term of its own; beyond it the shear part is linearised about the deck's T
+(:func:`thickness_terms`, :func:`ply_terms`)."""
+
+
+def _linearised(what: str, sizes: int, T0: float) -> None:
+    warnings.warn(f"{what}: the transverse shear of its {sizes} element sizes is "
+                  f"linearised about the deck's T = {T0:g} (exact there, second order in "
+                  f"the change elsewhere); after a large change, update again from the "
+                  f"written BDF", EigenupdateWarning, stacklevel=3)
 
 
 def thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m,
@@ -208,11 +224,7 @@ def thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m,
                     out.append((pid, "shear", a, Term(None, pw, c)))
                 else:
                     fixed_shear += c * a
-                warnings.warn(
-                    f"PSHELL {pid} field T: the transverse shear of its {sizes.size} element "
-                    f"sizes is linearised about the deck's T = {T0:g} (exact there, second "
-                    f"order in the change elsewhere); after a large change, update again "
-                    f"from the written BDF", EigenupdateWarning, stacklevel=2)
+                _linearised(f"PSHELL {pid} field T", sizes.size, T0)
             for h in sizes if sizes.size <= MAX_SIZES else ():
                 mask = on & (size == h)
                 if h == 0:  # CQUAD8: s(T) = T

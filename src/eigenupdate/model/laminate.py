@@ -108,7 +108,9 @@ class PlyStackEntry:
     at the stack's centre (Z0 = -T/2 moves with T). ``kind`` is "A" (sum q t), "D"
     (sum q (z_k+1^3 - z_k^3) / 3) or "H" (k sum g t, times T^2 / (T^2 + c) when c > 0: the
     CTRIA3, CTRIA6 shear stabilisation of :func:`eigenupdate.model.shells.
-    shear_thickness` divided by T). Complex-safe (complex-step derivatives).
+    shear_thickness` divided by T), or "H1": "H" (c = 0) times (T - T0), T0 the stack's
+    own total thickness (the first-order part of a stabilisation linearised about T0).
+    Complex-safe (complex-step derivatives).
 
     Examples
     --------
@@ -145,4 +147,6 @@ class PlyStackEntry:
         v = np.sum(t * self.q[:, i, j])
         if self.kind == "H":
             v = SHEAR_FACTOR * v * (T**2 / (T**2 + self.c) if self.c else 1.0)
+        elif self.kind == "H1":
+            v = SHEAR_FACTOR * v * (T - np.sum(self.thickness))
         return v

@@ -147,7 +147,11 @@ def test_bad_geometry_is_one_line_naming_the_element(tmp_path, capsys, name, mak
 
 CARDS = [
     ("MAT1 NU = -1 (pyNastran's division by zero, located)",
-     deck("CHEXA", _nodes(CUBE), mat="MAT1,1,2.e11,,-1.,7850.\n"), "line 23: MAT1 1:"),
+     deck("CHEXA", _nodes(CUBE), mat="MAT1,1,2.e11,,-1.,7850.\n"),
+     "line 23: MAT1 1: a division by zero in G = E / (2 (1 + NU))"),
+    # pyNastran's CONM2 validate() quotes no card: found from the card it was checking
+    ("CONM2 mass < 0", deck("CQUAD4", _nodes(SQUARE)).replace(
+        "ENDDATA", "CONM2,7,1,,-150.\nENDDATA"), "line 14: CONM2 7: mass=-150.0"),
     ("PSHELL T < 0 (pyNastran's check, located)",
      deck("CQUAD4", _nodes(SQUARE), prop="PSHELL,1,1,-.01,1,,1\n"), "line 12: PSHELL 1:"),
     ("MAT1 G < 0", deck("CQUAD4", _nodes(SQUARE), mat="MAT1,1,2.e11,-8.e10,.3,7850.\n"),

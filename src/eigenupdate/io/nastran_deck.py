@@ -264,8 +264,12 @@ def load_deck(path: str | Path) -> Deck:
                          punch=not has_cend, validate=True)
     except Exception as exc:  # pyNastran raises many kinds on malformed cards
         msg = [x for x in str(exc).strip().splitlines() if x.strip()]
-        blamed = _blamed_card(str(exc), lines, origin, path.name)
+        blamed = _blamed_card(str(exc), lines, origin, path.name) or _card_in_traceback(
+            exc, lines, origin, path.name)
         first = msg[0] if msg else type(exc).__name__
+        if first.startswith("ZeroDivisionError") and blamed.split(": ")[-1].startswith("MAT1 "):
+            first = "a division by zero in G = E / (2 (1 + NU)) (NU = -1, or G = 0 with NU " \
+                "blank; NASTRAN needs -1 < NU <= 0.5)"
         if re.match(r"nodes=\[", first):  # pyNastran's validate(): a grid given twice
             first = f"a grid appears twice among its nodes {first[6:].split(';')[0]}"
         if blamed:
@@ -398,6 +402,26 @@ def _blamed_card(text: str, lines: list[str], origin, main: str) -> str:
         return f"{card} {cid}"
     name, line = hit.rsplit(":", 1)
     return f"{'line ' + line if name == main else hit}: {card} {cid}"
+
+
+def _card_in_traceback(exc: BaseException, lines: list[str], origin, main: str) -> str:
+    """``line N: CARD id`` of the card object pyNastran was building or checking when it
+    raised without quoting it (a card's validate(): ``AssertionError: mass=-150.0``), from
+    the innermost frame whose ``self`` is a card; or ""."""
+    tb, found = exc.__traceback__, ""
+    while tb is not None:
+        card = tb.tb_frame.f_locals.get("self")
+        kind = getattr(card, "type", None)
+        ident = next((getattr(card, a) for a in ("eid", "pid", "mid", "nid", "sid", "cid")
+                      if isinstance(getattr(card, a, None), int)), None)
+        if isinstance(kind, str) and kind.isupper() and ident is not None:
+            hit = _card_starts(lines, origin).get((kind, ident))
+            where = f"{kind} {ident}"
+            found = where if hit is None else (
+                f"line {hit.rsplit(':', 1)[1]}: {where}" if hit.rsplit(":", 1)[0] == main
+                else f"{hit}: {where}")
+        tb = tb.tb_next
+    return found
 
 
 def _unused_properties(bdf) -> set[str]:

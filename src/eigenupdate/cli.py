@@ -137,7 +137,8 @@ def cmd_montecarlo(args) -> int:
     doc = {**res.summary(), **res.run_info()}
     if args.output:
         write_montecarlo(res, args.output, study.title, res.run_info())
-    print(text.dumps(doc) if args.json else text.montecarlo_text(doc, study.title))
+    print(text.dumps(doc) if args.json else text.montecarlo_text(
+        doc, study.title, {p.name: p.unit for p in study.model.parameters}))
     text.progress(f"{args.trials} trials in {res.wall_time_s:.1f} s ({res.executor})"
                   + (f"; wrote {args.output}" if args.output else ""))
     if doc["statistics_refused"] is not None:

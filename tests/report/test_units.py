@@ -85,3 +85,33 @@ def test_nastran_parameters_state_their_fields_dimension(tmp_path):
     study = eu.load_study(tmp_path / "study.toml")
     assert {p.name: p.unit for p in study.model.parameters} == {
         "t_skin": "length", "t_blade": "length", "E": "force/length^2"}
+
+
+def test_the_montecarlo_table_states_units(fig2):
+    from eigenupdate.report.text import montecarlo_text
+
+    truth = eu.load_study(EXAMPLES / "paper_fig2" / "truth.toml")
+    doc = eu.montecarlo(fig2, 3, truth=truth.path, seed=4).summary()
+    assert doc["statistics_refused"] is None
+    units = {p.name: p.unit for p in fig2.model.parameters}
+    lines = montecarlo_text(doc, fig2.title, units).splitlines()
+    header = next(line for line in lines if line.split()[:2] == ["parameter", "unit"])
+    assert header.split()[2] == "bias"
+    assert next(line for line in lines if line.split()[:1] == ["m1"]).split()[1] == "kg"
+
+
+def test_the_design_table_states_units(fig2):
+    from eigenupdate.report.design import design_text
+
+    d = eu.design(fig2).plan
+    initial = {p.name: p.value for p in fig2.model.parameters}
+    units = {p.name: p.unit for p in fig2.model.parameters}
+    lines = design_text(d, initial, fig2.title, units).splitlines()
+    header = next(line for line in lines if line.split()[:2] == ["parameter", "unit"])
+    assert header.split()[2] == "initial"
+    rows = {line.split()[0]: line.split() for line in lines if line.split()[:1] in
+            (["k1"], ["m1"])}
+    assert rows["k1"][1] == "N/m" and rows["m1"][1] == "kg"
+    # without units the table is as before
+    assert not any(line.split()[:2] == ["parameter", "unit"]
+                   for line in design_text(d, initial, fig2.title).splitlines())

@@ -145,9 +145,11 @@ def frequencies_text(freqs: dict[str, Any], title: str) -> str:
                     [[name, *[float(x) for x in f]] for name, f in freqs.items()]))
 
 
-def montecarlo_text(doc: dict, title: str) -> str:
+def montecarlo_text(doc: dict, title: str, units: dict[str, str] | None = None) -> str:
     """``montecarlo``: the counts and, when given, the statistics per parameter of the
-    summary ``doc`` (:meth:`~eigenupdate.design.montecarlo.MonteCarloResult.summary`)."""
+    summary ``doc`` (:meth:`~eigenupdate.design.montecarlo.MonteCarloResult.summary`);
+    ``units`` (the model's, by parameter name) adds a unit column (bias and stds are in
+    it; emp/pred and the coverage are pure numbers)."""
     caught = doc.get("caught") or {}
     held = "".join(f", {k} {v}" for k, v in caught.items() if v)
     lines = [f"{title}: {doc['trials']} virtual tests: {doc['converged']} converged, "
@@ -169,10 +171,12 @@ def montecarlo_text(doc: dict, title: str) -> str:
         lines.append(f"{doc['converged_with_clusters']} of the {doc['converged']} converged "
                      f"trials fitted close modes through their sums (less information than "
                      f"the predicted std assumes): compare the mean reported std")
+    unit = [] if units is None else ["unit"]
     lines.append(table(
-        ["parameter", "bias", "empirical std", "predicted std", "+-", "emp/pred",
+        ["parameter", *unit, "bias", "empirical std", "predicted std", "+-", "emp/pred",
          "linear std", "coverage 2 std", "mean reported std"],
-        [[n, p["bias"], p["empirical_std"], p["predicted_std"], p["predicted_std_error"],
+        [[n, *([] if units is None else [units.get(n) or "-"]), p["bias"],
+          p["empirical_std"], p["predicted_std"], p["predicted_std_error"],
           p["ratio_empirical_to_predicted"], p["linear_std"], p["coverage_2std"],
           p["mean_reported_std"]]
          for n, p in doc["parameters"].items()]))

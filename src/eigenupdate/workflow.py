@@ -353,8 +353,19 @@ _DEFAULT_LOSS_FACTOR = 0.01  # as `eigenupdate frf` without --damping
 
 
 def _same_data(res: UpdateResult, study: Study, path) -> None:
-    """The saved update fitted the study's measurement file as it is now: a result of
-    other data was shown beside the file's name, its 'measured' column not the file's."""
+    """The saved update fitted the study's measurement file and added masses as they
+    are now: a result of other data was shown beside the file's name, its 'measured'
+    column not the file's (results saved before they recorded their additions are only
+    checked against the file)."""
+    now_adds = {c.name: [[a.coordinate, a.mass, a.stiffness] for a in c.additions]
+                for c in study.configurations}
+    for name, adds in res.perturbations.items():
+        if now_adds.get(name) != adds:
+            raise InputError(f"the saved update's configuration {name!r} added "
+                             f"{adds} ([coordinate, mass, stiffness]); the study has "
+                             f"{now_adds.get(name, 'no such configuration')}: a result of "
+                             f"another version of the study; update again",
+                             source=str(path), field=f"perturbations.{name}")
     if study.frequencies is None or not Path(study.frequencies).is_file():
         return
     now = study.measurements()

@@ -245,6 +245,25 @@ def test_a_result_of_other_measured_data_is_refused_by_the_report(tmp_path, run_
     assert not (tmp_path / "r.html").exists()
 
 
+def test_a_result_fitted_with_other_added_masses_is_refused_by_the_report(
+        tmp_path, run_cli, monkeypatch):
+    """Saved, then a perturbation's added mass edited (0.35 -> 0.5 kg, same name): the
+    saved-only report showed the result under the edited study, exit 0 (the result
+    records each configuration's additions now)."""
+    monkeypatch.chdir(tmp_path)
+    for name in ("study.toml", "measured.csv"):
+        shutil.copy(ROOT / "examples" / "paper_fig2" / name, tmp_path / name)
+    assert run_cli("update", "study.toml", "--save", "r.json")[0] == 0
+    assert run_cli("report", "study.toml", "--saved-only", "--result", "r.json",
+                   "-o", "ok.html")[0] == 0
+    study = tmp_path / "study.toml"
+    study.write_text(study.read_text().replace("mass = 0.35", "mass = 0.5", 1))
+    code, _, err = run_cli("report", "study.toml", "--saved-only", "--result", "r.json",
+                           "-o", "r.html")
+    _one_line(code, err, "r.json", "added [[1, 0.35, 0.0]]", "[[1, 0.5, 0.0]]")
+    assert not (tmp_path / "r.html").exists()
+
+
 FRF_EXAMPLE = ROOT / "examples" / "paper_beam_frf"
 
 

@@ -82,6 +82,8 @@ class UpdateResult:
     pairing : equations, clusters and re-pairings (:meth:`Pairing.to_dict`).
     units : the stated unit of each parameter that has one, by name
         (:attr:`~eigenupdate.model.parameters.Parameter.unit`).
+    perturbations : each configuration's additions, by name, as [coordinate, mass,
+        stiffness] lists (so that a saved result can be matched to its study).
     """
 
     SCHEMA: ClassVar[str] = "eigenupdate.update/2"
@@ -111,6 +113,7 @@ class UpdateResult:
     optimizer: str = "trust-region"
     pairing: dict | None = field(default=None, repr=False)
     units: dict[str, str] = field(default_factory=dict, repr=False)
+    perturbations: dict[str, list] = field(default_factory=dict, repr=False)
 
     def __getitem__(self, key: str):
         if key not in self.keys():
@@ -155,6 +158,7 @@ class UpdateResult:
             "solver": self.solver,
             "pairing": self.pairing,
             "units": self.units,
+            "perturbations": self.perturbations,
         }
 
     @classmethod
@@ -203,7 +207,23 @@ class UpdateResult:
             solver=r.raw("solver", dict, optional=True), optimizer=r.str("optimizer"),
             pairing=r.raw("pairing", dict, optional=True),
             units={str(k): str(v) for k, v in (r.raw("units", dict, optional=True)
-                                               or {}).items()})
+                                               or {}).items()},
+            perturbations=_perturbations(r))
+
+
+def _perturbations(r: Reader) -> dict[str, list]:
+    """The ``perturbations`` document (optional: results written before it have none)."""
+    doc = r.raw("perturbations", dict, optional=True) or {}
+    out = {}
+    for name, adds in doc.items():
+        if not isinstance(adds, list) or not all(
+                isinstance(a, list) and len(a) == 3 and all(
+                    isinstance(x, int | float) and not isinstance(x, bool) for x in a)
+                for a in adds):
+            raise r.fail(f"perturbations.{name}", "must be a list of [coordinate, mass, "
+                                                  "stiffness] lists")
+        out[str(name)] = [[int(a[0]), float(a[1]), float(a[2])] for a in adds]
+    return out
 
 
 def _check_start(start: dict[str, float], model: ParametricModel, r: Reader) -> None:

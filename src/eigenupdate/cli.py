@@ -112,8 +112,7 @@ def cmd_design(args) -> int:
         print(text.dumps({**res.to_dict(), **({"validation": validation_doc(val)} if val
                                                else {})}))
     else:
-        units = {p.name: p.unit for p in study.model.parameters}
-        print(design_text(res, initial, study.title, units)
+        print(design_text(res, initial, study.title, study.model.units)
               + (validation_text(val) if val else ""))
     text.progress(f"wrote the plan to {args.output}")
     return 0
@@ -138,7 +137,7 @@ def cmd_montecarlo(args) -> int:
     if args.output:
         write_montecarlo(res, args.output, study.title, res.run_info())
     print(text.dumps(doc) if args.json else text.montecarlo_text(
-        doc, study.title, {p.name: p.unit for p in study.model.parameters}))
+        doc, study.title, study.model.units))
     text.progress(f"{args.trials} trials in {res.wall_time_s:.1f} s ({res.executor})"
                   + (f"; wrote {args.output}" if args.output else ""))
     if doc["statistics_refused"] is not None:

@@ -357,8 +357,7 @@ def _same_data(res: UpdateResult, study: Study, path) -> None:
     are now: a result of other data was shown beside the file's name, its 'measured'
     column not the file's (results saved before they recorded their additions are only
     checked against the file)."""
-    now_adds = {c.name: [[a.coordinate, a.mass, a.stiffness] for a in c.additions]
-                for c in study.configurations}
+    now_adds = {c.name: c.listed() for c in study.configurations}
     for name, adds in res.perturbations.items():
         if now_adds.get(name) != adds:
             raise InputError(f"the saved update's configuration {name!r} added "

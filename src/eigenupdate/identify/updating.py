@@ -251,9 +251,8 @@ def _result(fit: Fit, point: Point, lin0: Linearisation, status: int, message: s
         solver={**fit.solver.as_dict(), "linearisations": fit.n_lin} if fit.n_lin else None,
         optimizer=optimizer,
         pairing=pairing.to_dict(),
-        units={p.name: p.unit for p in fit.model.parameters if p.unit},
-        perturbations={c.name: [[a.coordinate, a.mass, a.stiffness] for a in c.additions]
-                       for c in fit.configurations},
+        units=fit.model.units,
+        perturbations={c.name: c.listed() for c in fit.configurations},
     )
 
 

@@ -142,8 +142,11 @@ class _Blanks:
             obj = self.cls.add_card(card, comment=comment)
         except Exception as exc:
             lines = [x for x in str(exc).splitlines() if x.strip()]
-            raise ValueError(f"{type(exc).__name__}: {lines[0] if lines else ''}\ncard=['"
-                             f"{card.field(0)}', '{card.field(1)}']") from None
+            what = f"{type(exc).__name__}: {lines[0] if lines else ''}"
+            if isinstance(exc, ZeroDivisionError) and self.cls.type == "MAT1":
+                what = ("a division by zero in G = E / (2 (1 + NU)) (NU = -1, or G = 0 with "
+                        "NU blank; NASTRAN needs -1 < NU <= 0.5)")
+            raise ValueError(f"{what}\ncard=['{card.field(0)}', '{card.field(1)}']") from None
         obj.blank = frozenset(name for name, i in self.fields if card.field(i) in (None, ""))
         return obj
 
@@ -267,9 +270,6 @@ def load_deck(path: str | Path) -> Deck:
         blamed = _blamed_card(str(exc), lines, origin, path.name) or _card_in_traceback(
             exc, lines, origin, path.name)
         first = msg[0] if msg else type(exc).__name__
-        if first.startswith("ZeroDivisionError") and blamed.split(": ")[-1].startswith("MAT1 "):
-            first = "a division by zero in G = E / (2 (1 + NU)) (NU = -1, or G = 0 with NU " \
-                "blank; NASTRAN needs -1 < NU <= 0.5)"
         if re.match(r"nodes=\[", first):  # pyNastran's validate(): a grid given twice
             first = f"a grid appears twice among its nodes {first[6:].split(';')[0]}"
         if blamed:
@@ -396,32 +396,32 @@ def _blamed_card(text: str, lines: list[str], origin, main: str) -> str:
             re.MULTILINE) if "\n" in text else None)
     if m is None:
         return ""
-    card, cid = m.group(1).upper(), int(m.group(2))
-    hit = _card_starts(lines, origin).get((card, cid))
-    if hit is None:
-        return f"{card} {cid}"
-    name, line = hit.rsplit(":", 1)
-    return f"{'line ' + line if name == main else hit}: {card} {cid}"
+    return _located(m.group(1).upper(), int(m.group(2)), lines, origin, main)
 
 
 def _card_in_traceback(exc: BaseException, lines: list[str], origin, main: str) -> str:
     """``line N: CARD id`` of the card object pyNastran was building or checking when it
     raised without quoting it (a card's validate(): ``AssertionError: mass=-150.0``), from
     the innermost frame whose ``self`` is a card; or ""."""
-    tb, found = exc.__traceback__, ""
+    tb, found = exc.__traceback__, None
     while tb is not None:
         card = tb.tb_frame.f_locals.get("self")
         kind = getattr(card, "type", None)
         ident = next((getattr(card, a) for a in ("eid", "pid", "mid", "nid", "sid", "cid")
                       if isinstance(getattr(card, a, None), int)), None)
         if isinstance(kind, str) and kind.isupper() and ident is not None:
-            hit = _card_starts(lines, origin).get((kind, ident))
-            where = f"{kind} {ident}"
-            found = where if hit is None else (
-                f"line {hit.rsplit(':', 1)[1]}: {where}" if hit.rsplit(":", 1)[0] == main
-                else f"{hit}: {where}")
+            found = (kind, ident)
         tb = tb.tb_next
-    return found
+    return "" if found is None else _located(*found, lines, origin, main)
+
+
+def _located(card: str, cid: int, lines: list[str], origin, main: str) -> str:
+    """``line N: CARD id`` (``file:N`` in an included file; ``CARD id`` if not found)."""
+    hit = _card_starts(lines, origin).get((card, cid))
+    if hit is None:
+        return f"{card} {cid}"
+    name, line = hit.rsplit(":", 1)
+    return f"{'line ' + line if name == main else hit}: {card} {cid}"
 
 
 def _unused_properties(bdf) -> set[str]:

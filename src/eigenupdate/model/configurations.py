@@ -50,6 +50,14 @@ class Configuration:
         except InputError as exc:
             raise InputError(str(exc), field=f"perturbation {self.name!r}") from None
 
+    def listed(self) -> list[list]:
+        """The additions as [coordinate, mass, stiffness] lists (a saved result's record).
+
+        >>> mass_at(4, 0.35).listed()
+        [[4, 0.35, 0.0]]
+        """
+        return [[a.coordinate, a.mass, a.stiffness] for a in self.additions]
+
     def delta(self, model: ParametricModel) -> tuple[sp.csr_array, sp.csr_array]:
         """(Delta K, Delta M): diagonal matrices of the additions."""
         rows = self.rows(model)

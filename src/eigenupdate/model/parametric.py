@@ -265,6 +265,11 @@ class ParametricModel:
         return [p.name for p in self.parameters]
 
     @property
+    def units(self) -> dict[str, str]:
+        """The stated unit of each parameter that has one, by name."""
+        return {p.name: p.unit for p in self.parameters if p.unit}
+
+    @property
     def values(self) -> np.ndarray:
         return np.array([p.value for p in self.parameters], dtype=float)
 

@@ -512,7 +512,7 @@ def render_report(data: ReportData, *, command: str | None = None,
                if data.update_origin else None),
               _comparison_section(data),
               _design_section(data.design, data.validation, initial, data.design_name,
-                              {p.name: p.unit for p in study.model.parameters})
+                              study.model.units)
               if data.design is not None else None,
               _montecarlo_section(data.montecarlo, data.montecarlo_name)
               if data.montecarlo is not None else None):

@@ -125,6 +125,35 @@ def _mat1(bdf, mid, where: str):
 
 
 
+_MAT9 = ("G11", "G12", "G13", "G14", "G15", "G16", "G22", "G23", "G24", "G25", "G26",
+         "G33", "G34", "G35", "G36", "G44", "G45", "G46", "G55", "G56", "G66")
+
+
+def _mat9(bdf, mat, cordm, where: str) -> np.ndarray:
+    """MAT9's moduli (xx, yy, zz, xy, yz, zx; engineering shear, MSC QRG MAT9) in basic,
+    turned from the PSOLID's rectangular CORDM (0 or blank: basic)."""
+    label = f"MAT9 {mat.mid}"
+    c = np.zeros((6, 6))
+    k = 0
+    for i in range(6):
+        for j in range(i, 6):
+            c[i, j] = c[j, i] = in_range(getattr(mat, _MAT9[k]) or 0.0, f"{label}: {_MAT9[k]}")
+            k += 1
+    if mat.rho is not None:
+        in_range(mat.rho, f"{label}: RHO")
+    if (mat.rho or 0.0) < 0:
+        raise InputError(f"{label}: negative density RHO = {mat.rho:g}")
+    if np.linalg.eigvalsh(c)[0] <= 1e-12 * np.abs(c).max():
+        raise InputError(f"{label}: G11 ... G66 is not positive definite (no elastic material)")
+    if cordm in (0, None):
+        return c
+    system = bdf.coords.get(cordm)
+    if cordm == -1 or system is None or system.Type != "R":
+        raise InputError(f"{where}: CORDM {cordm} with {label}: only a rectangular "
+                         f"material system (or 0, basic) is supported")
+    return solids.rotated_elasticity(c, system.beta())
+
+
 def _linear_in_e(mat, slots) -> None:
     """Refuse E as a parameter of a MAT1 with NU blank and G given: NASTRAN's NU =
     E / (2 G) - 1 then follows E, and a shell's or solid's K is not linear in E."""
@@ -452,6 +481,7 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
     if kind in solids.MID_EDGES:
         solids.check_mid_edges(xyz[nodes], solids.MID_EDGES[kind], labels)
     mats: dict = {}
+    aniso: dict = {}  # element index -> MAT9 moduli in basic
     mid = np.zeros(len(elems), int)
     for i, (e, lab) in enumerate(zip(elems, labels, strict=True)):
         prop = bdf.properties.get(e.pid)
@@ -466,18 +496,25 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
         cordm = getattr(prop, "cordm", 0)
         if cordm not in (0, -1, None) and cordm not in bdf.coords:
             raise InputError(f"{where}: CORDM {cordm} is not a defined coordinate system")
-        if prop.mid not in mats:
+        mat = bdf.materials.get(prop.mid)
+        if mat is not None and mat.type == "MAT9":
+            aniso[i] = _mat9(bdf, mat, cordm, where)
+            mats.setdefault(prop.mid, mat)
+        elif prop.mid not in mats:
             mats[prop.mid] = _mat1(bdf, prop.mid, where)
         mid[i] = prop.mid
-    E = np.array([mats[m].e for m in mid])
-    nu = np.array([mats[m].nu for m in mid])
+    iso = [mats[m].type == "MAT1" for m in mid]
+    E = np.array([mats[m].e if o else 1.0 for m, o in zip(mid, iso, strict=True)])
+    nu = np.array([mats[m].nu if o else 0.0 for m, o in zip(mid, iso, strict=True)])
     rho = np.array([mats[m].rho or 0.0 for m in mid])
     unit = solids.isotropic_elasticity(np.ones(len(elems)), nu)
+    for i, c in aniso.items():
+        unit[i] = c
     kfac, mfac = E.copy(), wtmass * rho
     dk = [None for _ in kj]
     dm = [None for _ in mj]
     for (card, cid), slots in pindex.items():
-        if card == "MAT1" and cid in mats:
+        if card == "MAT1" and cid in mats and mats[cid].type == "MAT1":
             _linear_in_e(mats[cid], slots)
             if "E" in slots:
                 dk[slots["E"]] = np.where(mid == cid, 1.0, 0.0)

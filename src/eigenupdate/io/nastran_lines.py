@@ -385,8 +385,10 @@ def _enters(part: str, field: str, tied: bool, beam: bool) -> bool:
 
 def _material(bdf, mid: int, where: str):
     mat = bdf.materials.get(mid)
-    if mat is None or mat.type != "MAT1":
+    if mat is None:
         raise InputError(f"{where}: material MAT1 {mid} is not defined")
+    if mat.type != "MAT1":  # MAT8 or MAT9 (shells', solids')
+        raise InputError(f"{where}: material {mat.type} {mid} is not supported here (MAT1 only)")
     for name in ("e", "g", "rho"):
         if getattr(mat, name) is not None:
             in_range(getattr(mat, name), f"MAT1 {mid}: {name.upper()}")

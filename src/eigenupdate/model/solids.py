@@ -113,6 +113,32 @@ def isotropic_elasticity(E: np.ndarray, nu: np.ndarray) -> np.ndarray:
     return c
 
 
+def rotated_elasticity(c: np.ndarray, axes: np.ndarray) -> np.ndarray:
+    """Moduli (6, 6) given in material axes (``axes`` rows: the material x, y, z in basic)
+    turned to basic, Voigt order xx, yy, zz, xy, yz, zx with engineering shear strains (as
+    NASTRAN's MAT9): C_basic = T^T C T, T the strain map from basic to material axes.
+
+    Examples
+    --------
+    An isotropic material is the same in any axes:
+
+    >>> c = isotropic_elasticity(np.array([2.0]), np.array([0.3]))[0]
+    >>> a = np.array([[0.0, 0.6, 0.8], [1.0, 0.0, 0.0], [0.0, 0.8, -0.6]])
+    >>> bool(np.allclose(rotated_elasticity(c, a), c))
+    True
+    """
+    a = np.asarray(axes, float)
+    pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0))
+    t = np.zeros((6, 6))
+    for col in range(6):
+        e = np.zeros((3, 3))
+        i, j = pairs[col]
+        e[i, j] = e[j, i] = 1.0 if i == j else 0.5
+        e = a @ e @ a.T
+        t[:, col] = [e[i, j] * (1 if i == j else 2) for i, j in pairs]
+    return t.T @ np.asarray(c, float) @ t
+
+
 def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.polynomial.legendre.leggauss(n)
 

@@ -116,3 +116,17 @@ def test_mat9_refusals(tmp_path, edit, message):
         warnings.simplefilter("ignore")
         with pytest.raises(InputError, match=message.replace(".", r"\.")):
             read_nastran(path)
+
+
+def test_mat9_on_a_bar_is_named(tmp_path):
+    """A MAT9 is read for solids only: a CBAR's PBAR naming one is refused naming the
+    material's card (it used to say 'MAT1 9 is not defined')."""
+    path = tmp_path / "bar.bdf"
+    path.write_text("\n".join([
+        "SOL 103", "CEND", "BEGIN BULK", "GRID,1,,0.,0.,0.", "GRID,2,,1.,0.,0.",
+        "CBAR,1,1,1,2,0.,1.,0.", "PBAR,1,9,1.e-4,1.e-9,1.e-9,2.e-9", _mat9(9, G, 7800.0),
+        "SPC1,1,123456,1", "ENDDATA", ""]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(InputError, match="material MAT9 9 is not supported here"):
+            read_nastran(path)

@@ -195,3 +195,23 @@ def test_pbarl_nonstructural_mass(tmp_path):
     pbar, pbarl = (read_nastran(p).model for p in paths)
     assert abs(pbar.mass() - pbarl.mass()).max() <= 1e-15 * abs(pbar.mass()).max()
     assert abs(pbar.stiffness() - pbarl.stiffness()).max() <= 1e-15 * abs(pbar.stiffness()).max()
+
+
+def test_pbeaml_monosymmetric_shear_centre_is_named(tmp_path):
+    """A PBEAML T (or CHAN, or I with unequal flanges) on a CBEAM: NASTRAN puts the shear
+    centre on the element axis (QRG PBEAML figures), this element the centroid; the
+    warning gives the distance (model/sections.py shear_centre_offset, checked by hand in
+    tests/model/test_sections.py). A PBARL T (CBAR, no offset either way) and a PBEAML BAR
+    say nothing of it."""
+    def warned(card: str, element: str) -> list[str]:
+        path = tmp_path / "beam.bdf"
+        path.write_text(_bulk(card).replace("CBAR,1,1,1,2", f"{element},1,1,1,2"))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            read_nastran(path)
+        return [str(w.message) for w in caught if "shear centre" in str(w.message)]
+
+    (msg,) = warned("PBEAML,1,1,,T\n,.15,.2,.012,.008", "CBEAM")
+    assert msg.startswith("PBEAML 1: section T's shear centre is (0.0455") and "CBEAM" in msg
+    assert not warned("PBARL,1,1,,T\n,.15,.2,.012,.008", "CBAR")
+    assert not warned("PBEAML,1,1,,BAR\n,.15,.2", "CBEAM")

@@ -13,7 +13,12 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from eigenupdate.errors import InputError
-from eigenupdate.model.sections import check_dimensions, thin_walled_section, torsion_constant
+from eigenupdate.model.sections import (
+    check_dimensions,
+    shear_centre_offset,
+    thin_walled_section,
+    torsion_constant,
+)
 
 
 def _from_edge(strips):
@@ -127,3 +132,28 @@ def test_i_beam_upside_down_is_the_same(h, a, b, tw, ta, tb):
 def test_bad_dimensions(shape, dim, message):
     with pytest.raises(InputError, match=re.escape(message)):
         check_dimensions(shape, dim)
+
+
+def test_shear_centre_of_monosymmetric_sections():
+    """Shear centre less centroid on the walls' mid-lines, by hand: a T's at the flange's
+    mid-line (its centroid from the bottom summed here); a channel's
+    e = 3 b^2 tf / (6 b tf + h tw) behind the web (Roark's Formulas for Stress and Strain,
+    Table 10.7, with b, h the mid-line flange length and web height); an I with unequal
+    flanges at h I_top / (I_top + I_bot) above the bottom flange's mid-line, which tends
+    to the T's junction as the bottom flange vanishes; a doubly symmetric I gives 0."""
+    b, h, tf, tw = 0.15, 0.2, 0.012, 0.008  # T: flange on top, web below
+    ybar = (b * tf * (h - tf / 2) + tw * (h - tf) ** 2 / 2) / (b * tf + tw * (h - tf))
+    dy, dz = shear_centre_offset("T", [b, h, tf, tw])
+    assert math.isclose(dy, h - tf / 2 - ybar, rel_tol=1e-12) and dz == 0.0
+    b, h, tw, tf = 0.09, 0.26, 0.01, 0.014  # CHAN: web at the back, flanges towards +z
+    bf = b - tw
+    zbar = (h * tw * tw / 2 + 2 * bf * tf * (tw + bf / 2)) / (h * tw + 2 * bf * tf)
+    bm, hm = b - tw / 2, h - tf
+    e = 3 * bm**2 * tf / (6 * bm * tf + hm * tw)
+    dy, dz = shear_centre_offset("CHAN", [b, h, tw, tf])
+    assert dy == 0.0 and math.isclose(dz, tw / 2 - e - zbar, rel_tol=1e-12)
+    assert shear_centre_offset("I", [0.3, 0.15, 0.15, 0.0071, 0.0107, 0.0107])[0] == \
+        pytest.approx(0.0, abs=1e-15)
+    tee = shear_centre_offset("T", [0.15, 0.3, 0.0107, 0.0071])[0]
+    nearly = shear_centre_offset("I", [0.3, 1e-4, 0.15, 0.0071, 1e-6, 0.0107])[0]
+    assert math.isclose(nearly, tee, rel_tol=1e-3)

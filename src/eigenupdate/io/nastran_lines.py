@@ -349,6 +349,15 @@ def pbarl_section(prop) -> tuple:
         warnings.warn(f"{where}: NASTRAN gives section {shape} shear flexibility with factors "
                       f"not modelled here (Euler-Bernoulli); stubby members will differ",
                       EigenupdateWarning, stacklevel=2)
+    dy, dz = sections.shear_centre_offset(shape, dim) if shape in sections.THIN_WALLED \
+        else (0.0, 0.0)
+    if prop.type == "PBEAML" and math.hypot(dy, dz) > 1e-6 * math.sqrt(A):
+        # MSC's PBEAML figures put the shear centre at the element axis and offset the
+        # neutral axis from it; a member's effective offset then differs by (dy, dz)
+        warnings.warn(f"{where}: section {shape}'s shear centre is ({dy:.4g}, {dz:.4g}) (y, z) "
+                      f"from its centroid; NASTRAN puts the shear centre on the CBEAM's axis, "
+                      f"this element the centroid: the member sits that much elsewhere",
+                      EigenupdateWarning, stacklevel=2)
     k1, k2 = SHEAR_FACTORS.get(shape, (0.0, 0.0))
     return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, 0.0
 

@@ -105,6 +105,34 @@ def _thin(shape: str, d: np.ndarray) -> tuple:
     return a, i1, i2, i12
 
 
+def shear_centre_offset(shape: str, dim: Sequence[float]) -> tuple[float, float]:
+    """(y, z) of the shear centre less the centroid of an I, T or CHAN section, thin-walled
+    on the walls' mid-lines (0 for a doubly symmetric I): T at the flange's and web's
+    junction; I between the flanges at h' I_top / (I_top + I_bot) from the bottom flange
+    (I_flange = t w^3 / 12); CHAN e = 3 b'^2 tf / (6 b' tf + h' tw) behind the web's
+    mid-line (b', h' the mid-line flange length and web height; Roark, Table 10.7).
+
+    >>> dy, dz = shear_centre_offset("T", [0.02, 0.03, 0.002, 0.0025])
+    >>> print(f"{dy:.6f} {dz:g}")
+    0.009545 0
+    """
+    d = check_dimensions(shape, dim)
+    w, h, z, y = _rectangles(shape, d).T
+    area = w * h
+    yc, zc = (area @ y) / area.sum(), (area @ z) / area.sum()
+    if shape == "T":
+        return float(d[1] - d[2] / 2 - yc), 0.0
+    if shape == "I":
+        hh, a, b, _, ta, tb = d
+        bot, top = ta * a**3, tb * b**3
+        return float(ta / 2 + (hh - (ta + tb) / 2) * top / (top + bot) - yc), 0.0
+    if shape == "CHAN":
+        b, hh, tw, tf = d
+        bm, hm = b - tw / 2, hh - tf
+        return 0.0, float(tw / 2 - 3 * bm**2 * tf / (6 * bm * tf + hm * tw) - zc)
+    return 0.0, 0.0
+
+
 def solid_section(shape: str, dim: Sequence[float]) -> tuple[float, float, float]:
     """A, I1, I2 of a ROD, TUBE, BAR or BOX section (closed forms; BAR and BOX: DIM1
     width along z, DIM2 height along y; BOX DIM3 the horizontal, DIM4 the vertical walls).

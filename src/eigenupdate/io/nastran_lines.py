@@ -45,12 +45,13 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
                 if x is None or in_range(x, f"{owner}: {name}") < 0:
                     raise InputError(f"{owner}: {name} = {x} must be >= 0")
             mat, rho, g, tied = _material(bdf, mid, where_)
-            k1, k2, nsi = shear
+            k1, k2, nsi, *rest = shear
+            i12 = float(rest[0]) if rest else 0.0
             if (k1 or k2) and not g > 0:
                 raise InputError(f"{where_}: shear factors K1, K2 need MAT1 {mid} G > 0")
             sections[key] = (mat.e, g, tied, rho, float(A), float(i1), float(i2),
                              float(j or 0.0), float(nsm or 0.0), mid, pkey, k1, k2,
-                             in_range(nsi, f"{where_}: NSI"))
+                             in_range(nsi, f"{where_}: NSI"), i12)
         return sections[key]
 
     label, rod, ga, gb, g0, xv, wa, wb, sec = [], [], [], [], [], [], [], [], []
@@ -124,13 +125,17 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     by_g0 = g0 >= 0
     v[by_g0] = xyz[g0[by_g0]] - xyz[ga[by_g0]]
     v[rod] = frame3d.any_normal((xb - xa)[rod])
-    rows = sec  # per element: E, G, tied, rho, A, I1, I2, J, nsm, mid, pkey, K1, K2
+    rows = sec  # per element: E, G, tied, rho, A, I1, I2, J, nsm, mid, pkey, K1, K2, NSI, I12
     L, R = frame3d.local_axes(xa, xb, v, label)
     T = frame3d.element_transform(R, wa, wb, frames[ga], frames[gb])
     E, G, rho = (np.array([r[k] for r in rows], float) for k in (0, 1, 3))
     tied = np.array([r[2] for r in rows])
     A, I1, I2, J, nsm = (np.array([r[k] for r in rows], float) for k in range(4, 9))
-    K1, K2, nsi = (np.array([r[k] for r in rows], float) for k in (11, 12, 13))
+    K1, K2, nsi, I12 = (np.array([r[k] for r in rows], float) for k in (11, 12, 13, 14))
+    coupled = I12 != 0
+    if np.any(coupled & np.array(pins).any(1)):
+        e = int(np.flatnonzero(coupled & np.array(pins).any(1))[0])
+        raise InputError(f"{label[e]}: pin flags with I12 != 0 are not supported")
     beam = np.array([lab.startswith("CBEAM") for lab in label])
     # Timoshenko shear parameters; K = 0 (or PBAR's blank) is a shear-rigid section
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -151,6 +156,8 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     mp["translation"][rod] = frame3d.rod_mass_part(L[rod], consistent)
     mp["torsion"][~beam] = 0.0  # NASTRAN's CBAR and CROD carry no torsional inertia
     parts = {**{f"k_{k}": x for k, x in kp.items()}, **{f"m_{k}": x for k, x in mp.items()}}
+    if coupled.any():  # unsymmetric sections (PBAR/PBEAM I12)
+        parts["k_bend12"] = frame3d.bending_coupling_part(L)
     dofs = (6 * np.stack([ga, gb], 1)[:, :, None] + np.arange(6)[None, None, :]).reshape(-1, 12)
     r_idx = np.repeat(dofs, 12, axis=1)
     c_idx = np.tile(dofs, (1, 12))
@@ -158,6 +165,8 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     total = {"k_axial": E * A, "k_torsion": G * J, "k_bend1": E * I1, "k_bend2": E * I2,
              "m_translation": wtmass * (rho * A + nsm),
              "m_torsion": np.where(beam, wtmass * (rho * (I1 + I2) + nsi), 0.0)}
+    if coupled.any():
+        total["k_bend12"] = E * I12
     n = len(rows)
     deriv: list[dict[str, np.ndarray]] = [{} for _ in kj]
 
@@ -181,6 +190,8 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
                 j = slots["E"]
                 for part, c in (("k_axial", A), ("k_bend1", I1), ("k_bend2", I2)):
                     d(j, part, c, mask)
+                if coupled.any():
+                    d(j, "k_bend12", I12, mask)
                 d(j, "k_torsion", np.where(tied, G * J / E, 0.0), mask)
             if "RHO" in slots:
                 j = slots["RHO"]
@@ -200,6 +211,10 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
                         d(slots[fld], part, c, mask)
     nonlin = _nonlinear_elements(deriv, pindex, pkeys, label, shear & np.array(pins).any(1),
                                  in_phi)
+    if np.any(nonlin & coupled):
+        e = int(np.flatnonzero(nonlin & coupled)[0])
+        raise InputError(f"{label[e]}: I12 != 0 with parameters that enter the element "
+                         f"nonlinearly (two in one quantity) is not supported")
     for dj in deriv:  # those elements' parts all go to their function terms
         for arr in dj.values():
             arr[nonlin] = 0.0
@@ -296,9 +311,17 @@ def bar_section(prop) -> tuple:
     first = [float(np.ravel(getattr(prop, n))[0]) for n in ("A", "i1", "i2", "i12", "j", "nsm")]
     A, i1, i2, i12, j, nsm = first
     if i12:
-        raise InputError(f"{where}: I12 = {i12:g} is not supported")
+        in_range(i12, f"{where}: I12")
+        if not i1 * i2 > i12**2:
+            raise InputError(f"{where}: I12 = {i12:g} needs I1 I2 > I12^2 (I1 = {i1:g}, "
+                             f"I2 = {i2:g})")
+        if prop.type == "PBEAM" and (k1 or k2):  # PBAR's rule is not stated for PBEAM
+            raise InputError(f"{where}: I12 = {i12:g} with shear factors K1 = {k1:g}, K2 = "
+                             f"{k2:g} (PBEAM's default 1.0) is not supported; with K1 = K2 = "
+                             f"0.0 (shear-rigid) it is")
+        k1 = k2 = 0.0  # NASTRAN ignores K1, K2 when I12 != 0 (QRG PBAR, NASTRAN-95 KBAR)
     nsi = nsia if prop.type == "PBEAM" else 0.0
-    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, nsi
+    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, nsi, i12
 
 
 def _tube(prop) -> tuple:
@@ -327,7 +350,7 @@ def pbarl_section(prop) -> tuple:
         raise InputError(f"{where}: GROUP {prop.group} (a user section library) is not "
                          f"supported; only the standard sections of MSCBML0")
     if shape not in PBARL_SHAPES:
-        why = " (unsymmetric: I12 != 0, as PBAR I12)" if shape == "L" else ""
+        why = " (unsymmetric: I12 != 0)" if shape == "L" else ""
         raise InputError(f"{where}: section type {shape}{why} is not supported (supported: "
                          f"{', '.join(PBARL_SHAPES)})")
     dim, nsm = prop.dim, prop.nsm

@@ -76,6 +76,33 @@ def stiffness_parts(length: np.ndarray, phi1: np.ndarray | None = None,
     return out
 
 
+def bending_coupling_part(length: np.ndarray) -> np.ndarray:
+    """Local stiffness (n, 12, 12) per unit E I12 (I12 = int y z dA, an unsymmetric
+    section): the energy E I12 int v'' w'' dx couples plane 1 (v, rz) with plane 2
+    (w, ry), Euler-Bernoulli, as NASTRAN-95's KBAR builds it (which ignores K1, K2 when
+    I12 != 0).
+
+    Examples
+    --------
+    KBAR's v_A-w_A term 12 E I12 / L^3 and rz_A-ry_A term -4 E I12 / L:
+
+    >>> k = bending_coupling_part(np.array([2.0]))[0]
+    >>> float(k[1, 2]), float(k[5, 4]), float(k[2, 1]), bool((k == k.T).all())
+    (1.5, -2.0, 1.5, True)
+    """
+    L = np.asarray(length, dtype=float)
+    unit = np.array([[12, 6, -12, 6], [6, 4, -6, 2], [-12, -6, 12, -6], [6, 2, -6, 4]],
+                    dtype=float)
+    p = np.array([0, 1, 0, 1])
+    k = unit[None] * L[:, None, None] ** (p[:, None] + p[None, :]) / L[:, None, None] ** 3
+    k = k * np.outer([1.0, 1.0, 1.0, 1.0], [1.0, -1.0, 1.0, -1.0])  # ry = -w'
+    out = np.zeros((L.size, 12, 12))
+    d1, d2 = [1, 5, 7, 11], [2, 4, 8, 10]
+    out[:, np.ix_(d1, d2)[0], np.ix_(d1, d2)[1]] = k
+    out[:, np.ix_(d2, d1)[0], np.ix_(d2, d1)[1]] = np.transpose(k, (0, 2, 1))
+    return out
+
+
 def release(parts: dict[str, np.ndarray], released: np.ndarray) -> None:
     """Pin flags: condense the ``released`` (n, 12) local end components out of each
     element's stiffness parts, in place (K_rr - K_rp K_pp^+ K_pr; a part's released rows

@@ -109,3 +109,19 @@ def test_i12_refusals(tmp_path, prop, message):
         warnings.simplefilter("ignore")
         with pytest.raises(InputError, match=re.escape(message)):
             read_nastran(path)
+
+
+def test_material_parameter_with_i12(tmp_path):
+    """MAT1 E is a parameter of a frame with I12: K is E times a fixed matrix (G follows
+    E, MAT1 G blank), so dK/dE = K / E exactly, coupling included (to round-off)."""
+    from eigenupdate.io.nastran import CardField
+    from eigenupdate.model.parameters import Parameter
+
+    path = tmp_path / "frame.bdf"
+    path.write_text(_deck("CBAR", f"PBAR,1,1,{A!r},{I1!r},{I2!r},{J!r}\n,,,,,,,,\n,,,{I12!r}",
+                          [v for _, _, v in MEMBERS]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = read_nastran(path, [(Parameter("E", 0.0), CardField("MAT1", 1, "E"))]).model
+    k, kj = model.stiffness(), model.k_terms[0]
+    assert abs(kj * 2.0e11 - k).max() <= 1e-12 * abs(k).max()

@@ -31,6 +31,7 @@ from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_constraints import constraint_equations
 from eigenupdate.io.nastran_continuum import assemble_continuum
 from eigenupdate.io.nastran_deck import Deck, load_deck
+from eigenupdate.io.nastran_dmig import assemble_dmig
 from eigenupdate.io.nastran_fields import (
     FIELDS,
     NOT_LINEAR,
@@ -152,7 +153,7 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
     return nm
 
 
-_LABEL = re.compile(r"^([A-Z][A-Z0-9]*) (\d+)(:| field)")
+_LABEL = re.compile(r"^([A-Z][A-Z0-9]*) ([A-Z0-9_]+)(:| field)")
 
 
 def _located(message: str, deck: Deck | None) -> str:
@@ -160,7 +161,8 @@ def _located(message: str, deck: Deck | None) -> str:
     m = _LABEL.match(message)
     if deck is None or m is None:
         return message
-    hit = deck.lines.get((m.group(1), int(m.group(2))))
+    key = m.group(2)
+    hit = deck.lines.get((m.group(1), int(key) if key.isdigit() else key))
     if not hit:
         return message
     name, line = hit.rsplit(":", 1)
@@ -267,6 +269,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
     assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj)
     assemble_cbush(bdf, grid, xyz, frames, pindex, k0, kj)
+    assemble_dmig(bdf, point, lambda name, default: _param(bdf, name, default), k0, m0)
 
     restrained, spc_set = _spc(bdf, where)
     K0, M0 = k0.matrix(ndof), m0.matrix(ndof)

@@ -29,6 +29,7 @@ from pathlib import Path
 from typing import Any
 
 from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.io.nastran_dmig import selections
 
 # cards that define K, M or the coordinates and are assembled (io/nastran.py)
 SUPPORTED = frozenset({
@@ -40,7 +41,7 @@ SUPPORTED = frozenset({
     "RBE2", "RBAR", "RBE3", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR",
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
     "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "MAT8", "CHEXA", "CPENTA",
-    "CTETRA", "CPYRAM", "PSOLID", "MAT9",
+    "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG",
 })
 # cards that change neither K nor M of a normal-modes analysis
 SKIPPED = frozenset({
@@ -73,11 +74,14 @@ SKIPPED = frozenset({
     "DESVAR", "DVPREL1", "DVPREL2", "DVMREL1", "DVMREL2", "DVCREL1", "DVCREL2", "DRESP1",
     "DRESP2", "DRESP3", "DCONSTR", "DCONADD", "DOPTPRM", "DTABLE", "DEQATN", "DLINK",
     "DVGRID", "DSCREEN", "DVPSURF",
+    # direct matrices that only DMAP reads (aerodynamic WKK, W2GJ, FA2J...); the
+    # structural ones, selected by K2GG and M2GG, are DMIG (io/nastran_dmig.py)
+    "DMI",
 })
 # PARAMs that change K, M or the coordinates of line, spring, mass and rigid elements in
 # normal modes, and are interpreted; the others (shell-only SNORM, nonlinear LGDISP, output
 # and damping PARAMs) are skipped and listed
-PARAMS_READ = frozenset({"WTMASS", "COUPMASS", "AUTOSPC", "K6ROT"})
+PARAMS_READ = frozenset({"WTMASS", "COUPMASS", "AUTOSPC", "K6ROT", "CK2", "CM2"})
 # temperature-dependent tables of supported materials: used only when the case control
 # selects a TEMPERATURE set (MATT1 remark 1), otherwise the MAT1/MAT8 values hold
 TEMPERATURE_TABLES = frozenset({"MATT1", "MATT8"})
@@ -218,8 +222,8 @@ def _card_starts(lines: list[str], origin: list[tuple[str, int]]) -> dict:
             second = text[8:16]
         try:
             cid = int(second.strip())
-        except ValueError:
-            cid = None
+        except ValueError:  # a name (DMIG KX) or blank
+            cid = second.strip().upper() or None
         out.setdefault((card, cid), f"{name}:{number}")
         out.setdefault((card, None), f"{name}:{number}")
     return out
@@ -452,4 +456,8 @@ def _sort_cards(deck: Deck) -> None:
         raise InputError(f"cards that would change K or M and are not supported: {listing}",
                          source=str(deck.path))
     parts = [f"{k} x{v}" for k, v in sorted(skipped.items())] + unused_props + params
+    chosen = {n for sel in selections(bdf).values() for _, n in sel}
+    idle = sorted(set(bdf.dmig) - chosen)
+    if idle:
+        parts.append(f"DMIG {', '.join(idle)} (not selected by K2GG or M2GG)")
     deck.skipped = ", ".join(parts)

@@ -22,7 +22,6 @@ from plates import square_mesh
 from solid_meshes import box_mesh
 
 from eigenupdate.errors import EigenupdateWarning, InputError
-from eigenupdate.model import shells
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.solve.eigen import solve_elastic
 
@@ -234,3 +233,122 @@ def test_plate_held_on_its_bottom_edges_agrees_with_calculix_bricks(tmp_path, tr
     assert abs(below / ours[1] - 1) <= 1e-9  # the plate turned over
     plain = _hz(deck(tmp_path / "p.bdf", 16, 0.0, prop, triangles, "edges"))[0]
     assert plain < 0.8 * ccx[1]
+
+
+MIXED = (f"PSHELL,1,1,{H!r},1,,1,,0.7\n" + STEEL
+         + "PCOMP,2,,0.4\n,2,.004,0.,,3,.006,45.,\n,2,.004,90.\n"
+         + "MAT1,2,7.e10,,.33,2700.\nMAT1,3,1.2e11,,.3,4400.\n")
+
+
+def _mixed(path, t=H, e3=1.2e11, rho2=2700.0, triangles=True):
+    """A unit plate, S2-supported at its grids: PSHELL 1 (T = ``t``, ZOFFS T/2) on x <
+    1/2, PCOMP 2 (three MAT1 plies, symmetric, ZOFFS -0.007) beyond."""
+    text = deck(path, 6, H / 2, MIXED, triangles, "S2").read_text()
+    text = text.replace(f"PSHELL,1,1,{H!r}", f"PSHELL,1,1,{t!r}").replace(
+        "MAT1,3,1.2e11", f"MAT1,3,{e3!r}").replace("2700.", f"{rho2!r}")
+    xyz, el = square_mesh(6, 1.0, triangles)
+    lines = text.splitlines()
+    for k, e in enumerate(el):
+        if xyz[e, 0].mean() > 0.5:
+            i = next(j for j, x in enumerate(lines) if x.startswith(("CQUAD4", "CTRIA3"))
+                     and x.split(",")[1] == str(k + 1))
+            f = lines[i].split(",")
+            f[2], f[-1] = "2", "-0.007"
+            lines[i] = ",".join(f)
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+FIELDS = [("PSHELL", 1, "T"), ("MAT1", 1, "E"), ("MAT1", 1, "RHO"), ("MAT1", 3, "E"),
+          ("MAT1", 2, "RHO")]
+
+
+@pytest.mark.parametrize("triangles", [True, False], ids=["CTRIA3", "CQUAD4"])
+def test_parameters_of_offset_elements(tmp_path, triangles):
+    """Sources: the deck with the values changed in its text and read again (the same
+    element integrals: round-off, 1e-12 of the largest entry), and central differences
+    of K, M (tests/bounds.py; T enters K nonlinearly: T^3 bending, the shear factor).
+    PSHELL T moves the mass, not ZOFFS (NASTRAN keeps the card's offset); a PCOMP
+    material's RHO enters its mass's moments linearly (its plies' centroid is fixed);
+    MAT1 3 is the middle ply of PCOMP 2 alone, so its E is refused there (several
+    materials), E of MAT1 1 (PSHELL) and the densities are parameters."""
+    fields = [f for f in FIELDS if f != ("MAT1", 3, "E")]
+    path = _mixed(tmp_path / "a.bdf", triangles=triangles)
+    nm = _read(path, fields)
+    assert_matrix_derivatives(nm.model)
+    new = [1.1 * H, 1.05 * E, 1.2 * RHO, 3000.0]
+    edited = _mixed(tmp_path / "b.bdf", 1.1 * H, rho2=3000.0, triangles=triangles)
+    text = edited.read_text().replace(f"MAT1,1,{E!r},,{NU!r},{RHO!r}",
+                                      f"MAT1,1,{1.05 * E!r},,{NU!r},{1.2 * RHO!r}")
+    edited.write_text(text)
+    ref = _read(edited).model
+    for a, b in ((nm.model.stiffness(new), ref.stiffness()), (nm.model.mass(new), ref.mass())):
+        assert abs(a - b).max() <= 1e-12 * abs(b).max()
+    with pytest.raises(InputError, match="MAT1 3 field E: not a parameter of PCOMP 2"):
+        _read(path, [("MAT1", 3, "E")])
+
+
+def test_ply_thickness_with_zoffs(tmp_path):
+    """Ply thicknesses of a symmetric PCOMP (LAM=SYM, Z0 blank) on offset elements:
+    the stack stays about its mid-plane, ZOFFS from the grids, so K and M stay sums of
+    fixed matrices times functions of the plies (central differences), and the deck
+    edited to new thicknesses is the model there (round-off)."""
+    prop = "PCOMP,1,,0.3,,,,,SYM\n,2,.002,0.,,2,.003,45.\nMAT1,2,7.e10,,.33,2700.\n"
+    path = deck(tmp_path / "a.bdf", 6, 0.004, prop, True, "S2")
+    nm = _read(path, [("PCOMP", 1, "T1"), ("PCOMP", 1, "T2")])
+    assert_matrix_derivatives(nm.model)
+    edited = tmp_path / "b.bdf"
+    edited.write_text(path.read_text().replace(",2,.002,0.,,2,.003,45.",
+                                               ",2,.0025,0.,,2,.0028,45."))
+    ref = _read(edited).model
+    s = [0.0025, 0.0028]
+    for a, b in ((nm.model.stiffness(s), ref.stiffness()), (nm.model.mass(s), ref.mass())):
+        assert abs(a - b).max() <= 1e-12 * abs(b).max()
+
+
+def test_pcomp_z0_mass_is_the_offset_pshell_mass(tmp_path):
+    """Source: a one-ply PCOMP from the grids up (Z0 = 0) is a PSHELL of its material
+    with ZOFFS = T/2 (MSC/NX: a PCOMP is the equivalent PSHELL with MID4 = B): the same
+    mass (its first and second moments, rigidly moved: round-off), and on CTRIA3 (no
+    incompatible modes) the same stiffness but for the drilling penalty's offset
+    (1e-6 K6ROT G T, which the rigid offset moves and B does not): 1e-5 of K."""
+    pcomp = f"PCOMP,1,0.\n,1,{H!r},0.\n" + STEEL  # NSM 0: a PCOMP's is on the grids
+    for triangles in (True, False):
+        a = _read(deck(tmp_path / "c.bdf", 4, 0.0, pcomp, triangles)).model
+        b = _read(deck(tmp_path / "s.bdf", 4, H / 2,
+                       f"PSHELL,1,1,{H!r},1,,1,{5 / 6!r}\n" + STEEL, triangles)).model
+        assert abs(a.mass() - b.mass()).max() <= 1e-12 * abs(b.mass()).max()
+        if triangles:
+            assert abs(a.stiffness() - b.stiffness()).max() <= 1e-5 * abs(b.stiffness()).max()
+
+
+@pytest.mark.parametrize("triangles", [True, False], ids=["CTRIA3", "CQUAD4"])
+def test_written_bdf_keeps_zoffs(tmp_path, triangles):
+    """Source: the written deck read back (--save-bdf's writer) gives the same K and M
+    at the new thickness, ZOFFS kept on the element cards."""
+    path = _mixed(tmp_path / "a.bdf", triangles=triangles)
+    nm = _read(path, [("PSHELL", 1, "T")])
+    out = tmp_path / "w.bdf"
+    write_updated_bdf(nm, out, {"p0": 1.1 * H})
+    assert out.read_text().count(",-0.007") == path.read_text().count(",-0.007") > 0
+    again = _read(out).model
+    for a, b in ((nm.model.stiffness([1.1 * H]), again.stiffness()),
+                 (nm.model.mass([1.1 * H]), again.mass())):
+        assert abs(a - b).max() <= 1e-12 * abs(b).max()
+
+
+@pytest.mark.parametrize(("card", "line", "words"), [
+    ("CQUAD8", "CQUAD8,1,1,1,2,3,4,5,6\n,7,8,,,,,,.001",
+     r"CQUAD8 1: ZOFFS = 0.001 .* not supported on CQUAD8 \(CQUAD4 and CTRIA3 only\)"),
+    ("CTRIA6", "CTRIA6,1,1,1,2,3,5,6,9\n,,.001",
+     r"CTRIA6 1: ZOFFS = 0.001 .* not supported on CTRIA6 \(CQUAD4 and CTRIA3 only\)"),
+])
+def test_quadratic_elements_with_zoffs_are_refused(tmp_path, card, line, words):
+    """One line naming the element: CQUAD8/CTRIA6 have no offset here."""
+    grids = [f"GRID,{i + 1},,{x!r},{y!r},0." for i, (x, y) in enumerate(
+        [(0., 0.), (1., 0.), (1., 1.), (0., 1.), (.5, 0.), (1., .5), (.5, 1.), (0., .5),
+         (.5, .5)])]
+    path = tmp_path / "q.bdf"
+    path.write_text("BEGIN BULK\n" + PSHELL + "\n".join(grids) + "\n" + line + "\nENDDATA\n")
+    with pytest.raises(InputError, match=words):
+        _read(path)

@@ -316,6 +316,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     n = len(elems)
     xyz_e = xyz[nodes]
     zo = offsets.element_offsets(elems, labels, rows)
+    zk = zo.copy()  # the stiffness's offset: ZOFFS and a PCOMP stack's shift (Z0)
     T = np.array([p["T"] for p in rows])
     E1, E2, G3, E3 = (np.array([p[q] for p in rows]) for q in ("E1", "E2", "G3", "E3"))
     cm, cb, cs, cc = (np.zeros((n, 3, 3)), np.zeros((n, 3, 3)), np.zeros((n, 2, 2)),
@@ -333,15 +334,24 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         for pid in sorted({elems[i].pid for i in lam}):
             sel = lam[[elems[i].pid == pid for i in lam]]
             q, g, t, z0, theta = props[pid]["laminate"]
-            A, B, D, H = laminate.abd(q, g, t, z0, angle[np.searchsorted(lam, sel)][:, None]
-                                      + theta[None, :])
             Tp = props[pid]["T"]
+            # about the stack's mid-plane; Z0 != -T/2 shifts it rigidly (the laminate's
+            # B + s A, D + 2 s B + s^2 A about the reference plane, with CQUAD4's
+            # incompatible modes on the mid-plane: see model/shell_offsets.py)
+            A, B, D, H = laminate.abd(q, g, t, -Tp / 2, angle[np.searchsorted(lam, sel)][
+                :, None] + theta[None, :])
+            shift = z0 + Tp / 2
+            if abs(shift) > 1e-12 * Tp:
+                if k in SHELL_EDGES:
+                    raise InputError(f"PCOMP {pid}: Z0 = {z0:g} != -T/2 (a stack off the "
+                                     f"reference plane) is not supported on CQUAD8/CTRIA6")
+                zk[sel] += shift
             big = np.abs(B).max(axis=(1, 2)) > 1e-9 * np.abs(A).max(axis=(1, 2)) * Tp
             why = ("on CQUAD8/CTRIA6" if k in SHELL_EDGES else "with a ply thickness "
                    "parameter" if ("PCOMP", pid) in pindex else "")
             if big.any() and why:
                 raise InputError(f"PCOMP {pid}: membrane-bending coupling (an unsymmetric "
-                                 f"laminate, or Z0 != -T/2) is not supported {why}")
+                                 f"laminate) is not supported {why}")
             p = props[pid]  # moduli per unit E1, E2, G3 (1 unless one MAT1)
             cm[sel], cb[sel] = A / (Tp * p["E1"]), D / (Tp**3 * p["E2"])
             cc[sel] = np.where(big[:, None, None], B / (Tp**2 * p["E1"]), 0.0)
@@ -405,8 +415,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     def blocks(s: slice) -> list:
         cpl = {"coupling": cc[s]} if np.any(total[shells.COUPLING][s]) else {}
         R, parts = elem.local_parts(xyz_e[s], cm[s], cb[s], cs[s], k6rot, labels[s], **cpl)
-        if np.any(zo[s]):  # NASTRAN's rigid offset of the reference plane
-            parts = shell_offsets.offset_parts(parts, zo[s])
+        if np.any(zk[s]):  # NASTRAN's rigid offset of the reference plane
+            parts = shell_offsets.offset_parts(parts, zk[s])
         hit = {p: c[s] for p, c in base.items() if np.any(c[s])}
         out = [_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6) if hit else None]
         for d in deriv_k:
@@ -437,9 +447,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                     cond = {} if moduli[4] is None else {"condense_with": moduli[4][s]}
                     cache[key] = elem.local_parts(xyz_e[s], *(c[s] for c in moduli[:3]),
                                                   k6rot, labels[s], **cond)
-                    if np.any(zo[s]):
+                    if np.any(zk[s]):
                         cache[key] = (cache[key][0],
-                                      shell_offsets.offset_parts(cache[key][1], zo[s]))
+                                      shell_offsets.offset_parts(cache[key][1], zk[s]))
                 Rb, pb = cache[key]
                 out.append(_to_cd(shells.combine(Rb, pb, {q: mask[s].astype(float)
                                                           for q in moduli[3]}),

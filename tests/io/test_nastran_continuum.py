@@ -323,7 +323,8 @@ def test_ply_angles_turn_with_theta(tmp_path):
 
 
 BAD = [
-    ("PSHELL,1,1,.01,1,,1\n" + STEEL, "CQUAD4,99,1,1,2,3,4,,.005", "CQUAD4 99: ZOFFS"),
+    ("PSHELL,1,1,.01\n" + STEEL, "CQUAD4,99,1,1,2,3,4,,.005",
+     "CQUAD4 99: ZOFFS = 0.005 needs MID2"),
     ("PSHELL,1,1,.01,1,,1\n,,,4\n" + STEEL + "MAT1,4,1.,,.3\n", "", "PSHELL 1: MID4"),
     ("PSHELL,1,2,.01,2,,2\nMAT2,2,1.,0.,0.,1.,0.,1.\n", "", "not supported: MAT2 x1"),
     (_pcomp_props(",1,.01,0.\n", "MEM") + STEEL, "", "PCOMP 1: LAM = MEM"),

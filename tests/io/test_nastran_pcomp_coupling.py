@@ -80,7 +80,8 @@ def test_unsymmetric_pcomp_deck_is_the_direct_model_and_converges_to_navier(tmp_
 
 
 def _offset_deck(e: float) -> str:
-    """One MAT1 ply from the grids' plane up (Z0 = 0): B = Q T^2 / 2."""
+    """One MAT1 ply from the grids' plane up (Z0 = 0): B = Q T^2 / 2 about the grids
+    (read as the ply offset by T/2, model/shell_offsets.py)."""
     return s2_plate(4, f"PCOMP,1,0.\n,3,{H!r},0.\nMAT1,3,{e!r},,.3,7850.\n")
 
 

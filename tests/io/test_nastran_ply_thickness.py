@@ -138,8 +138,9 @@ def test_cquad4_laminate_of_different_plies(tmp_path):
 @pytest.mark.parametrize(("props", "field", "triangles", "words"), [
     # LAM blank [0/90]: one ply thicker makes B != 0
     ("PCOMP,3\n,1,1.e-3,0.,,1,1.e-3,90.\n", "T1", True, "unsymmetric"),
-    # Z0 off -T/2 (refused with or without parameters)
-    ("PCOMP,3,-0.8e-3,,,,,,SYM\n,1,1.e-3,0.\n", "T1", True, "coupling"),
+    # Z0 off -T/2 (a stack off the reference plane, read as an offset; with a ply
+    # parameter refused as any Z0 given)
+    ("PCOMP,3,-0.8e-3,,,,,,SYM\n,1,1.e-3,0.\n", "T1", True, "Z0 given on the card"),
     # Z0 = -T/2 given on the card: NASTRAN keeps it when the ply changes (then B != 0)
     ("PCOMP,3,-1.e-3,,,,,,SYM\n,1,1.e-3,0.\n", "T1", True, "Z0 given on the card"),
     ("PCOMP,3,,,,,,,SYM\n,1,1.e-3,0.\n", "T2", True, "plies 1-1"),

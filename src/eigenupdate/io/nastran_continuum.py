@@ -23,9 +23,10 @@ import math
 import numpy as np
 
 from eigenupdate.errors import InputError
+from eigenupdate.io import nastran_offsets as offsets
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
 from eigenupdate.io.nastran_plies import ply_terms, thickness_terms
-from eigenupdate.model import laminate, shells, solids
+from eigenupdate.model import laminate, shell_offsets, shells, solids
 from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model.assembly import assemble_many
 
@@ -211,7 +212,7 @@ def _pshell(bdf, prop) -> dict:
             "E3": 1.0 if m3 is None else m3.e, "mid1": m1.mid,
             "mid2": 0 if m2 is None else m2.mid, "mid3": 0 if m3 is None else m3.mid,
             "tied3": m3 is not None and (rigid or tied_shear_modulus(m3)),
-            "mass": {m1.mid: (m1.rho or 0.0, T)},
+            "mass": {m1.mid: (m1.rho or 0.0, T)}, "heights": {m1.mid: 0.0},
             "nsm": nsm, "laminate": None}
 
 
@@ -268,6 +269,7 @@ def _pcomp(bdf, prop) -> dict:
         raise InputError(f"{where}: NSM = {nsm:g} makes the mass per area negative")
     out = {"T": T, "E1": 1.0, "E2": 1.0, "G3": 1.0, "E3": 1.0, "mid1": 0, "mid2": 0,
            "mid3": 0, "tied3": False, "mass": mass, "nsm": nsm, "plies": set(mass),
+           "heights": offsets.ply_heights(t, z0, mids),
            "laminate": (np.stack([p[0] for p in plies]), np.stack([p[1] for p in plies]),
                         t, z0, np.radians(angles)),
            "stack": {"q": np.stack([p[0] for p in plies]), "g": np.stack([p[1] for p in plies]),
@@ -335,9 +337,6 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         if e.pid not in props:
             props[e.pid] = _pshell(bdf, prop) if prop.type == "PSHELL" else _pcomp(bdf, prop)
         p = props[e.pid]
-        if e.zoffset:
-            raise InputError(f"{lab}: ZOFFS = {e.zoffset:g} (offset from the grids) is not "
-                             f"supported")
         corner = [x for x in (e.T1, e.T2, e.T3, getattr(e, "T4", None)) if x is not None]
         if e.tflag or any(not math.isclose(x, p["T"], rel_tol=1e-12) for x in corner):
             raise InputError(f"{lab}: corner thicknesses T1-T4 (TFLAG {e.tflag}) differing "
@@ -345,6 +344,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         rows.append(p)
     n = len(elems)
     xyz_e = xyz[nodes]
+    zo = offsets.element_offsets(elems, labels, rows)
+    zk = zo.copy()  # the stiffness's offset: ZOFFS and a PCOMP stack's shift (Z0)
     T = np.array([p["T"] for p in rows])
     E1, E2, G3, E3 = (np.array([p[q] for p in rows]) for q in ("E1", "E2", "G3", "E3"))
     cm, cb, cs, cc = (np.zeros((n, 3, 3)), np.zeros((n, 3, 3)), np.zeros((n, 2, 2)),
@@ -362,15 +363,24 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         for pid in sorted({elems[i].pid for i in lam}):
             sel = lam[[elems[i].pid == pid for i in lam]]
             q, g, t, z0, theta = props[pid]["laminate"]
-            A, B, D, H = laminate.abd(q, g, t, z0, angle[np.searchsorted(lam, sel)][:, None]
-                                      + theta[None, :])
             Tp = props[pid]["T"]
+            # about the stack's mid-plane; Z0 != -T/2 shifts it rigidly (the laminate's
+            # B + s A, D + 2 s B + s^2 A about the reference plane, with CQUAD4's
+            # incompatible modes on the mid-plane: see model/shell_offsets.py)
+            A, B, D, H = laminate.abd(q, g, t, -Tp / 2, angle[np.searchsorted(lam, sel)][
+                :, None] + theta[None, :])
+            shift = z0 + Tp / 2
+            if abs(shift) > 1e-12 * Tp:
+                if k in SHELL_EDGES:
+                    raise InputError(f"PCOMP {pid}: Z0 = {z0:g} != -T/2 (a stack off the "
+                                     f"reference plane) is not supported on CQUAD8/CTRIA6")
+                zk[sel] += shift
             big = np.abs(B).max(axis=(1, 2)) > 1e-9 * np.abs(A).max(axis=(1, 2)) * Tp
             why = ("on CQUAD8/CTRIA6" if k in SHELL_EDGES else "with a ply thickness "
                    "parameter" if ("PCOMP", pid) in pindex else "")
             if big.any() and why:
                 raise InputError(f"PCOMP {pid}: membrane-bending coupling (an unsymmetric "
-                                 f"laminate, or Z0 != -T/2) is not supported {why}")
+                                 f"laminate) is not supported {why}")
             p = props[pid]  # moduli per unit E1, E2, G3 (1 unless one MAT1)
             cm[sel], cb[sel] = A / (Tp * p["E1"]), D / (Tp**3 * p["E2"])
             cc[sel] = np.where(big[:, None, None], B / (Tp**2 * p["E1"]), 0.0)
@@ -379,8 +389,11 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     total = {"membrane": E1 * T, "drilling": E1 * T, "bending": E2 * T**3,
              "shear": G3 * shells.shear_thickness(T, size),
              shells.COUPLING: np.where(np.abs(cc).max(axis=(1, 2)) > 0, E1 * T**2, 0.0)}
-    mass = wtmass * np.array([sum(r * t for r, t in p["mass"].values()) + p["nsm"]
-                              for p in rows])
+    mass = offsets.mass_moments(rows, zo, wtmass)  # (3, n): m0, m1, m2
+    if k in SHELL_EDGES and np.any(mass[1:]):
+        i = int(np.flatnonzero(np.any(mass[1:], axis=0))[0])
+        raise InputError(f"{labels[i]}: its property's mass is not symmetric about its "
+                         f"mid-plane (a first mass moment), not supported on CQUAD8/CTRIA6")
     deriv_k: list[dict] = [{} for _ in kj]
     deriv_m: list = [None for _ in mj]
     mids = {q: np.array([p[q] for p in rows]) for q in ("mid1", "mid2", "mid3")}
@@ -408,9 +421,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                 if mask.any():
                     d[part] = np.where(mask, f, 0.0)
         if "RHO" in slots:
-            thick = np.array([p["mass"].get(cid, (0.0, 0.0))[1] for p in rows])
-            if thick.any():
-                deriv_m[slots["RHO"]] = wtmass * thick
+            d = offsets.rho_moments(rows, zo, wtmass, cid)
+            if d.any():
+                deriv_m[slots["RHO"]] = d
     fixed_shear = np.zeros(n)
     thick = [(*t, None) for t in thickness_terms(elems, rows, pindex, size, wtmass,
                                                    deriv_k, deriv_m, fixed_shear)]
@@ -418,19 +431,21 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     base = {part: tot - sum((values[j] * d[part] for j, d in enumerate(deriv_k) if part in d),
                             np.zeros(n)) for part, tot in total.items()}
     mbase = mass - sum((values[j] * d for j, d in enumerate(deriv_m) if d is not None),
-                       np.zeros(n))
+                       np.zeros((3, n)))
     if thick:  # those elements' parts are all in their terms, but NSM
         on = np.isin([e.pid for e in elems], list({t[0] for t in thick}))
         for c in base.values():
             c[on] = 0.0
         base["shear"] += fixed_shear
-        mbase[on] = wtmass * np.array([p["nsm"] + p.get("fixed_mass", 0.0)
-                                       for p in rows])[on]
+        mbase[:, on] = offsets.at_height(wtmass * np.array(
+            [p["nsm"] + p.get("fixed_mass", 0.0) for p in rows]), zo)[:, on]
     lumped = not consistent
 
     def blocks(s: slice) -> list:
         cpl = {"coupling": cc[s]} if np.any(total[shells.COUPLING][s]) else {}
         R, parts = elem.local_parts(xyz_e[s], cm[s], cb[s], cs[s], k6rot, labels[s], **cpl)
+        if np.any(zk[s]):  # NASTRAN's rigid offset of the reference plane
+            parts = shell_offsets.offset_parts(parts, zk[s])
         hit = {p: c[s] for p, c in base.items() if np.any(c[s])}
         out = [_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6) if hit else None]
         for d in deriv_k:
@@ -439,22 +454,31 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                        if hit else None)
         # a node's lumped block m I is the same in any axes, but the coupled mass's
         # blocks between grids with different CD axes (cylindrical) are not
-        m = _to_cd(elem.shell_mass(xyz_e[s], lumped, labels[s]), frames, nodes[s], 6)
-        out.append(mbase[s, None, None] * m if np.any(mbase[s]) else None)
-        out += [None if d is None or not np.any(d[s]) else d[s, None, None] * m
-                for d in deriv_m]
+        m = [_to_cd(elem.shell_mass(xyz_e[s], lumped, labels[s]), frames, nodes[s], 6)]
+        if np.any(mass[1:, s]) or np.any(zo[s]):  # a mass off the grid plane
+            m += [_to_cd(x, frames, nodes[s], 6)
+                  for x in shell_offsets.offset_mass(xyz_e[s], lumped, labels[s])]
+
+        def moved(c):  # sum of c[i] (n,) times the mass of moment i
+            return sum(c[i][s, None, None] * m[i] for i in range(len(m)))
+
+        out.append(moved(mbase) if np.any(mbase[:, s]) else None)
+        out += [None if d is None or not np.any(d[:, s]) else moved(d) for d in deriv_m]
         cache: dict = {}  # a PCOMP's basis moduli: their parts, once a chunk
         for _, part, mask, _, moduli in thick:
             if not mask[s].any():
                 out.append(None)
-            elif part == "mass":
-                out.append(mask[s, None, None] * m)
+            elif part == "mass":  # on the reference plane, ZOFFS from the grids
+                out.append(moved(offsets.at_height(np.asarray(mask, float), zo)))
             elif moduli is not None:  # a PCOMP's unit basis
                 key = tuple(id(c) for c in (*moduli[:3], moduli[4]))
                 if key not in cache:
                     cond = {} if moduli[4] is None else {"condense_with": moduli[4][s]}
                     cache[key] = elem.local_parts(xyz_e[s], *(c[s] for c in moduli[:3]),
                                                   k6rot, labels[s], **cond)
+                    if np.any(zk[s]):
+                        cache[key] = (cache[key][0],
+                                      shell_offsets.offset_parts(cache[key][1], zk[s]))
                 Rb, pb = cache[key]
                 out.append(_to_cd(shells.combine(Rb, pb, {q: mask[s].astype(float)
                                                           for q in moduli[3]}),

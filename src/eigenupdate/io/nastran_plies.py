@@ -100,6 +100,12 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
                 raise InputError(f"{where}: not a parameter: a thickness change makes the "
                                  f"stack unsymmetric (membrane-bending coupling B != 0); "
                                  f"use LAM=SYM")
+            rho = np.asarray(st["rho"], float)
+            for tt in (t0, t):  # its mass stays on the mid-plane (ZOFFS, moments linear)
+                zz = -tt.sum() / 2 + np.concatenate([[0.0], np.cumsum(tt)])
+                if abs(np.sum(rho * np.diff(zz**2) / 2)) > 1e-9 * rho.max() * tt.sum() ** 2:
+                    raise InputError(f"{where}: not a parameter: the plies' mass is not "
+                                     f"symmetric about the mid-plane (a first mass moment)")
         clear_linear(deriv_k, deriv_m, on)
         # the function of x = the used parameters' values, indexed 0..
         index = tuple(used)

@@ -1,0 +1,88 @@
+"""CQUAD4/CTRIA3 ZOFFS and a shell's mass off its grid plane, for
+:mod:`eigenupdate.io.nastran_continuum` (the formulation: :mod:`eigenupdate.model.
+shell_offsets`).
+
+The mass per area is a sum over components (each material of the property, its plies at
+their centroid; NSM on the reference plane) of m_i at height H_i along the normal from
+the grids, H_i = ZOFFS + the material's centroid above the reference plane (0 for a
+PSHELL, and for a PCOMP whose plies of each material are symmetric about its mid-plane).
+The three coefficients m0, m1, m2 (sum m_i H_i^k) are linear in each material's RHO, so
+``MAT1 RHO`` stays a linear parameter; a PSHELL's T moves its mass, not its height (ZOFFS
+stays where the card puts it, as in NASTRAN), so T stays one too.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from eigenupdate.errors import InputError
+from eigenupdate.io.nastran_fields import in_range
+
+OFFSET_ELEMENTS = ("CQUAD4", "CTRIA3")
+
+
+def ply_heights(t: np.ndarray, z0: float, mids) -> dict:
+    """Centroid height above the reference plane of each material's plies
+    ({mid: h}) of a PCOMP whose plies ``t`` start at ``z0``.
+
+    >>> ply_heights(np.array([1.0, 1.0, 2.0]), -2.0, [5, 5, 6])
+    {5: -1.0, 6: 1.0}
+    """
+    z = z0 + np.concatenate([[0.0], np.cumsum(t)])
+    mid = (z[:-1] + z[1:]) / 2
+    out: dict = {}
+    for m in dict.fromkeys(int(x) for x in mids):
+        on = np.array([int(x) == m for x in mids])
+        h = float(np.sum(t[on] * mid[on]) / np.sum(t[on]))
+        out[m] = 0.0 if abs(h) <= 1e-12 * (z[-1] - z[0]) else h  # its rounding: on it
+    return out
+
+
+def element_offsets(elems, labels: list[str], rows: list[dict]) -> np.ndarray:
+    """ZOFFS (n,) of the elements: CQUAD4 and CTRIA3 only, with a PSHELL's MID2 given
+    (NASTRAN requires MID1 and MID2 with ZOFFS); anything else is refused naming the
+    element."""
+    z = np.zeros(len(elems))
+    for i, (e, lab, p) in enumerate(zip(elems, labels, rows, strict=True)):
+        if not e.zoffset:
+            continue
+        value = in_range(e.zoffset, f"{lab}: ZOFFS")
+        if e.type not in OFFSET_ELEMENTS:  # a curved CTRIA6's facets keep its type
+            raise InputError(f"{lab}: ZOFFS = {value:g} (offset from the grids) is not "
+                             f"supported on {e.type} (CQUAD4 and CTRIA3 only)")
+        if p["laminate"] is None and not p["mid2"]:
+            raise InputError(f"{lab}: ZOFFS = {value:g} needs MID2 (bending) on PSHELL "
+                             f"{e.pid} (NASTRAN requires MID1 and MID2 with ZOFFS)")
+        z[i] = value
+    return z
+
+
+def heights(rows: list[dict], zo: np.ndarray) -> list[dict]:
+    """Per element, each material's height above the grids ({mid: H})."""
+    return [{m: h + z for m, h in p["heights"].items()} for p, z in zip(rows, zo,
+                                                                      strict=True)]
+
+
+def mass_moments(rows: list[dict], zo: np.ndarray, wtmass: float) -> np.ndarray:
+    """(3, n): WTMASS times m0, m1, m2 (mass per area and its first and second moments
+    about the grid plane) of each element."""
+    out = np.zeros((3, len(rows)))
+    for i, (p, H) in enumerate(zip(rows, heights(rows, zo), strict=True)):
+        parts = [(r * t, H[m]) for m, (r, t) in p["mass"].items()] + [(p["nsm"], zo[i])]
+        out[:, i] = [sum(m * h**k for m, h in parts) for k in range(3)]
+    return wtmass * out
+
+
+def rho_moments(rows: list[dict], zo: np.ndarray, wtmass: float, mid: int) -> np.ndarray:
+    """(3, n): d(m0, m1, m2) / d RHO of material ``mid`` (WTMASS t_j H_j^k)."""
+    out = np.zeros((3, len(rows)))
+    for i, (p, H) in enumerate(zip(rows, heights(rows, zo), strict=True)):
+        if mid in p["mass"]:
+            t = p["mass"][mid][1]
+            out[:, i] = [t * H[mid] ** k for k in range(3)]
+    return wtmass * out
+
+
+def at_height(weights: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """(3, n) moments of a mass ``weights`` (n,) on the reference plane, z above the grids."""
+    return np.stack([weights, weights * z, weights * z * z])

@@ -348,7 +348,11 @@ def pbarl_section(prop) -> tuple:
         raise InputError(f"{where}: GROUP {prop.group} (a user section library) is not "
                          f"supported; only the standard sections of MSCBML0")
     if shape not in PBARL_SHAPES:
-        why = " (unsymmetric: I12 != 0)" if shape == "L" else ""
+        # L and HAT: MSC's axes for them (I12's sign, where the shear centre sits) are
+        # only in its figures, and pyNastran's I1, I2 are wrong (L) or absent (HAT)
+        why = {"L": " (its section axes, which give I12's sign, are not established)",
+               "HAT": " (its section axes and shear centre are not established)"
+               }.get(shape, "")
         raise InputError(f"{where}: section type {shape}{why} is not supported (supported: "
                          f"{', '.join(PBARL_SHAPES)})")
     dim, nsm = prop.dim, prop.nsm

@@ -167,8 +167,10 @@ def test_material_parameter_on_pbarl_members(tmp_path):
 
 @pytest.mark.parametrize("card,message", [
     ("PBARL,1,1,,HAT\n,.1,.05,.005,.02",
-     "PBARL 1: section type HAT is not supported (supported: ROD, TUBE, BAR, BOX, I, T, CHAN)"),
-    ("PBARL,1,1,,L\n,.1,.15,.01,.012", "PBARL 1: section type L (unsymmetric: I12 != 0"),
+     "PBARL 1: section type HAT (its section axes and shear centre are not established) is "
+     "not supported (supported: ROD, TUBE, BAR, BOX, I, T, CHAN)"),
+    ("PBARL,1,1,,L\n,.1,.15,.01,.012",
+     "PBARL 1: section type L (its section axes, which give I12's sign, are not established)"),
     ("PBARL,1,1,MYLIB,ROD\n,.03", "PBARL 1: GROUP MYLIB (a user section library)"),
     ("PBARL,1,1,,BOX\n,.1,.2,.01,.06", "PBARL 1: section BOX needs DIM1 > 2 DIM4"),
 ], ids=["HAT", "L", "group", "BOX-dims"])

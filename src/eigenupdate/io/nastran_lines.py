@@ -77,10 +77,8 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
             g0.append(-1 if e.g0 is None else grid(e.g0, lab))
             xv.append(zero if e.g0 is not None else e.x)
-            if not consistent and (np.any(e.wa) or np.any(e.wb)):
-                # lumped end masses on rigid offsets give a singular, non-diagonal M
-                raise InputError(f"{lab}: offsets WA/WB need consistent mass "
-                                 f"(PARAM,COUPMASS,1) here")
+            # lumped mass too: the end masses sit at the offset ends, carried rigidly to
+            # the grids (NASTRAN-95 mis/bard.f; tests/io/test_nastran_bar_offset_mass.py)
             wa.append(e.wa)
             wb.append(e.wb)
             sec.append(section((prop.type, e.pid), lambda p=prop: (
@@ -350,7 +348,11 @@ def pbarl_section(prop) -> tuple:
         raise InputError(f"{where}: GROUP {prop.group} (a user section library) is not "
                          f"supported; only the standard sections of MSCBML0")
     if shape not in PBARL_SHAPES:
-        why = " (unsymmetric: I12 != 0)" if shape == "L" else ""
+        # L and HAT: MSC's axes for them (I12's sign, where the shear centre sits) are
+        # only in its figures, and pyNastran's I1, I2 are wrong (L) or absent (HAT)
+        why = {"L": " (its section axes, which give I12's sign, are not established)",
+               "HAT": " (its section axes and shear centre are not established)"
+               }.get(shape, "")
         raise InputError(f"{where}: section type {shape}{why} is not supported (supported: "
                          f"{', '.join(PBARL_SHAPES)})")
     dim, nsm = prop.dim, prop.nsm

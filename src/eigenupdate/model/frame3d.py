@@ -23,7 +23,9 @@ Mass formulations (MSC/NX Nastran; PARAM COUPMASS > 0 selects the coupled one):
 and torsion; *lumped* puts half the element's translational (and torsional) mass at each
 end and leaves the bending rotations massless. A rod's coupled mass is NASTRAN's own,
 axial [5 1; 1 5] / 12 and lumped transverse. The caller chooses i_x: NASTRAN's CBAR has
-none, its CBEAM rho (I1 + I2) (+ NSI).
+none, its CBEAM rho (I1 + I2) (+ NSI). With offsets the lumped end masses sit at the
+offset ends and ``element_transform`` carries them rigidly to the grids, as NASTRAN-95's
+conventional bar mass does (mis/bard.f: m [[1, -[w]x], [[w]x, |w|^2 1 - w w^T]]).
 """
 
 from __future__ import annotations

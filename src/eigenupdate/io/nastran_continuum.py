@@ -125,7 +125,6 @@ def _mat1(bdf, mid, where: str):
     return mat
 
 
-
 _MAT9 = ("G11", "G12", "G13", "G14", "G15", "G16", "G22", "G23", "G24", "G25", "G26",
          "G33", "G34", "G35", "G36", "G44", "G45", "G46", "G55", "G56", "G66")
 
@@ -134,12 +133,9 @@ def _mat9(bdf, mat, cordm, where: str) -> np.ndarray:
     """MAT9's moduli (xx, yy, zz, xy, yz, zx; engineering shear, MSC QRG MAT9) in basic,
     turned from the PSOLID's rectangular CORDM (0 or blank: basic)."""
     label = f"MAT9 {mat.mid}"
-    c = np.zeros((6, 6))
-    k = 0
-    for i in range(6):
-        for j in range(i, 6):
-            c[i, j] = c[j, i] = in_range(getattr(mat, _MAT9[k]) or 0.0, f"{label}: {_MAT9[k]}")
-            k += 1
+    c = np.zeros((6, 6))  # _MAT9 lists the upper triangle row by row
+    c[np.triu_indices(6)] = [in_range(getattr(mat, g) or 0.0, f"{label}: {g}") for g in _MAT9]
+    c += np.triu(c, 1).T
     if mat.rho is not None:
         in_range(mat.rho, f"{label}: RHO")
     if (mat.rho or 0.0) < 0:
@@ -597,9 +593,5 @@ def _add(trip, mat, per_node: int) -> None:
 
 def _add_all(mats, k0, kj, m0, mj, per_node: int) -> None:
     """Add assembled [K0, K_1.., M0, M_1..] (``assemble_many``'s order) to their triplets."""
-    _add(k0, mats[0], per_node)
-    for j in range(len(kj)):
-        _add(kj[j], mats[1 + j], per_node)
-    _add(m0, mats[1 + len(kj)], per_node)
-    for j in range(len(mj)):
-        _add(mj[j], mats[2 + len(kj) + j], per_node)
+    for trip, mat in zip([k0, *kj, m0, *mj], mats, strict=False):  # then the caller's own
+        _add(trip, mat, per_node)

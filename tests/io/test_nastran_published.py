@@ -81,6 +81,21 @@ def test_mpc_on_a_scalar_point_reproduces_msc():
     assert np.allclose(got, np.sqrt([0.25, 3.0]) / (2 * np.pi), rtol=1e-10)
 
 
+def test_msc_flutter_decks_reproduce_msc():
+    """Source: MSC Nastran's printed real eigenvalues of two flutter (SOL 145) decks of
+    pyNastran's models/aero (BSD-3-Clause; pt145.csv, bah_plane.csv name the f06s): pt145,
+    a CBAR beam with CMASS2s (all 27 printed modes), and the BAH wing, CBARs with CONM2s
+    on RBE2 and RBAR arms, held by SPC1 1246 at its root so that heave and pitch are
+    rigid (modes 3-8). The aerodynamic cards change neither K nor M. Bars, springs, masses
+    and rigid elements: the discrete model is the cards', NASTRAN prints 7 digits: 1e-5
+    (measured worst 4.6e-7 and 2.3e-7)."""
+    for deck, table in (("pt145.bdf", "pt145.csv"), ("bah_plane/bah_plane.bdf",
+                                                      "bah_plane.csv")):
+        want = np.loadtxt(DATA / table, delimiter=",", comments="#", skiprows=4)[:, 1]
+        got = _hz(DATA / deck, want.size)
+        assert np.max(np.abs(got / want - 1)) < 1e-5, deck
+
+
 # a cantilever of 4 CBARs along the x axis of CORD2R 7, which is the basic system turned
 # 90 degrees about z (x7 = basic y): the bar lies along basic y; the SPC1 13 holds the
 # axial and z motion if CD is 7 (the bar bends in basic x-y), both bending ones if not

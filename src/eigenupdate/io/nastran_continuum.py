@@ -242,10 +242,12 @@ def _ply(bdf, mid: int, where: str) -> tuple[np.ndarray, np.ndarray, float]:
 
 
 def _pcomp(bdf, prop) -> dict:
-    where = f"PCOMP {prop.pid}"
+    """A PCOMP, or a PCOMPG (the same laminate, its plies named by global ids: MSC QRG)."""
+    where = f"{prop.type} {prop.pid}"
     lam = (prop.lam or "").strip().upper()
-    if lam not in ("", "SYM"):
-        raise InputError(f"{where}: LAM = {lam} is not supported (blank or SYM)")
+    if lam not in (("", "SYM") if prop.type == "PCOMP" else ("",)):
+        raise InputError(f"{where}: LAM = {lam} is not supported (blank"
+                         f"{' or SYM' if prop.type == 'PCOMP' else ''})")
     t = np.asarray(prop.get_thicknesses(), float)
     if not np.all(t > 0):
         raise InputError(f"{where}: every ply thickness T must be > 0, got {t.tolist()}")
@@ -265,7 +267,7 @@ def _pcomp(bdf, prop) -> dict:
         raise InputError(f"{where}: NSM = {nsm:g} makes the mass per area negative")
     out = {"T": T, "E1": 1.0, "E2": 1.0, "G3": 1.0, "E3": 1.0, "mid1": 0, "mid2": 0,
            "mid3": 0, "tied3": False, "mass": mass, "nsm": nsm, "plies": set(mass),
-           "heights": offsets.ply_heights(t, z0, mids),
+           "card": prop.type, "heights": offsets.ply_heights(t, z0, mids),
            "laminate": (np.stack([p[0] for p in plies]), np.stack([p[1] for p in plies]),
                         t, z0, np.radians(angles)),
            "stack": {"q": np.stack([p[0] for p in plies]), "g": np.stack([p[1] for p in plies]),
@@ -328,8 +330,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     rows = []
     for e, lab in zip(elems, labels, strict=True):
         prop = bdf.properties.get(e.pid)
-        if prop is None or prop.type not in ("PSHELL", "PCOMP"):
-            raise InputError(f"{lab}: property PSHELL or PCOMP {e.pid} is not defined")
+        if prop is None or prop.type not in ("PSHELL", "PCOMP", "PCOMPG"):
+            raise InputError(f"{lab}: property PSHELL, PCOMP or PCOMPG {e.pid} is not defined")
         if e.pid not in props:
             props[e.pid] = _pshell(bdf, prop) if prop.type == "PSHELL" else _pcomp(bdf, prop)
         p = props[e.pid]
@@ -365,17 +367,17 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             # incompatible modes on the mid-plane: see model/shell_offsets.py)
             A, B, D, H = laminate.abd(q, g, t, -Tp / 2, angle[np.searchsorted(lam, sel)][
                 :, None] + theta[None, :])
-            shift = z0 + Tp / 2
+            shift, card = z0 + Tp / 2, props[pid]["card"]
             if abs(shift) > 1e-12 * Tp:
                 if k in SHELL_EDGES:
-                    raise InputError(f"PCOMP {pid}: Z0 = {z0:g} != -T/2 (a stack off the "
+                    raise InputError(f"{card} {pid}: Z0 = {z0:g} != -T/2 (a stack off the "
                                      f"reference plane) is not supported on CQUAD8/CTRIA6")
                 zk[sel] += shift
             big = np.abs(B).max(axis=(1, 2)) > 1e-9 * np.abs(A).max(axis=(1, 2)) * Tp
             why = ("on CQUAD8/CTRIA6" if k in SHELL_EDGES else "with a ply thickness "
                    "parameter" if ("PCOMP", pid) in pindex else "")
             if big.any() and why:
-                raise InputError(f"PCOMP {pid}: membrane-bending coupling (an unsymmetric "
+                raise InputError(f"{card} {pid}: membrane-bending coupling (an unsymmetric "
                                  f"laminate) is not supported {why}")
             p = props[pid]  # moduli per unit E1, E2, G3 (1 unless one MAT1)
             cm[sel], cb[sel] = A / (Tp * p["E1"]), D / (Tp**3 * p["E2"])
@@ -402,7 +404,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         mixed = sorted({e.pid for e, p in zip(elems, rows, strict=True)
                         if cid in p.get("plies", ()) and p["mid1"] != cid})
         if mixed and "E" in slots:
-            raise InputError(f"MAT1 {cid} field E: not a parameter of PCOMP {mixed[0]}, whose "
+            raise InputError(f"MAT1 {cid} field E: not a parameter of "
+                             f"{bdf.properties[mixed[0]].type} {mixed[0]}, whose "
                              f"plies use several materials (its condensed membrane is not "
                              f"linear in one of them)")
         if "E" in slots:

@@ -40,7 +40,8 @@ SUPPORTED = frozenset({
     "SPC", "SPC1", "SPCADD", "ASET", "ASET1", "OMIT", "OMIT1", "SUPORT", "PARAM", "ENDDATA",
     "RBE2", "RBAR", "RBE3", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR",
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
-    "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "MAT8", "CHEXA", "CPENTA",
+    "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "CHEXA",
+    "CPENTA",
     "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG",
 })
 # cards that change neither K nor M of a normal-modes analysis
@@ -127,8 +128,8 @@ def _quiet_bdf():
 # MAT1 G or NU (which follows E), PCOMP Z0 (blank: -T/2, moving with the plies), GRID CP
 # and CD (blank: GRDSET's, an explicit 0 is the basic system), MAT8 G1Z/G2Z (blank:
 # NASTRAN's rigid transverse shear; pyNastran puts 1e8)
-_BLANKS = {"MAT1": (("G", 3), ("NU", 4)), "PCOMP": (("Z0", 2),), "GRID": (("CP", 2), ("CD", 6)),
-           "MAT8": (("G1Z", 6), ("G2Z", 7))}
+_BLANKS = {"MAT1": (("G", 3), ("NU", 4)), "PCOMP": (("Z0", 2),), "PCOMPG": (("Z0", 2),),
+           "GRID": (("CP", 2), ("CD", 6)), "MAT8": (("G1Z", 6), ("G2Z", 7))}
 
 
 class _Blanks:

@@ -308,3 +308,33 @@ def test_design_limits_named_by_their_own_key(tmp_path, run_cli, line, key):
                                                     f'criterion = "A"\n{line}'))
     code, _, err = run_cli("design", study, "-o", tmp_path / "p.toml")
     _one_line(code, err, f"design.{key}: must be")
+
+
+def _tree(d: Path) -> dict:
+    return {p: p.read_bytes() for p in sorted(d.rglob("*")) if p.is_file()}
+
+
+def test_simulate_frf_does_not_replace_measured_frfs(tmp_path, run_cli):
+    """`simulate-frf truth.toml -o frf` replaced the ten UFF files that study.toml (another
+    study) reads as its measured FRFs, exit 0; files of the names it writes are now
+    refused unless --force, and the study's own inputs even then."""
+    shutil.copytree(FRF_EXAMPLE, tmp_path / "ex")
+    ex = tmp_path / "ex"
+    before = _tree(ex)
+    args = ["simulate-frf", ex / "truth.toml", "-o", ex / "frf", "--input", "11", "--outputs",
+            "1", "--fmax", "400", "--df", "2"]
+    code, _, err = run_cli(*args)
+    _one_line(code, err, "frf: -o: already holds base.uff, 0.2_kg_at_1.uff",
+              "and 7 more", "--force")
+    assert _tree(ex) == before
+    code, _, err = run_cli("simulate-frf", ex / "study.toml", *args[2:], "--force")
+    _one_line(code, err, "frf/base.uff", "is an input of this run")
+    assert _tree(ex) == before
+    # another directory's other files are no obstacle, --force replaces
+    (tmp_path / "new").mkdir()
+    (tmp_path / "new" / "notes.txt").write_text("x")
+    assert run_cli("simulate-frf", ex / "truth.toml", "-o", tmp_path / "new",
+                   *args[4:])[0] == 0
+    code, out, err = run_cli(*args, "--force")
+    assert code == 0, err
+    assert '"base" = "frf/base.uff"' in out and _tree(ex) != before

@@ -338,3 +338,22 @@ def test_simulate_frf_does_not_replace_measured_frfs(tmp_path, run_cli):
     code, out, err = run_cli(*args, "--force")
     assert code == 0, err
     assert '"base" = "frf/base.uff"' in out and _tree(ex) != before
+
+
+PANEL = ROOT / "examples" / "stiffened_panel"
+
+
+@pytest.mark.nastran
+@pytest.mark.parametrize("target", ["mesh.bdf", "link.bdf"])
+def test_save_bdf_refuses_a_file_the_deck_includes(tmp_path, run_cli, target):
+    """`update --save-bdf mesh.bdf` on the stiffened panel (panel.bdf INCLUDEs mesh.bdf)
+    replaced the mesh with the whole updated deck, exit 0: INCLUDEd files were not among
+    the run's inputs. A hard link to it is the same file."""
+    pytest.importorskip("pyNastran")
+    shutil.copytree(PANEL, tmp_path / "ex")
+    ex = tmp_path / "ex"
+    (ex / "link.bdf").hardlink_to(ex / "mesh.bdf")
+    before = _tree(ex)
+    code, out, err = run_cli("update", ex / "study.toml", "--save-bdf", ex / target)
+    _one_line(code, err, target, "--save-bdf", "is an input of this run")
+    assert out == "" and _tree(ex) == before

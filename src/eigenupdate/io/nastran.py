@@ -90,6 +90,7 @@ class NastranModel:
     skipped: str = ""  # cards skipped because they change neither K nor M
     dependent: dict = field(default_factory=dict)  # coordinate -> rigid element / MPC
     text: list = field(default_factory=list)  # the deck's lines, INCLUDEs expanded
+    included: list = field(default_factory=list)  # the files its INCLUDEs read
     omitted: frozenset = frozenset()  # coordinates reduced out by ASET/OMIT
 
     def grid_dof(self, grid: int, component: int) -> int:
@@ -149,6 +150,7 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
                       EigenupdateWarning, stacklevel=2)
     nm.skipped = deck.skipped
     nm.text = deck.text
+    nm.included = deck.included
     return nm
 
 

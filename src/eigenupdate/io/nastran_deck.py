@@ -95,6 +95,7 @@ class Deck:
     skipped: str = ""  # the note: "FORCE x2, MDLPRM x1, PARAM POST"
     temperature: bool = False  # the case control selects a TEMPERATURE set
     text: list = field(default_factory=list)  # every line, INCLUDEs expanded
+    included: list = field(default_factory=list)  # the files INCLUDEs read (resolved)
     bulk: int = 0  # index in ``text`` of the first line given to pyNastran
 
     def where(self, card: str, cid: int | None = None) -> str:
@@ -156,9 +157,11 @@ MAX_INCLUDE_DEPTH = 100
 _INCLUDE = re.compile(r"^\s*INCLUDE\s*(.*)$", re.IGNORECASE)
 
 
-def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tuple) -> None:
+def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tuple,
+            included: list | None = None) -> None:
     """Append ``path``'s lines to ``out`` with every INCLUDE replaced by its file's lines
-    (relative to ``path``'s directory); ``origin[i]`` is where ``out[i]`` came from."""
+    (relative to ``path``'s directory); ``origin[i]`` is where ``out[i]`` came from, and
+    ``included`` collects the files included."""
     if path.exists() and not path.is_file():  # a directory, /dev/zero, a pipe: unbounded
         raise InputError(f"cannot read {path}: not a regular file")
     try:
@@ -195,7 +198,9 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
         if not target.is_file():
             raise InputError(f"{path.name}:{start + 1}: INCLUDE file {name} not found "
                              f"(looked in {path.parent})")
-        _expand(target, out, origin, (*stack, target))
+        if included is not None:
+            included.append(target)
+        _expand(target, out, origin, (*stack, target), included)
 
 
 _FIRST = re.compile(r"^([A-Za-z][A-Za-z0-9]*)(\*?)")
@@ -237,7 +242,8 @@ def load_deck(path: str | Path) -> Deck:
     path = Path(path)
     lines: list[str] = []
     origin: list[tuple[str, int]] = []
-    _expand(path.resolve(), lines, origin, (path.resolve(),))
+    included: list[Path] = []
+    _expand(path.resolve(), lines, origin, (path.resolve(),), included)
     text = list(lines)
     upper = [x.upper() for x in lines]
     has_cend = any(x.strip().startswith("CEND") for x in upper)
@@ -278,7 +284,8 @@ def load_deck(path: str | Path) -> Deck:
                          source=str(path)) from None
     _grdset_defaults(bdf)
     _implicit_spoints(bdf)
-    deck = Deck(path, bdf, _card_starts(lines, origin), text=text, bulk=first,
+    deck = Deck(path, bdf, _card_starts(lines, origin), text=text, included=included,
+                bulk=first,
                 temperature=temperature)
     _sort_cards(deck)
     return deck

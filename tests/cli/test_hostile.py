@@ -357,3 +357,16 @@ def test_save_bdf_refuses_a_file_the_deck_includes(tmp_path, run_cli, target):
     code, out, err = run_cli("update", ex / "study.toml", "--save-bdf", ex / target)
     _one_line(code, err, target, "--save-bdf", "is an input of this run")
     assert out == "" and _tree(ex) == before
+
+
+@pytest.mark.nastran
+def test_a_parameter_on_a_blank_field_is_one_line(tmp_path, run_cli):
+    """PSHELL T blank (thicknesses from the elements) with T a parameter: TypeError from
+    float(None), a traceback and exit 1; without the parameter the blank T was already
+    refused by the shell reader."""
+    pytest.importorskip("pyNastran")
+    shutil.copytree(PANEL, tmp_path / "ex")
+    deck = tmp_path / "ex" / "panel.bdf"
+    deck.write_text(deck.read_text().replace("PSHELL,1,1,0.002,1,,1", "PSHELL,1,1,,1,,1"))
+    code, _, err = run_cli("check", tmp_path / "ex" / "study.toml")
+    _one_line(code, err, "panel.bdf: line 7: PSHELL 1 field T is blank")

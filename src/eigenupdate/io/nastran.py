@@ -484,7 +484,11 @@ def _check_fields(bdf, fields: list[CardField], names: list[str]) -> dict:
 
 def _field_value(bdf, f: CardField) -> float:
     card = stores(bdf)[f.card][f.id]
-    v = get_field(card, FIELDS[f.card][f.field])
+    try:
+        v = get_field(card, FIELDS[f.card][f.field])
+    except TypeError:  # pyNastran keeps a blank field as None
+        raise InputError(f"{f.card} {f.id} field {f.field} is blank: a parameter starts "
+                         f"from the card's value; give one") from None
     if not v >= 0:
         raise InputError(f"{f.card} {f.id} field {f.field} = {v:g} is negative (a parameter "
                          f"must be >= 0)")

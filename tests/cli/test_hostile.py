@@ -2,6 +2,7 @@
 accepted range (1e-100, 1e100) on a model with a zero parameter matrix, for every
 command that computes with them. Each must end with exit 0, 1 or 2 and one line."""
 
+import contextlib
 import json
 import re
 import shutil
@@ -370,3 +371,31 @@ def test_a_parameter_on_a_blank_field_is_one_line(tmp_path, run_cli):
     deck.write_text(deck.read_text().replace("PSHELL,1,1,0.002,1,,1", "PSHELL,1,1,,1,,1"))
     code, _, err = run_cli("check", tmp_path / "ex" / "study.toml")
     _one_line(code, err, "panel.bdf: line 7: PSHELL 1 field T is blank")
+
+
+@pytest.mark.parametrize("reply, why", [(b"1" * 64, "MemoryError"), (b"\xff" * 64, "")])
+def test_a_scheduler_address_where_another_server_answers(tmp_path, run_cli, reply, why):
+    """A port where something else listens (found at tcp://10.255.255.1:8786 here): Dask
+    read 8 bytes of its reply as a frame length, asked NumPy for 3 EiB, and the command
+    said 'study.toml: out of memory' (b"1" * 8 is 3.5e18); 0xff... is beyond NumPy's
+    largest dimension (a ValueError, reported as 'cannot connect')."""
+    import socket
+    import threading
+
+    srv = socket.create_server(("127.0.0.1", 0))
+
+    def answer():
+        with contextlib.suppress(OSError):
+            conn, _ = srv.accept()
+            conn.sendall(reply)
+            conn.recv(1)  # until the client goes
+            conn.close()
+
+    threading.Thread(target=answer, daemon=True).start()
+    try:
+        code, _, err = run_cli("montecarlo", FIG2_STUDY, "--trials", "3", "--truth",
+                               ROOT / "examples" / "paper_fig2" / "truth.toml",
+                               "--scheduler", f"tcp://127.0.0.1:{srv.getsockname()[1]}")
+    finally:
+        srv.close()
+    _one_line(code, err, "--scheduler", "answered, but not as a Dask scheduler", why)

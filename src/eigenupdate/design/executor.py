@@ -18,7 +18,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from eigenupdate.choices import SCHEDULER_ENV
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, shorten
 
 Progress = Callable[[int, int], None]
 
@@ -90,9 +90,14 @@ class DaskExecutor:
         if address:
             try:
                 self.client = Client(address, timeout="10s")
-            except (OSError, TimeoutError, ValueError) as exc:
+            except (OSError, TimeoutError) as exc:
                 raise InputError(f"cannot connect to the Dask scheduler: {exc}",
                                  field="--scheduler") from None
+            except Exception as exc:  # another server's reply read as Dask's handshake: a
+                # frame length of exabytes (MemoryError: 'out of memory'), too many dimensions
+                raise InputError(f"{address} answered, but not as a Dask scheduler "
+                                 f"({type(exc).__name__}: {shorten(str(exc), 80)}); is "
+                                 f"that the scheduler's port?", field="--scheduler") from None
         else:
             # one core per worker: its sparse solves must not start threads of their own
             self.cluster = LocalCluster(n_workers=n_workers or os.cpu_count() or 1,

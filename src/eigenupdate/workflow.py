@@ -27,7 +27,7 @@ from eigenupdate.design.montecarlo import (  # its own imports are light
     MIN_CONVERGED,
     MonteCarloResult,
 )
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, shorten
 from eigenupdate.identify.checked import checked_update
 from eigenupdate.identify.identifiability import IdentifiabilityReport, check
 from eigenupdate.identify.updating import UpdateResult
@@ -365,6 +365,18 @@ def _same_data(res: UpdateResult, study: Study, path) -> None:
                              f"{now_adds.get(name, 'no such configuration')}: a result of "
                              f"another version of the study; update again",
                              source=str(path), field=f"perturbations.{name}")
+    updated = [p.name for p in study.model.parameters if p.update]
+    if res.names != updated:
+        raise InputError(f"the saved update updated {res.names}, the study updates "
+                         f"{updated}: a result of another version of the study; update "
+                         f"again", source=str(path), field="names")
+    rows = {(c.name, k) for c in study.configurations for k in study.modes}
+    if set(res.rows) != rows:
+        diff = [f"{what} {shorten(str(sorted(v)), 80)}" for what, v in (
+            ("also", set(res.rows) - rows), ("not", rows - set(res.rows))) if v]
+        raise InputError(f"the saved update fitted other modes than the study uses "
+                         f"({'; '.join(diff)}): a result of another version of the study; "
+                         f"update again", source=str(path), field="frequencies")
     if study.frequencies is None or not Path(study.frequencies).is_file():
         return
     now = study.measurements()

@@ -399,3 +399,24 @@ def test_a_scheduler_address_where_another_server_answers(tmp_path, run_cli, rep
     finally:
         srv.close()
     _one_line(code, err, "--scheduler", "answered, but not as a Dask scheduler", why)
+
+
+@pytest.mark.parametrize("old, new, words", [
+    ("modes = [1, 2, 3]", "modes = [1, 2]", ["fitted other modes than the study uses",
+                                              "also [('0.35 kg at 1', 3)"]),
+    ("value = 6.000e+05  # N/m", "value = 6.0e5\nupdate = false",
+     ["names: the saved update updated ['m1'", "'k5', 'k6'], the study updates"])])
+def test_a_result_of_other_modes_or_updated_parameters_is_refused_by_the_report(
+        tmp_path, run_cli, monkeypatch, old, new, words):
+    """Saved, then the study's modes cut to [1, 2] or k6 held fixed: the report showed the
+    result (mode 3 rows, k6 updated) under the edited study, exit 0."""
+    monkeypatch.chdir(tmp_path)
+    for name in ("study.toml", "measured.csv"):
+        shutil.copy(ROOT / "examples" / "paper_fig2" / name, tmp_path / name)
+    assert run_cli("update", "study.toml", "--save", "r.json")[0] == 0
+    study = tmp_path / "study.toml"
+    study.write_text(study.read_text().replace(old, new, 1))
+    code, _, err = run_cli("report", "study.toml", "--saved-only", "--result", "r.json",
+                           "-o", "r.html")
+    _one_line(code, err, "r.json", *words)
+    assert not (tmp_path / "r.html").exists()

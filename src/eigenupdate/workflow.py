@@ -14,6 +14,7 @@ and returns a typed result, so a notebook does what ``eigenupdate <command>`` do
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, fields, replace
@@ -389,6 +390,30 @@ def _same_data(res: UpdateResult, study: Study, path) -> None:
                              f"data; update again", source=str(path), field="frequencies")
 
 
+SAME_MODEL_RTOL = 1e-6
+"""A saved update's initial frequencies and the study's model's agree to this: far above
+the solvers' rounding (1e-8 relative on stiff models, README "Numerical notes") and far
+below what an edit of the model does (a spring moved: several per cent)."""
+
+
+def _same_model(res: UpdateResult, study: Study, path) -> None:
+    """The saved update started from the study's model as it is now: with the same
+    initial values but a spring moved (k5 at [1, 4] for [2, 4]) the report drew the
+    receptances and sweeps of values fitted to another model."""
+    if not res.rows:
+        return
+    top = max(k for _, k in res.rows)
+    sols = dict(zip([c.name for c in study.configurations],
+                    solve_configurations(study.model, study.configurations, top), strict=True))
+    for (c, k), f in zip(res.rows, res.initial_hz.tolist(), strict=True):
+        now = float(sols[c].frequencies_hz[k - 1])
+        if not math.isclose(now, f, rel_tol=SAME_MODEL_RTOL):
+            raise InputError(f"the saved update's initial model had {c!r} mode {k} at "
+                             f"{f:.7g} Hz, the study's model has {now:.7g} Hz: a result of "
+                             f"another version of the model; update again",
+                             source=str(path), field="frequencies")
+
+
 def report_data(study: Study, *, result: str | Path | None = None,
                 extraction: str | Path | None = None, extracted: str | Path | None = None,
                 design: str | Path | None = None, montecarlo: str | Path | None = None,
@@ -432,6 +457,8 @@ def report_data(study: Study, *, result: str | Path | None = None,
         out.update(update=read_result(result, study.model),
                    update_origin="read from the saved result")
         _same_data(out["update"], study, result)
+        if solve:
+            _same_model(out["update"], study, result)
     elif solve and study.frequencies is not None and study.modes:
         study.measurements()  # a bad file stops the report
         try:

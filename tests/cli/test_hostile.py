@@ -439,3 +439,16 @@ def test_a_result_of_another_model_is_refused_by_the_solving_report(tmp_path, ru
     _one_line(code, err, "r.json", "initial model had 'base' mode 1 at 46.46353 Hz",
               "has 45.25201 Hz")
     assert not (tmp_path / "r.html").exists()
+
+
+def test_a_name_in_another_unicode_form_is_told_apart(tmp_path, run_cli):
+    """The study names '0.35 kg à 1' composed (U+00E0), the CSV decomposed (a + U+0300,
+    as macOS and some editors write it): the error listed the 'unknown' name beside a
+    known one that prints the same."""
+    (tmp_path / "study.toml").write_text(FIG2_STUDY.read_text().replace(
+        '"0.35 kg at 1"', '"0.35 kg \u00e0 1"'))
+    csv = (ROOT / "examples" / "paper_fig2" / "measured.csv").read_text()
+    (tmp_path / "measured.csv").write_text(csv.replace("0.35 kg at 1", "0.35 kg a\u0300 1"))
+    code, _, err = run_cli("update", tmp_path / "study.toml")
+    _one_line(code, err, "measured.csv: line 5", "'0.35 kg a\\u0300 1' is the study's "
+              "'0.35 kg \\xe0 1' in another Unicode form")

@@ -482,6 +482,11 @@ def report_data(study: Study, *, result: str | Path | None = None,
         kind = DesignResult if key == "design" else MonteCarloResult
         if doc.get("schema") == kind.SCHEMA:
             out[key] = kind.from_dict(doc, str(path))
+            updated = [p.name for p in study.model.parameters if p.update]
+            if list(out[key].names) != updated:  # another study's, under this one's title
+                raise InputError(f"is about parameters {shorten(str(out[key].names), 120)}, "
+                                 f"the study updates {shorten(str(updated), 120)}: a result "
+                                 f"of another study", source=str(path), field="names")
             out[f"{key}_name"] = Path(path).name
             if key == "design" and isinstance(doc.get("validation"), dict):
                 out["validation"] = doc["validation"]

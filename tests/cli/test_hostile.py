@@ -452,3 +452,22 @@ def test_a_name_in_another_unicode_form_is_told_apart(tmp_path, run_cli):
     code, _, err = run_cli("update", tmp_path / "study.toml")
     _one_line(code, err, "measured.csv: line 5", "'0.35 kg a\\u0300 1' is the study's "
               "'0.35 kg \\xe0 1' in another Unicode form")
+
+
+def test_a_montecarlo_summary_of_another_study_is_refused_by_the_report(tmp_path, run_cli):
+    """The beam's summary.json given to the Fig. 2 study's report was shown under the
+    Fig. 2 title (EI1..m_L statistics), exit 0; here a Fig. 2 run, then k6 renamed."""
+    truth = ROOT / "examples" / "paper_fig2" / "truth.toml"
+    # seed 2: all 4 trials converge; with fewer than 3 (exit 1) the summary is written too
+    code, _, err = run_cli("montecarlo", FIG2_STUDY, "--trials", "4", "--truth", truth,
+                           "--seed", "2", "--in-process", "-o", tmp_path / "mc")
+    assert code in (0, 1) and (tmp_path / "mc" / "summary.json").is_file(), err
+    for name in ("study.toml", "measured.csv"):
+        shutil.copy(ROOT / "examples" / "paper_fig2" / name, tmp_path / name)
+    study = tmp_path / "study.toml"
+    study.write_text(study.read_text().replace('name = "k6"', 'name = "k_6"'))
+    code, _, err = run_cli("report", study, "--saved-only", "--montecarlo",
+                           tmp_path / "mc" / "summary.json", "-o", tmp_path / "r.html")
+    _one_line(code, err, "summary.json: names: is about parameters ['m1'", "'k6']",
+              "the study updates", "'k_6']", "a result of another study")
+    assert not (tmp_path / "r.html").exists()

@@ -471,3 +471,22 @@ def test_a_montecarlo_summary_of_another_study_is_refused_by_the_report(tmp_path
     _one_line(code, err, "summary.json: names: is about parameters ['m1'", "'k6']",
               "the study updates", "'k_6']", "a result of another study")
     assert not (tmp_path / "r.html").exists()
+
+
+@pytest.mark.nastran
+@pytest.mark.parametrize("card, words", [
+    ("PCOMP,1,,,,,,,BLEND\n,1,0.001,0.", "(TypeError: sequence item 0"),  # LAM invalid
+    ("PCOMP,1,,,,,,,SYM\n,1,,0.", "(TypeError: unsupported operand")])  # first T blank
+def test_pynastrans_own_failures_on_a_card_say_so(tmp_path, run_cli, card, words):
+    """pyNastran failing inside its own code (its LAM message joins None; a blank first
+    ply thickness is added to 0): the line read 'PCOMP 1: sequence item 0: expected str
+    instance, NoneType found', which names no field or cause."""
+    pytest.importorskip("pyNastran")
+    shutil.copytree(PANEL, tmp_path / "ex")
+    deck = tmp_path / "ex" / "panel.bdf"
+    deck.write_text(deck.read_text().replace("PSHELL,1,1,0.002,1,,1", card))
+    study = tmp_path / "ex" / "model.toml"
+    study.write_text('[model]\ntype = "nastran"\nbdf = "panel.bdf"\n')
+    code, _, err = run_cli("frequencies", study, "--modes", "1")
+    _one_line(code, err, "panel.bdf: line 7: PCOMP 1: pyNastran fails on the card", words,
+              "a blank or invalid field?")

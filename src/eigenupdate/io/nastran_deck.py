@@ -144,6 +144,8 @@ class _Blanks:
         except Exception as exc:
             lines = [x for x in str(exc).splitlines() if x.strip()]
             what = f"{type(exc).__name__}: {lines[0] if lines else ''}"
+            if isinstance(exc, TypeError | AttributeError | IndexError):  # None in a sum
+                what = f"pyNastran fails on the card ({what}); a blank or invalid field?"
             if isinstance(exc, ZeroDivisionError) and self.cls.type == "MAT1":
                 what = ("a division by zero in G = E / (2 (1 + NU)) (NU = -1, or G = 0 with "
                         "NU blank; NASTRAN needs -1 < NU <= 0.5)")
@@ -278,6 +280,9 @@ def load_deck(path: str | Path) -> Deck:
         first = msg[0] if msg else type(exc).__name__
         if re.match(r"nodes=\[", first):  # pyNastran's validate(): a grid given twice
             first = f"a grid appears twice among its nodes {first[6:].split(';')[0]}"
+        elif isinstance(exc, TypeError | AttributeError | IndexError):  # its own failure
+            first = (f"pyNastran fails on the card ({type(exc).__name__}: {first}); a "
+                     f"blank or invalid field?")
         if blamed:
             raise InputError(f"{blamed}: {first}", source=str(path)) from None
         raise InputError(f"pyNastran cannot read the deck: {type(exc).__name__}: {first}",

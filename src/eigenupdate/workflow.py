@@ -214,7 +214,9 @@ def compare_frf(study: Study, excitation: int, response: int, *,
         eta_text = "extracted loss factors " + ", ".join(f"{e:.3g}" for e in eta)
     models = [study.model]
     if updated:
-        models.append(read_result(updated, study.model).model)
+        saved = read_result(updated, study.model)
+        _same_model(saved, study, updated, [config])
+        models.append(saved.model)
     curves = [receptance(m, f, excitation, response, configuration=config,
                          loss_factor=eta if damping else loss_factor) for m in models]
     return FrfComparison(
@@ -396,16 +398,21 @@ the solvers' rounding (1e-8 relative on stiff models, README "Numerical notes") 
 below what an edit of the model does (a spring moved: several per cent)."""
 
 
-def _same_model(res: UpdateResult, study: Study, path) -> None:
-    """The saved update started from the study's model as it is now: with the same
-    initial values but a spring moved (k5 at [1, 4] for [2, 4]) the report drew the
-    receptances and sweeps of values fitted to another model."""
-    if not res.rows:
+def _same_model(res: UpdateResult, study: Study, path,
+                configurations: Sequence[Configuration] | None = None) -> None:
+    """The saved update started from the study's model as it is now (its rows of
+    ``configurations``, default all): with the same initial values but a spring moved
+    (k5 at [1, 4] for [2, 4]) the report drew the receptances and sweeps of values
+    fitted to another model."""
+    configs = list(configurations or study.configurations)
+    rows = [(i, c, k) for i, (c, k) in enumerate(res.rows) if c in {x.name for x in configs}]
+    if not rows:
         return
-    top = max(k for _, k in res.rows)
-    sols = dict(zip([c.name for c in study.configurations],
-                    solve_configurations(study.model, study.configurations, top), strict=True))
-    for (c, k), f in zip(res.rows, res.initial_hz.tolist(), strict=True):
+    top = max(k for _, _, k in rows)
+    sols = dict(zip([c.name for c in configs], solve_configurations(study.model, configs, top),
+                    strict=True))
+    for i, c, k in rows:
+        f = float(res.initial_hz[i])
         now = float(sols[c].frequencies_hz[k - 1])
         if not math.isclose(now, f, rel_tol=SAME_MODEL_RTOL):
             raise InputError(f"the saved update's initial model had {c!r} mode {k} at "

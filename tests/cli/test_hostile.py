@@ -427,7 +427,8 @@ def test_a_result_of_another_model_is_refused_by_the_solving_report(tmp_path, ru
     """Saved, then spring k5 moved from [2, 4] to [1, 4] (same initial values, same data):
     the report drew Fig. 4 and 7 of values fitted to the other model, exit 0. The saved
     initial frequencies now have to be the model's (base mode 1: 46.46 Hz, paper Table 5,
-    against 45.25 Hz). --saved-only solves nothing and cannot tell."""
+    against 45.25 Hz); `frf --updated` drew the receptance of such values too.
+    --saved-only solves nothing and cannot tell."""
     monkeypatch.chdir(tmp_path)
     for name in ("study.toml", "measured.csv"):
         shutil.copy(ROOT / "examples" / "paper_fig2" / name, tmp_path / name)
@@ -439,6 +440,11 @@ def test_a_result_of_another_model_is_refused_by_the_solving_report(tmp_path, ru
     _one_line(code, err, "r.json", "initial model had 'base' mode 1 at 46.46353 Hz",
               "has 45.25201 Hz")
     assert not (tmp_path / "r.html").exists()
+    # frf --updated likewise (the configuration it draws)
+    code, _, err = run_cli("frf", "study.toml", "--input", "1", "--output", "1", "--updated",
+                           "r.json", "--configuration", "0.35 kg at 2", "-o", "f.png")
+    _one_line(code, err, "r.json", "initial model had '0.35 kg at 2' mode 1")
+    assert not (tmp_path / "f.png").exists()
 
 
 def test_a_name_in_another_unicode_form_is_told_apart(tmp_path, run_cli):

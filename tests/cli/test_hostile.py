@@ -7,6 +7,7 @@ import json
 import re
 import shutil
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -373,29 +374,33 @@ def test_a_parameter_on_a_blank_field_is_one_line(tmp_path, run_cli):
     _one_line(code, err, "panel.bdf: line 7: PSHELL 1 field T is blank")
 
 
-@pytest.mark.parametrize("reply, why", [(b"1" * 64, "MemoryError"), (b"\xff" * 64, "")])
+@pytest.mark.parametrize("reply, why", [(b"1" * 64, "MemoryError"),
+                                        (b"\xff" * 64, "ValueError")])
 def test_a_scheduler_address_where_another_server_answers(tmp_path, run_cli, reply, why):
     """A port where something else listens (found at tcp://10.255.255.1:8786 here): Dask
     read 8 bytes of its reply as a frame length, asked NumPy for 3 EiB, and the command
     said 'study.toml: out of memory' (b"1" * 8 is 3.5e18); 0xff... is beyond NumPy's
-    largest dimension (a ValueError, reported as 'cannot connect')."""
+    largest dimension (a ValueError, reported as 'cannot connect' with NumPy's words)."""
     import socket
     import threading
 
     srv = socket.create_server(("127.0.0.1", 0))
 
-    def answer():
+    def answer():  # every connection: the probe's, then Dask's
         with contextlib.suppress(OSError):
-            conn, _ = srv.accept()
-            conn.sendall(reply)
-            conn.recv(1)  # until the client goes
-            conn.close()
+            while True:
+                conn, _ = srv.accept()
+                with contextlib.suppress(OSError):
+                    conn.sendall(reply)
+                conn.close()
 
     threading.Thread(target=answer, daemon=True).start()
     try:
+        t = time.perf_counter()
         code, _, err = run_cli("montecarlo", FIG2_STUDY, "--trials", "3", "--truth",
                                ROOT / "examples" / "paper_fig2" / "truth.toml",
                                "--scheduler", f"tcp://127.0.0.1:{srv.getsockname()[1]}")
+        assert time.perf_counter() - t < 10  # Dask's connect timeout: not waited for
     finally:
         srv.close()
     _one_line(code, err, "--scheduler", "answered, but not as a Dask scheduler", why)
@@ -496,3 +501,16 @@ def test_pynastrans_own_failures_on_a_card_say_so(tmp_path, run_cli, card, words
     code, _, err = run_cli("frequencies", study, "--modes", "1")
     _one_line(code, err, "panel.bdf: line 7: PCOMP 1: pyNastran fails on the card", words,
               "a blank or invalid field?")
+
+
+@pytest.mark.parametrize("address, words", [
+    ("tcp://nohost.invalid:1", "host 'nohost.invalid' is not known"),
+    ("tcp://127.0.0.1:1", "at tcp://127.0.0.1:1: Connection refused")])
+def test_an_unknown_host_or_closed_port_fails_at_once(run_cli, address, words):
+    """Dask retried both until its 10 s connect timeout and then said 'Timed out'."""
+    t = time.perf_counter()
+    code, _, err = run_cli("montecarlo", FIG2_STUDY, "--trials", "3", "--truth",
+                           ROOT / "examples" / "paper_fig2" / "truth.toml",
+                           "--scheduler", address)
+    _one_line(code, err, "--scheduler: cannot connect to the Dask scheduler", words)
+    assert time.perf_counter() - t < 8  # the connect timeout is 10 s

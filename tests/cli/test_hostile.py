@@ -514,3 +514,14 @@ def test_an_unknown_host_or_closed_port_fails_at_once(run_cli, address, words):
                            "--scheduler", address)
     _one_line(code, err, "--scheduler: cannot connect to the Dask scheduler", words)
     assert time.perf_counter() - t < 8  # the connect timeout is 10 s
+
+
+def test_a_repeated_header_is_named_as_such(tmp_path, run_cli):
+    """Two measurement files joined: the second header was read as a row of a
+    configuration called 'configuration' ('not in the study')."""
+    shutil.copy(FIG2_STUDY, tmp_path / "study.toml")
+    csv = (ROOT / "examples" / "paper_fig2" / "measured.csv").read_text()
+    lines = csv.splitlines()
+    (tmp_path / "measured.csv").write_text("\n".join(lines[:7] + lines) + "\n")
+    code, _, err = run_cli("update", tmp_path / "study.toml")
+    _one_line(code, err, "measured.csv: line 8 repeats the header of line 1")

@@ -64,6 +64,9 @@ def read_measurements(
         (i for i, _ in lines[1:]), csv.reader(ln for _, ln in lines[1:]), strict=True
     ):
         where = f"line {lineno}"
+        if [c.strip() for c in row] == header:  # not a configuration called 'configuration'
+            raise InputError(f"{where} repeats the header of line {lines[0][0]} (two files "
+                             f"joined?)", source=src)
         if len(row) != len(header):
             raise InputError(f"{where}: {len(row)} fields, expected {len(header)}", source=src)
         cfg = row[col["configuration"]].strip()

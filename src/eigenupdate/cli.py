@@ -174,12 +174,11 @@ def cmd_extract(args) -> int:
 
 
 def cmd_simulate_frf(args) -> int:
-    from eigenupdate.io.extraction import safe_name
-    from eigenupdate.io.frf_files import write_frf_sets
+    from eigenupdate.io.frf_files import frf_set_names, write_frf_sets
 
     check_dir(args.output, "-o")
     study = eu.load_study(args.study)
-    names = [f"{safe_name(c.name)}.uff" for c in study.configurations]
+    names = frf_set_names(study.configurations, str(study.path))
     check_files_in(args.output, names, "-o", study.inputs(measurements=True, frf=True))
     if not args.force:  # measured FRFs of another study, or of a real test, look the same
         check_no_replaced(args.output, names, "-o")

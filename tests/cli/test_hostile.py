@@ -525,3 +525,17 @@ def test_a_repeated_header_is_named_as_such(tmp_path, run_cli):
     (tmp_path / "measured.csv").write_text("\n".join(lines[:7] + lines) + "\n")
     code, _, err = run_cli("update", tmp_path / "study.toml")
     _one_line(code, err, "measured.csv: line 8 repeats the header of line 1")
+
+
+def test_simulate_frf_refuses_two_configurations_for_one_file(tmp_path, run_cli):
+    """'0.35 kg at 1' and '0.35 kg at 1!' are both 0.35_kg_at_1.uff: the second replaced
+    the first's FRFs in the same run, and the printed [measurement.frf] named one file
+    twice, exit 0."""
+    truth = tmp_path / "truth.toml"
+    truth.write_text((ROOT / "examples" / "paper_fig2" / "truth.toml").read_text().replace(
+        'name = "0.35 kg at 2"', 'name = "0.35 kg at 1!"'))
+    code, _, err = run_cli("simulate-frf", truth, "-o", tmp_path / "o", "--input", "1",
+                           "--outputs", "2", "--fmax", "200")
+    _one_line(code, err, "truth.toml: -o: configurations '0.35 kg at 1' and '0.35 kg at 1!'",
+              "both be written to 0.35_kg_at_1.uff")
+    assert not (tmp_path / "o").exists()

@@ -539,3 +539,17 @@ def test_simulate_frf_refuses_two_configurations_for_one_file(tmp_path, run_cli)
     _one_line(code, err, "truth.toml: -o: configurations '0.35 kg at 1' and '0.35 kg at 1!'",
               "both be written to 0.35_kg_at_1.uff")
     assert not (tmp_path / "o").exists()
+
+
+def test_fit_plots_of_two_names_that_make_one_file_name_are_both_kept(tmp_path, run_cli):
+    """FRF files x.uff and x!.uff (configurations 'x' and 'x!', both 'x' as a file name):
+    the second's fit plots replaced the first's."""
+    shutil.copy(FRF_EXAMPLE / "frf" / "base.uff", tmp_path / "x.uff")
+    shutil.copy(FRF_EXAMPLE / "frf" / "0.2_kg_at_1.uff", tmp_path / "x!.uff")
+    code, _, err = run_cli("extract", tmp_path / "x.uff", tmp_path / "x!.uff", "-o",
+                           tmp_path / "e.csv", "--plots", tmp_path / "plots")
+    assert code == 0, err
+    names = sorted(p.name for p in (tmp_path / "plots").iterdir())
+    # two FRFs (responses 1 and 15) per file
+    assert names == ["extract_x_1.png", "extract_x_2.png", "extract_x__1.png",
+                     "extract_x__2.png"], names

@@ -234,6 +234,12 @@ case("fig2 frf --updated other modes", F2, ["frf", S, "--input", "1", "--output"
      lambda w: (cli(CORE, "update", w / "study.toml", "--save", w / "r.json"), sub(w / "study.toml", 'name = "k6"', 'name = "k7"')))
 
 
+case("fig2 sim-frf two names one file", F2, ["simulate-frf", "@truth.toml", "-o", "@o", "--input", "1", "--outputs", "2", "--fmax", "200"],
+     lambda w: sub(w / "truth.toml", 'name = "0.35 kg at 2"', 'name = "0.35 kg at 1!"'))
+case("frf extract plots two names one file", BF, ["extract", "@x.uff", "@x!.uff", "-o", "@e.csv", "--plots", "@plots"],
+     lambda w: ((w / "frf" / "base.uff").rename(w / "x.uff"), (w / "frf" / "0.2_kg_at_1.uff").rename(w / "x!.uff")))
+
+
 # ------------------------------------------------------------------ UFF 58 with wrong axes
 def ascii_frfs(edit=None, which="base.uff"):
     """the truth's FRFs as ASCII UFF 58 in a/, the study pointing at them; ``edit`` the

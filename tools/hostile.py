@@ -68,11 +68,11 @@ def scale_freq(factor):
 CASES: list[tuple] = []
 
 
-def case(name, example, argv, mutate=None, python=CORE):
-    CASES.append((name, example, argv, mutate, python))
+def case(name, example, argv, mutate=None, python=CORE, env=None):
+    CASES.append((name, example, argv, mutate, python, env))
 
 
-def run(name, example, argv, mutate, python, keep=False):
+def run(name, example, argv, mutate, python, env_extra=None, keep=False):
     d = Path(tempfile.mkdtemp(prefix="hostile-"))
     try:
         shutil.copytree(EX / example, d / "ex")
@@ -80,7 +80,8 @@ def run(name, example, argv, mutate, python, keep=False):
         if mutate:
             mutate(w)
         before = snapshot(d)
-        env = dict(os.environ, PYTHONPATH=str(ROOT / "src"), OPENBLAS_NUM_THREADS="1")
+        env = dict(os.environ, PYTHONPATH=str(ROOT / "src"), OPENBLAS_NUM_THREADS="1",
+                   **(env_extra or {}))
         args = [a.replace("@", str(w) + "/") if isinstance(a, str) else str(a) for a in argv]
         try:
             p = subprocess.run([python, "-m", "eigenupdate", *args], cwd=w, env=env,
@@ -105,7 +106,7 @@ def run(name, example, argv, mutate, python, keep=False):
         if code == "HANG":
             flags.append("HANG")
         elines = [ln for ln in err.strip().splitlines()
-                  if not re.match(r"^(\[\d+/\d+\] |  warning: |wrote )", ln)]
+                  if not re.match(r"^(\[\d+/\d+\] |  warning: |eigenupdate: warning: |wrote )", ln)]
         if code == 2 and len(elines) != 1:
             flags.append(">1L")
         if code == 0 and re.search(r"\b(nan|inf)\b", out, re.I):

@@ -212,6 +212,8 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--fmax", type=positive, required=True, help="highest frequency (Hz)")
     s.add_argument("--df", type=positive, default=0.5, help="frequency resolution (Hz)")
     s.add_argument("--binary", action="store_true", help="write binary UFF 58b")
+    s.add_argument("--force", action="store_true",
+                   help="replace files of the same names in DIR (never the study's inputs)")
     s.add_argument("--seed", type=seed)
 
     s = sub.add_parser("frf", help="plot predicted (and measured) receptance, paper Fig. 7")

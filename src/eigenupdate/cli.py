@@ -33,6 +33,7 @@ from eigenupdate.io.outputs import (
     check_dir,
     check_file,
     check_files_in,
+    check_no_replaced,
     check_not_inputs,
     check_outputs,
 )
@@ -173,16 +174,17 @@ def cmd_extract(args) -> int:
 
 
 def cmd_simulate_frf(args) -> int:
-    from eigenupdate.io.extraction import safe_name
-    from eigenupdate.io.frf_files import write_frf_sets
+    from eigenupdate.io.frf_files import frf_set_names, write_frf_sets
 
     check_dir(args.output, "-o")
     study = eu.load_study(args.study)
+    names = frf_set_names(study.configurations, str(study.path))
+    check_files_in(args.output, names, "-o", study.inputs(measurements=True, frf=True))
+    if not args.force:  # measured FRFs of another study, or of a real test, look the same
+        check_no_replaced(args.output, names, "-o")
     # everything is computed before the directory is made: no half-done output
     sets = eu.simulate_study_frfs(study, args.fmax, args.df, args.input, args.outputs,
                                   args.loss_factor, noise=args.noise, seed=args.seed)
-    check_files_in(args.output, [f"{safe_name(c.name)}.uff" for c, _ in sets], "-o",
-                   study.inputs(measurements=True, frf=True))
     print("\n".join(write_frf_sets(args.output, sets, args.binary)))
     return 0
 

@@ -14,6 +14,7 @@ and returns a typed result, so a notebook does what ``eigenupdate <command>`` do
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, fields, replace
@@ -27,7 +28,7 @@ from eigenupdate.design.montecarlo import (  # its own imports are light
     MIN_CONVERGED,
     MonteCarloResult,
 )
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, shorten
 from eigenupdate.identify.checked import checked_update
 from eigenupdate.identify.identifiability import IdentifiabilityReport, check
 from eigenupdate.identify.updating import UpdateResult
@@ -213,7 +214,9 @@ def compare_frf(study: Study, excitation: int, response: int, *,
         eta_text = "extracted loss factors " + ", ".join(f"{e:.3g}" for e in eta)
     models = [study.model]
     if updated:
-        models.append(read_result(updated, study.model).model)
+        saved = read_result(updated, study.model)
+        _same_model(saved, study, updated, [config])
+        models.append(saved.model)
     curves = [receptance(m, f, excitation, response, configuration=config,
                          loss_factor=eta if damping else loss_factor) for m in models]
     return FrfComparison(
@@ -365,6 +368,18 @@ def _same_data(res: UpdateResult, study: Study, path) -> None:
                              f"{now_adds.get(name, 'no such configuration')}: a result of "
                              f"another version of the study; update again",
                              source=str(path), field=f"perturbations.{name}")
+    updated = [p.name for p in study.model.parameters if p.update]
+    if res.names != updated:
+        raise InputError(f"the saved update updated {res.names}, the study updates "
+                         f"{updated}: a result of another version of the study; update "
+                         f"again", source=str(path), field="names")
+    rows = {(c.name, k) for c in study.configurations for k in study.modes}
+    if set(res.rows) != rows:
+        diff = [f"{what} {shorten(str(sorted(v)), 80)}" for what, v in (
+            ("also", set(res.rows) - rows), ("not", rows - set(res.rows))) if v]
+        raise InputError(f"the saved update fitted other modes than the study uses "
+                         f"({'; '.join(diff)}): a result of another version of the study; "
+                         f"update again", source=str(path), field="frequencies")
     if study.frequencies is None or not Path(study.frequencies).is_file():
         return
     now = study.measurements()
@@ -375,6 +390,35 @@ def _same_data(res: UpdateResult, study: Study, path) -> None:
             raise InputError(f"the saved update fitted {c!r} mode {k} at {f!r} Hz, "
                              f"{Path(study.frequencies).name} has {got}: a result of other "
                              f"data; update again", source=str(path), field="frequencies")
+
+
+SAME_MODEL_RTOL = 1e-6
+"""A saved update's initial frequencies and the study's model's agree to this: far above
+the solvers' rounding (1e-8 relative on stiff models, README "Numerical notes") and far
+below what an edit of the model does (a spring moved: several per cent)."""
+
+
+def _same_model(res: UpdateResult, study: Study, path,
+                configurations: Sequence[Configuration] | None = None) -> None:
+    """The saved update started from the study's model as it is now (its rows of
+    ``configurations``, default all): with the same initial values but a spring moved
+    (k5 at [1, 4] for [2, 4]) the report drew the receptances and sweeps of values
+    fitted to another model."""
+    configs = list(configurations or study.configurations)
+    rows = [(i, c, k) for i, (c, k) in enumerate(res.rows) if c in {x.name for x in configs}]
+    if not rows:
+        return
+    top = max(k for _, _, k in rows)
+    sols = dict(zip([c.name for c in configs], solve_configurations(study.model, configs, top),
+                    strict=True))
+    for i, c, k in rows:
+        f = float(res.initial_hz[i])
+        now = float(sols[c].frequencies_hz[k - 1])
+        if not math.isclose(now, f, rel_tol=SAME_MODEL_RTOL):
+            raise InputError(f"the saved update's initial model had {c!r} mode {k} at "
+                             f"{f:.7g} Hz, the study's model has {now:.7g} Hz: a result of "
+                             f"another version of the model; update again",
+                             source=str(path), field="frequencies")
 
 
 def report_data(study: Study, *, result: str | Path | None = None,
@@ -420,6 +464,8 @@ def report_data(study: Study, *, result: str | Path | None = None,
         out.update(update=read_result(result, study.model),
                    update_origin="read from the saved result")
         _same_data(out["update"], study, result)
+        if solve:
+            _same_model(out["update"], study, result)
     elif solve and study.frequencies is not None and study.modes:
         study.measurements()  # a bad file stops the report
         try:
@@ -443,6 +489,11 @@ def report_data(study: Study, *, result: str | Path | None = None,
         kind = DesignResult if key == "design" else MonteCarloResult
         if doc.get("schema") == kind.SCHEMA:
             out[key] = kind.from_dict(doc, str(path))
+            updated = [p.name for p in study.model.parameters if p.update]
+            if list(out[key].names) != updated:  # another study's, under this one's title
+                raise InputError(f"is about parameters {shorten(str(out[key].names), 120)}, "
+                                 f"the study updates {shorten(str(updated), 120)}: a result "
+                                 f"of another study", source=str(path), field="names")
             out[f"{key}_name"] = Path(path).name
             if key == "design" and isinstance(doc.get("validation"), dict):
                 out["validation"] = doc["validation"]

@@ -2,10 +2,12 @@
 accepted range (1e-100, 1e100) on a model with a zero parameter matrix, for every
 command that computes with them. Each must end with exit 0, 1 or 2 and one line."""
 
+import contextlib
 import json
 import re
 import shutil
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -308,3 +310,246 @@ def test_design_limits_named_by_their_own_key(tmp_path, run_cli, line, key):
                                                     f'criterion = "A"\n{line}'))
     code, _, err = run_cli("design", study, "-o", tmp_path / "p.toml")
     _one_line(code, err, f"design.{key}: must be")
+
+
+def _tree(d: Path) -> dict:
+    return {p: p.read_bytes() for p in sorted(d.rglob("*")) if p.is_file()}
+
+
+def test_simulate_frf_does_not_replace_measured_frfs(tmp_path, run_cli):
+    """`simulate-frf truth.toml -o frf` replaced the ten UFF files that study.toml (another
+    study) reads as its measured FRFs, exit 0; files of the names it writes are now
+    refused unless --force, and the study's own inputs even then."""
+    shutil.copytree(FRF_EXAMPLE, tmp_path / "ex")
+    ex = tmp_path / "ex"
+    before = _tree(ex)
+    args = ["simulate-frf", ex / "truth.toml", "-o", ex / "frf", "--input", "11", "--outputs",
+            "1", "--fmax", "400", "--df", "2"]
+    code, _, err = run_cli(*args)
+    _one_line(code, err, "frf: -o: already holds base.uff, 0.2_kg_at_1.uff",
+              "and 7 more", "--force")
+    assert _tree(ex) == before
+    code, _, err = run_cli("simulate-frf", ex / "study.toml", *args[2:], "--force")
+    _one_line(code, err, "frf/base.uff", "is an input of this run")
+    assert _tree(ex) == before
+    # another directory's other files are no obstacle, --force replaces
+    (tmp_path / "new").mkdir()
+    (tmp_path / "new" / "notes.txt").write_text("x")
+    assert run_cli("simulate-frf", ex / "truth.toml", "-o", tmp_path / "new",
+                   *args[4:])[0] == 0
+    code, out, err = run_cli(*args, "--force")
+    assert code == 0, err
+    assert '"base" = "frf/base.uff"' in out and _tree(ex) != before
+
+
+PANEL = ROOT / "examples" / "stiffened_panel"
+
+
+@pytest.mark.nastran
+@pytest.mark.parametrize("target", ["mesh.bdf", "link.bdf"])
+def test_save_bdf_refuses_a_file_the_deck_includes(tmp_path, run_cli, target):
+    """`update --save-bdf mesh.bdf` on the stiffened panel (panel.bdf INCLUDEs mesh.bdf)
+    replaced the mesh with the whole updated deck, exit 0: INCLUDEd files were not among
+    the run's inputs. A hard link to it is the same file."""
+    pytest.importorskip("pyNastran")
+    shutil.copytree(PANEL, tmp_path / "ex")
+    ex = tmp_path / "ex"
+    (ex / "link.bdf").hardlink_to(ex / "mesh.bdf")
+    before = _tree(ex)
+    code, out, err = run_cli("update", ex / "study.toml", "--save-bdf", ex / target)
+    _one_line(code, err, target, "--save-bdf", "is an input of this run")
+    assert out == "" and _tree(ex) == before
+
+
+@pytest.mark.nastran
+def test_a_parameter_on_a_blank_field_is_one_line(tmp_path, run_cli):
+    """PSHELL T blank (thicknesses from the elements) with T a parameter: TypeError from
+    float(None), a traceback and exit 1; without the parameter the blank T was already
+    refused by the shell reader."""
+    pytest.importorskip("pyNastran")
+    shutil.copytree(PANEL, tmp_path / "ex")
+    deck = tmp_path / "ex" / "panel.bdf"
+    deck.write_text(deck.read_text().replace("PSHELL,1,1,0.002,1,,1", "PSHELL,1,1,,1,,1"))
+    code, _, err = run_cli("check", tmp_path / "ex" / "study.toml")
+    _one_line(code, err, "panel.bdf: line 7: PSHELL 1 field T is blank")
+
+
+@pytest.mark.parametrize("reply, why", [(b"1" * 64, "MemoryError"),
+                                        (b"\xff" * 64, "ValueError")])
+def test_a_scheduler_address_where_another_server_answers(tmp_path, run_cli, reply, why):
+    """A port where something else listens (found at tcp://10.255.255.1:8786 here): Dask
+    read 8 bytes of its reply as a frame length, asked NumPy for 3 EiB, and the command
+    said 'study.toml: out of memory' (b"1" * 8 is 3.5e18); 0xff... is beyond NumPy's
+    largest dimension (a ValueError, reported as 'cannot connect' with NumPy's words)."""
+    import socket
+    import threading
+
+    srv = socket.create_server(("127.0.0.1", 0))
+
+    def answer():  # every connection: the probe's, then Dask's
+        with contextlib.suppress(OSError):
+            while True:
+                conn, _ = srv.accept()
+                with contextlib.suppress(OSError):
+                    conn.sendall(reply)
+                conn.close()
+
+    threading.Thread(target=answer, daemon=True).start()
+    try:
+        t = time.perf_counter()
+        code, _, err = run_cli("montecarlo", FIG2_STUDY, "--trials", "3", "--truth",
+                               ROOT / "examples" / "paper_fig2" / "truth.toml",
+                               "--scheduler", f"tcp://127.0.0.1:{srv.getsockname()[1]}")
+        assert time.perf_counter() - t < 10  # Dask's connect timeout: not waited for
+    finally:
+        srv.close()
+    _one_line(code, err, "--scheduler", "answered, but not as a Dask scheduler", why)
+
+
+@pytest.mark.parametrize("old, new, words", [
+    ("modes = [1, 2, 3]", "modes = [1, 2]", ["fitted other modes than the study uses",
+                                              "also [('0.35 kg at 1', 3)"]),
+    ("value = 6.000e+05  # N/m", "value = 6.0e5\nupdate = false",
+     ["names: the saved update updated ['m1'", "'k5', 'k6'], the study updates"])])
+def test_a_result_of_other_modes_or_updated_parameters_is_refused_by_the_report(
+        tmp_path, run_cli, monkeypatch, old, new, words):
+    """Saved, then the study's modes cut to [1, 2] or k6 held fixed: the report showed the
+    result (mode 3 rows, k6 updated) under the edited study, exit 0."""
+    monkeypatch.chdir(tmp_path)
+    for name in ("study.toml", "measured.csv"):
+        shutil.copy(ROOT / "examples" / "paper_fig2" / name, tmp_path / name)
+    assert run_cli("update", "study.toml", "--save", "r.json")[0] == 0
+    study = tmp_path / "study.toml"
+    study.write_text(study.read_text().replace(old, new, 1))
+    code, _, err = run_cli("report", "study.toml", "--saved-only", "--result", "r.json",
+                           "-o", "r.html")
+    _one_line(code, err, "r.json", *words)
+    assert not (tmp_path / "r.html").exists()
+
+
+def test_a_result_of_another_model_is_refused_by_the_solving_report(tmp_path, run_cli,
+                                                                      monkeypatch):
+    """Saved, then spring k5 moved from [2, 4] to [1, 4] (same initial values, same data):
+    the report drew Fig. 4 and 7 of values fitted to the other model, exit 0. The saved
+    initial frequencies now have to be the model's (base mode 1: 46.46 Hz, paper Table 5,
+    against 45.25 Hz); `frf --updated` drew the receptance of such values too.
+    --saved-only solves nothing and cannot tell."""
+    monkeypatch.chdir(tmp_path)
+    for name in ("study.toml", "measured.csv"):
+        shutil.copy(ROOT / "examples" / "paper_fig2" / name, tmp_path / name)
+    assert run_cli("update", "study.toml", "--save", "r.json")[0] == 0
+    assert run_cli("report", "study.toml", "--result", "r.json", "-o", "ok.html")[0] == 0
+    study = tmp_path / "study.toml"
+    study.write_text(study.read_text().replace("coordinates = [2, 4]", "coordinates = [1, 4]"))
+    code, _, err = run_cli("report", "study.toml", "--result", "r.json", "-o", "r.html")
+    _one_line(code, err, "r.json", "initial model had 'base' mode 1 at 46.46353 Hz",
+              "has 45.25201 Hz")
+    assert not (tmp_path / "r.html").exists()
+    # frf --updated likewise (the configuration it draws)
+    code, _, err = run_cli("frf", "study.toml", "--input", "1", "--output", "1", "--updated",
+                           "r.json", "--configuration", "0.35 kg at 2", "-o", "f.png")
+    _one_line(code, err, "r.json", "initial model had '0.35 kg at 2' mode 1")
+    assert not (tmp_path / "f.png").exists()
+
+
+def test_a_name_in_another_unicode_form_is_told_apart(tmp_path, run_cli):
+    """The study names '0.35 kg à 1' composed (U+00E0), the CSV decomposed (a + U+0300,
+    as macOS and some editors write it): the error listed the 'unknown' name beside a
+    known one that prints the same."""
+    (tmp_path / "study.toml").write_text(FIG2_STUDY.read_text().replace(
+        '"0.35 kg at 1"', '"0.35 kg \u00e0 1"'))
+    csv = (ROOT / "examples" / "paper_fig2" / "measured.csv").read_text()
+    (tmp_path / "measured.csv").write_text(csv.replace("0.35 kg at 1", "0.35 kg a\u0300 1"))
+    code, _, err = run_cli("update", tmp_path / "study.toml")
+    _one_line(code, err, "measured.csv: line 5", "'0.35 kg a\\u0300 1' is the study's "
+              "'0.35 kg \\xe0 1' in another Unicode form")
+
+
+def test_a_montecarlo_summary_of_another_study_is_refused_by_the_report(tmp_path, run_cli):
+    """The beam's summary.json given to the Fig. 2 study's report was shown under the
+    Fig. 2 title (EI1..m_L statistics), exit 0; here a Fig. 2 run, then k6 renamed."""
+    truth = ROOT / "examples" / "paper_fig2" / "truth.toml"
+    # seed 2: all 4 trials converge; with fewer than 3 (exit 1) the summary is written too
+    code, _, err = run_cli("montecarlo", FIG2_STUDY, "--trials", "4", "--truth", truth,
+                           "--seed", "2", "--in-process", "-o", tmp_path / "mc")
+    assert code in (0, 1) and (tmp_path / "mc" / "summary.json").is_file(), err
+    for name in ("study.toml", "measured.csv"):
+        shutil.copy(ROOT / "examples" / "paper_fig2" / name, tmp_path / name)
+    study = tmp_path / "study.toml"
+    study.write_text(study.read_text().replace('name = "k6"', 'name = "k_6"'))
+    code, _, err = run_cli("report", study, "--saved-only", "--montecarlo",
+                           tmp_path / "mc" / "summary.json", "-o", tmp_path / "r.html")
+    _one_line(code, err, "summary.json: names: is about parameters ['m1'", "'k6']",
+              "the study updates", "'k_6']", "a result of another study")
+    assert not (tmp_path / "r.html").exists()
+
+
+@pytest.mark.nastran
+@pytest.mark.parametrize("card, words", [
+    ("PCOMP,1,,,,,,,BLEND\n,1,0.001,0.", "(TypeError: sequence item 0"),  # LAM invalid
+    ("PCOMP,1,,,,,,,SYM\n,1,,0.", "(TypeError: unsupported operand")])  # first T blank
+def test_pynastrans_own_failures_on_a_card_say_so(tmp_path, run_cli, card, words):
+    """pyNastran failing inside its own code (its LAM message joins None; a blank first
+    ply thickness is added to 0): the line read 'PCOMP 1: sequence item 0: expected str
+    instance, NoneType found', which names no field or cause."""
+    pytest.importorskip("pyNastran")
+    shutil.copytree(PANEL, tmp_path / "ex")
+    deck = tmp_path / "ex" / "panel.bdf"
+    deck.write_text(deck.read_text().replace("PSHELL,1,1,0.002,1,,1", card))
+    study = tmp_path / "ex" / "model.toml"
+    study.write_text('[model]\ntype = "nastran"\nbdf = "panel.bdf"\n')
+    code, _, err = run_cli("frequencies", study, "--modes", "1")
+    _one_line(code, err, "panel.bdf: line 7: PCOMP 1: pyNastran fails on the card", words,
+              "a blank or invalid field?")
+
+
+@pytest.mark.parametrize("address, words", [
+    ("tcp://nohost.invalid:1", "host 'nohost.invalid' is not known"),
+    ("tcp://127.0.0.1:1", "at tcp://127.0.0.1:1: Connection refused")])
+def test_an_unknown_host_or_closed_port_fails_at_once(run_cli, address, words):
+    """Dask retried both until its 10 s connect timeout and then said 'Timed out'."""
+    t = time.perf_counter()
+    code, _, err = run_cli("montecarlo", FIG2_STUDY, "--trials", "3", "--truth",
+                           ROOT / "examples" / "paper_fig2" / "truth.toml",
+                           "--scheduler", address)
+    _one_line(code, err, "--scheduler: cannot connect to the Dask scheduler", words)
+    assert time.perf_counter() - t < 8  # the connect timeout is 10 s
+
+
+def test_a_repeated_header_is_named_as_such(tmp_path, run_cli):
+    """Two measurement files joined: the second header was read as a row of a
+    configuration called 'configuration' ('not in the study')."""
+    shutil.copy(FIG2_STUDY, tmp_path / "study.toml")
+    csv = (ROOT / "examples" / "paper_fig2" / "measured.csv").read_text()
+    lines = csv.splitlines()
+    (tmp_path / "measured.csv").write_text("\n".join(lines[:7] + lines) + "\n")
+    code, _, err = run_cli("update", tmp_path / "study.toml")
+    _one_line(code, err, "measured.csv: line 8 repeats the header of line 1")
+
+
+def test_simulate_frf_refuses_two_configurations_for_one_file(tmp_path, run_cli):
+    """'0.35 kg at 1' and '0.35 kg at 1!' are both 0.35_kg_at_1.uff: the second replaced
+    the first's FRFs in the same run, and the printed [measurement.frf] named one file
+    twice, exit 0."""
+    truth = tmp_path / "truth.toml"
+    truth.write_text((ROOT / "examples" / "paper_fig2" / "truth.toml").read_text().replace(
+        'name = "0.35 kg at 2"', 'name = "0.35 kg at 1!"'))
+    code, _, err = run_cli("simulate-frf", truth, "-o", tmp_path / "o", "--input", "1",
+                           "--outputs", "2", "--fmax", "200")
+    _one_line(code, err, "truth.toml: -o: configurations '0.35 kg at 1' and '0.35 kg at 1!'",
+              "both be written to 0.35_kg_at_1.uff")
+    assert not (tmp_path / "o").exists()
+
+
+def test_fit_plots_of_two_names_that_make_one_file_name_are_both_kept(tmp_path, run_cli):
+    """FRF files x.uff and x!.uff (configurations 'x' and 'x!', both 'x' as a file name):
+    the second's fit plots replaced the first's."""
+    shutil.copy(FRF_EXAMPLE / "frf" / "base.uff", tmp_path / "x.uff")
+    shutil.copy(FRF_EXAMPLE / "frf" / "0.2_kg_at_1.uff", tmp_path / "x!.uff")
+    code, _, err = run_cli("extract", tmp_path / "x.uff", tmp_path / "x!.uff", "-o",
+                           tmp_path / "e.csv", "--plots", tmp_path / "plots")
+    assert code == 0, err
+    names = sorted(p.name for p in (tmp_path / "plots").iterdir())
+    # two FRFs (responses 1 and 15) per file
+    assert names == ["extract_x_1.png", "extract_x_2.png", "extract_x__1.png",
+                     "extract_x__2.png"], names

@@ -121,3 +121,21 @@ class _Fit:
 
     def __init__(self, a):
         self.modal_constant = complex(a)
+
+
+def test_a_measured_point_the_model_lacks_is_named_not_skipped_silently():
+    """One FRF's response relabelled to node 9, which the 4-mass model does not have:
+    the shapes of that configuration were not compared with the model's (the exchange
+    check off) and nothing said so."""
+    import dataclasses
+
+    truth = _oscillators(1.12e4)
+    frfs = _frfs(truth)
+    frfs["base"] = [dataclasses.replace(frfs["base"][0], response=(9, frfs["base"][0].response[1])),
+                    *frfs["base"][1:]]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = extract_test(frfs, model=truth, configurations=CONFIGS, used_modes=[1, 2, 3])
+    base = next(ex for ex in res.configurations if ex.configuration == "base")
+    assert any("shapes not compared with the model's modes" in n and "(9, " in n
+               for n in base.notes), base.notes

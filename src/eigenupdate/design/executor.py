@@ -18,7 +18,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from eigenupdate.choices import SCHEDULER_ENV
-from eigenupdate.errors import InputError
+from eigenupdate.errors import InputError, shorten
 
 Progress = Callable[[int, int], None]
 
@@ -79,6 +79,32 @@ class InProcess:
         return "in-process"
 
 
+def _reachable(address: str) -> None:
+    """Refuse at once a scheduler whose host is not known or whose port refuses the
+    connection (Dask retries both until its 10 s timeout, then says it timed out)."""
+    import socket
+    from urllib.parse import urlsplit
+
+    url = urlsplit(address)
+    host, port = url.hostname, url.port
+    if not host or not port:
+        return  # Dask names what is wrong
+    try:
+        socket.getaddrinfo(host, port)
+    except (OSError, UnicodeError) as exc:
+        raise InputError(f"cannot connect to the Dask scheduler: host {host!r} is not known "
+                         f"({getattr(exc, 'strerror', None) or exc})",
+                         field="--scheduler") from None
+    try:
+        socket.create_connection((host, port), timeout=10).close()
+    except TimeoutError:
+        raise InputError(f"cannot connect to the Dask scheduler: no answer from {address} "
+                         f"within 10 s", field="--scheduler") from None
+    except OSError as exc:
+        raise InputError(f"cannot connect to the Dask scheduler at {address}: "
+                         f"{exc.strerror or exc}", field="--scheduler") from None
+
+
 class DaskExecutor:
     """Tasks on a Dask cluster: an existing one at ``address``, else a local cluster of
     ``n_workers`` single-threaded worker processes (default: one per core)."""
@@ -88,11 +114,17 @@ class DaskExecutor:
 
         self.cluster = None
         if address:
+            _reachable(address)
             try:
                 self.client = Client(address, timeout="10s")
-            except (OSError, TimeoutError, ValueError) as exc:
+            except (OSError, TimeoutError) as exc:
                 raise InputError(f"cannot connect to the Dask scheduler: {exc}",
                                  field="--scheduler") from None
+            except Exception as exc:  # another server's reply read as Dask's handshake: a
+                # frame length of exabytes (MemoryError: 'out of memory'), too many dimensions
+                raise InputError(f"{address} answered, but not as a Dask scheduler "
+                                 f"({type(exc).__name__}: {shorten(str(exc), 80)}); is "
+                                 f"that the scheduler's port?", field="--scheduler") from None
         else:
             # one core per worker: its sparse solves must not start threads of their own
             self.cluster = LocalCluster(n_workers=n_workers or os.cpu_count() or 1,

@@ -39,14 +39,19 @@ def write_extraction(res: TestExtraction, frfs: dict[str, list[FRF]], output: st
         from eigenupdate.plot.plots import plot_extraction_fit
 
         make_dir(plots)
+        stems: set[str] = set()
         for ex in res.configurations:
+            stem = safe_name(ex.configuration)
+            while stem in stems:  # '0.35 kg at 1' and '0.35 kg at 1!' replaced one another
+                stem += "_"
+            stems.add(stem)
             for j, x in enumerate(frfs[ex.configuration]):
                 shown = [m for m in ex.modes if m.fits[j] is not None]
                 if not shown:
                     continue
                 points = [(label or dof_label)(p) for p in (x.response, x.reference)]
                 plot_extraction_fit(
-                    Path(plots) / f"extract_{safe_name(ex.configuration)}_{j + 1}.png",
+                    Path(plots) / f"extract_{stem}_{j + 1}.png",
                     x.frequency_hz, x.receptance, [m.fits[j] for m in shown],
                     mode_numbers=[m.mode for m in shown],
                     title=f"{ex.configuration}: {points[0]} / {points[1]}")

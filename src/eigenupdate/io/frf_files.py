@@ -70,6 +70,24 @@ def require_distinct(files: Mapping[str, Sequence[PathLike]], source: str | None
                                  field=f"measurement.frf.{config}" if source else "inputs")
 
 
+def frf_set_names(configurations: Sequence[Configuration], source: str | None = None
+                  ) -> list[str]:
+    """The file name of each configuration's FRFs in ``write_frf_sets``'s directory; two
+    names that make one file ('0.35 kg at 1' and '0.35 kg at 1!') are refused: the second
+    replaced the first's file in the same run."""
+    from eigenupdate.io.extraction import safe_name
+
+    out: dict[str, str] = {}
+    for c in configurations:
+        name = f"{safe_name(c.name)}.uff"
+        if name in out:
+            raise InputError(f"configurations {out[name]!r} and {c.name!r} would both be "
+                             f"written to {name}; rename one", source=source,
+                             field="-o")
+        out[name] = c.name
+    return list(out)
+
+
 def write_frf_sets(directory: PathLike, sets: Sequence[tuple[Configuration, list[FRF]]],
                    binary: bool = False) -> list[str]:
     """Each configuration's FRFs as ``directory/<name>.uff`` (UFF 58, ``binary``: 58b);

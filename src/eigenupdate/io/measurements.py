@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import io
+import unicodedata
 from collections.abc import Iterable
 from pathlib import Path
 
@@ -63,10 +64,20 @@ def read_measurements(
         (i for i, _ in lines[1:]), csv.reader(ln for _, ln in lines[1:]), strict=True
     ):
         where = f"line {lineno}"
+        if [c.strip() for c in row] == header:  # not a configuration called 'configuration'
+            raise InputError(f"{where} repeats the header of line {lines[0][0]} (two files "
+                             f"joined?)", source=src)
         if len(row) != len(header):
             raise InputError(f"{where}: {len(row)} fields, expected {len(header)}", source=src)
         cfg = row[col["configuration"]].strip()
         if known is not None and cfg not in known:
+            same = [k for k in known if unicodedata.normalize("NFC", k)
+                    == unicodedata.normalize("NFC", cfg)]
+            if same:  # looks the same when printed: say how they differ
+                raise InputError(f"{where}: configuration {ascii(cfg)} is the study's "
+                                 f"{ascii(same[0])} in another Unicode form (composed and "
+                                 f"decomposed accents); write it as the study does",
+                                 source=src)
             raise InputError(f"{where}: configuration {shorten(cfg, 60)!r} is not in the study "
                              f"(known: {sorted(known)})", source=src)
         mode = _number(row[col["mode"]], int, src, where, "mode")

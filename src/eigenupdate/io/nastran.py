@@ -91,6 +91,7 @@ class NastranModel:
     skipped: str = ""  # cards skipped because they change neither K nor M
     dependent: dict = field(default_factory=dict)  # coordinate -> rigid element / MPC
     text: list = field(default_factory=list)  # the deck's lines, INCLUDEs expanded
+    included: list = field(default_factory=list)  # the files its INCLUDEs read
     omitted: frozenset = frozenset()  # coordinates reduced out by ASET/OMIT
 
     def grid_dof(self, grid: int, component: int) -> int:
@@ -150,6 +151,7 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
                       EigenupdateWarning, stacklevel=2)
     nm.skipped = deck.skipped
     nm.text = deck.text
+    nm.included = deck.included
     return nm
 
 
@@ -485,7 +487,11 @@ def _check_fields(bdf, fields: list[CardField], names: list[str]) -> dict:
 
 def _field_value(bdf, f: CardField) -> float:
     card = stores(bdf)[f.card][f.id]
-    v = get_field(card, FIELDS[f.card][f.field])
+    try:
+        v = get_field(card, FIELDS[f.card][f.field])
+    except TypeError:  # pyNastran keeps a blank field as None
+        raise InputError(f"{f.card} {f.id} field {f.field} is blank: a parameter starts "
+                         f"from the card's value; give one") from None
     if not v >= 0:
         raise InputError(f"{f.card} {f.id} field {f.field} = {v:g} is negative (a parameter "
                          f"must be >= 0)")

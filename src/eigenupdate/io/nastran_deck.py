@@ -100,6 +100,7 @@ class Deck:
     skipped: str = ""  # the note: "FORCE x2, MDLPRM x1, PARAM POST"
     temperature: bool = False  # the case control selects a TEMPERATURE set
     text: list = field(default_factory=list)  # every line, INCLUDEs expanded
+    included: list = field(default_factory=list)  # the files INCLUDEs read (resolved)
     bulk: int = 0  # index in ``text`` of the first line given to pyNastran
 
     def where(self, card: str, cid: int | None = None) -> str:
@@ -148,6 +149,8 @@ class _Blanks:
         except Exception as exc:
             lines = [x for x in str(exc).splitlines() if x.strip()]
             what = f"{type(exc).__name__}: {lines[0] if lines else ''}"
+            if isinstance(exc, TypeError | AttributeError | IndexError):  # None in a sum
+                what = f"pyNastran fails on the card ({what}); a blank or invalid field?"
             if isinstance(exc, ZeroDivisionError) and self.cls.type == "MAT1":
                 what = ("a division by zero in G = E / (2 (1 + NU)) (NU = -1, or G = 0 with "
                         "NU blank; NASTRAN needs -1 < NU <= 0.5)")
@@ -161,9 +164,11 @@ MAX_INCLUDE_DEPTH = 100
 _INCLUDE = re.compile(r"^\s*INCLUDE\s*(.*)$", re.IGNORECASE)
 
 
-def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tuple) -> None:
+def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tuple,
+            included: list | None = None) -> None:
     """Append ``path``'s lines to ``out`` with every INCLUDE replaced by its file's lines
-    (relative to ``path``'s directory); ``origin[i]`` is where ``out[i]`` came from."""
+    (relative to ``path``'s directory); ``origin[i]`` is where ``out[i]`` came from, and
+    ``included`` collects the files included."""
     if path.exists() and not path.is_file():  # a directory, /dev/zero, a pipe: unbounded
         raise InputError(f"cannot read {path}: not a regular file")
     try:
@@ -200,7 +205,9 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
         if not target.is_file():
             raise InputError(f"{path.name}:{start + 1}: INCLUDE file {name} not found "
                              f"(looked in {path.parent})")
-        _expand(target, out, origin, (*stack, target))
+        if included is not None:
+            included.append(target)
+        _expand(target, out, origin, (*stack, target), included)
 
 
 _FIRST = re.compile(r"^([A-Za-z][A-Za-z0-9]*)(\*?)")
@@ -242,7 +249,8 @@ def load_deck(path: str | Path) -> Deck:
     path = Path(path)
     lines: list[str] = []
     origin: list[tuple[str, int]] = []
-    _expand(path.resolve(), lines, origin, (path.resolve(),))
+    included: list[Path] = []
+    _expand(path.resolve(), lines, origin, (path.resolve(),), included)
     text = list(lines)
     upper = [x.upper() for x in lines]
     has_cend = any(x.strip().startswith("CEND") for x in upper)
@@ -277,13 +285,17 @@ def load_deck(path: str | Path) -> Deck:
         first = msg[0] if msg else type(exc).__name__
         if re.match(r"nodes=\[", first):  # pyNastran's validate(): a grid given twice
             first = f"a grid appears twice among its nodes {first[6:].split(';')[0]}"
+        elif isinstance(exc, TypeError | AttributeError | IndexError):  # its own failure
+            first = (f"pyNastran fails on the card ({type(exc).__name__}: {first}); a "
+                     f"blank or invalid field?")
         if blamed:
             raise InputError(f"{blamed}: {first}", source=str(path)) from None
         raise InputError(f"pyNastran cannot read the deck: {type(exc).__name__}: {first}",
                          source=str(path)) from None
     _grdset_defaults(bdf)
     _implicit_spoints(bdf)
-    deck = Deck(path, bdf, _card_starts(lines, origin), text=text, bulk=first,
+    deck = Deck(path, bdf, _card_starts(lines, origin), text=text, included=included,
+                bulk=first,
                 temperature=temperature)
     _sort_cards(deck)
     return deck

@@ -141,6 +141,16 @@ def check_files_in(directory: PathLike, names: Iterable[str], flag: str,
     check_not_inputs(paths, inputs)
 
 
+def check_no_replaced(directory: PathLike, names: Iterable[str], flag: str) -> None:
+    """Refuse an output directory that already holds files of these names."""
+    there = [n for n in names if os.path.lexists(Path(directory) / n)]
+    if there:
+        shown = ", ".join(there[:3]) + (f" and {len(there) - 3} more" if len(there) > 3 else "")
+        raise _error(directory, flag, f"already holds {shown}, which this run would replace "
+                                      f"(measured FRFs of a test?); give a new or empty "
+                                      f"directory, or --force to replace them")
+
+
 def write_stdout(text: str, out) -> str | None:
     """Write a command's held standard output to ``out`` (``sys.stdout`` as it was);
     None if written, else why not (closed, broken pipe), after pointing the descriptor at

@@ -70,9 +70,11 @@ class Study:
                          f"{[c.name for c in self.configurations]})", source=str(self.path))
 
     def inputs(self, *, measurements: bool = False, frf: bool = False) -> list[Path]:
-        """Files a run reads: the study, its model files and, if asked, its measurement
-        CSV and FRF files (a run must not write over any of them)."""
-        out = [self.path, *self.model_files]
+        """Files a run reads: the study, its model files (a deck's INCLUDEd files too)
+        and, if asked, its measurement CSV and FRF files (a run must not write over any
+        of them)."""
+        out = [self.path, *self.model_files,
+               *(self.nastran.included if self.nastran is not None else [])]
         if measurements and self.frequencies is not None:
             out.append(self.frequencies)
         if frf:

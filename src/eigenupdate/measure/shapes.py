@@ -120,16 +120,20 @@ class ShapePairing:
     mac: dict[str, np.ndarray]
 
 
-def _model_rows(model: ParametricModel, points: Sequence[tuple[int, int]]) -> list[int] | None:
+def _model_rows(model: ParametricModel, points: Sequence[tuple[int, int]]
+                ) -> tuple[list[int] | None, list[tuple[int, int]]]:
+    """Model rows of the measured points; None and the points the model does not have
+    (no comparison then)."""
     table = model.coordinate_table
-    rows = []
+    rows, absent = [], []
     for node, direction in points:
         try:
             c = table.from_uff((node, abs(direction)))
         except InputError:
-            return None  # a point the model does not have: no comparison
+            absent.append((node, direction))
+            continue
         rows.append(model.index(c.number))
-    return rows
+    return (None if absent else rows), absent
 
 
 def shape_pairing(shapes: dict[str, list[MeasuredShape]], model: ParametricModel,
@@ -151,9 +155,11 @@ def shape_pairing(shapes: dict[str, list[MeasuredShape]], model: ParametricModel
     for c, sol in zip(configs, sols, strict=True):
         these = sorted(shapes[c.name], key=lambda s: s.mode)
         table = np.full((len(these), sol.modes.shape[1]), np.nan)
+        unseen: set = set()
         for i, s in enumerate(these):
-            rows = _model_rows(model, s.points)
+            rows, absent = _model_rows(model, s.points)
             if rows is None:
+                unseen.update(absent)
                 continue
             table[i] = mac(s.shape, sol.modes[rows])
             k = s.mode - 1
@@ -168,6 +174,10 @@ def shape_pairing(shapes: dict[str, list[MeasuredShape]], model: ParametricModel
                     f"{j + 1} differently (a mode exchange; an added mass moves them across "
                     f"each other in one but not the other); the update would pair them "
                     f"wrongly")
+        if unseen:  # the exchange check is off there: say so, not nothing
+            notes.append(f"configuration {c.name!r}: shapes not compared with the model's "
+                         f"modes: it has no coordinate at measured point(s) "
+                         f"{sorted(unseen)} (node, direction)")
         macs[c.name] = table
         if c.additions and bare:
             for s in these:

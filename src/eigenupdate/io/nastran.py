@@ -30,8 +30,8 @@ import scipy.sparse as sp
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_constraints import constraint_equations
 from eigenupdate.io.nastran_continuum import assemble_continuum
-from eigenupdate.io.nastran_deck import Deck, load_deck
-from eigenupdate.io.nastran_dmig import assemble_dmig
+from eigenupdate.io.nastran_deck import Deck, load_deck, modal_subcases
+from eigenupdate.io.nastran_dmig import assemble_dmig, idle_note
 from eigenupdate.io.nastran_fields import (
     FIELDS,
     NOT_LINEAR,
@@ -139,6 +139,7 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
     try:
         deck = load_deck(path)
         nm = _assemble(path, deck.bdf, parameters)
+        deck.skipped = ", ".join(x for x in (deck.skipped, idle_note(deck.bdf)) if x)
     except InputError as exc:
         if exc.source:
             raise
@@ -513,7 +514,7 @@ def _spc(bdf, where) -> tuple[np.ndarray, int | None]:
     cc = bdf.case_control_deck
     if cc is not None:
         wanted = set()
-        for sub in cc.subcases.values():
+        for sub in modal_subcases(bdf):
             try:
                 wanted.add(int(sub.get_parameter("SPC")[0]))
             except KeyError:  # this subcase restrains nothing

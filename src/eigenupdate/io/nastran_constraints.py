@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from eigenupdate.errors import InputError
+from eigenupdate.io.nastran_deck import modal_subcases
 from eigenupdate.model import constraints
 
 
@@ -124,7 +125,7 @@ def _mpc_cards(bdf) -> list:
     wanted = set()
     cc = bdf.case_control_deck
     if cc is not None:
-        for sub in cc.subcases.values():
+        for sub in modal_subcases(bdf):
             try:
                 wanted.add(int(sub.get_parameter("MPC")[0]))
             except KeyError:

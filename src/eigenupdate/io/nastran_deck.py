@@ -29,7 +29,6 @@ from pathlib import Path
 from typing import Any
 
 from eigenupdate.errors import EigenupdateWarning, InputError
-from eigenupdate.io.nastran_dmig import selections
 
 # cards that define K, M or the coordinates and are assembled (io/nastran.py)
 SUPPORTED = frozenset({
@@ -469,8 +468,24 @@ def _sort_cards(deck: Deck) -> None:
         raise InputError(f"cards that would change K or M and are not supported: {listing}",
                          source=str(deck.path))
     parts = [f"{k} x{v}" for k, v in sorted(skipped.items())] + unused_props + params
-    chosen = {n for sel in selections(bdf).values() for _, n in sel}
-    idle = sorted(set(bdf.dmig) - chosen)
-    if idle:
-        parts.append(f"DMIG {', '.join(idle)} (not selected by K2GG or M2GG)")
     deck.skipped = ", ".join(parts)
+
+
+def modal_subcases(bdf) -> list:
+    """The subcases whose selections (SPC, MPC, K2GG, M2GG) make the normal-modes model:
+    those with ANALYSIS = MODES where a multi-analysis deck has any (NX's SOL 111 with a
+    modes subcase and a base-excitation one holding another SPC set), else all of them
+    (the global subcase 0 included; pyNastran copies its selections into the others)."""
+    cc = bdf.case_control_deck
+    if cc is None:
+        return []
+    subs = list(cc.subcases.values())
+    modes = [s for s in subs if str(_value(s, "ANALYSIS") or "").upper() == "MODES"]
+    return modes or subs
+
+
+def _value(sub, key: str):
+    try:
+        return sub.get_parameter(key)[0]
+    except KeyError:
+        return None

@@ -24,6 +24,7 @@ from collections.abc import Callable
 import numpy as np
 
 from eigenupdate.errors import InputError
+from eigenupdate.io.nastran_deck import modal_subcases
 from eigenupdate.io.nastran_fields import in_range
 
 ADDED = {"K2GG": "CK2", "M2GG": "CM2"}
@@ -35,11 +36,8 @@ AFTER_CONSTRAINTS = ("K2PP", "M2PP")
 def selections(bdf) -> dict[str, list[tuple[float, str]]]:
     """{K2GG or M2GG: [(factor, DMIG name), ...]} that the case control selects; every
     subcase must select the same (one model)."""
-    cc = bdf.case_control_deck
-    if cc is None:
-        return {}
     found: dict[str, set] = {}
-    for sub in cc.subcases.values():
+    for sub in modal_subcases(bdf):
         for key in (*ADDED, *AFTER_CONSTRAINTS):
             try:
                 value = sub.get_parameter(key)[0]
@@ -57,6 +55,13 @@ def selections(bdf) -> dict[str, list[tuple[float, str]]]:
                              f"subcases: one model needs one")
         out[key] = list(chosen.pop())
     return out
+
+
+def idle_note(bdf) -> str:
+    """The DMIG matrices no K2GG or M2GG selects, for the skipped cards' note."""
+    chosen = {n for sel in selections(bdf).values() for _, n in sel}
+    idle = sorted(set(bdf.dmig) - chosen)
+    return f"DMIG {', '.join(idle)} (not selected by K2GG or M2GG)" if idle else ""
 
 
 def _named(value, key: str) -> tuple[tuple[float, str], ...]:

@@ -162,11 +162,16 @@ def test_measured_modes_ending_inside_a_group_of_close_modes_are_noted():
         [p.update for p in truth.parameters], rng.uniform(0.97, 1.03, truth.values.size), 1))
     configs = [Configuration("base")] + [mass_at(c, 0.1, f"at {c}") for c in range(1, 7)]
     notes = {}
-    for n in (4, 5):
-        modes = list(range(1, n + 1))
+    for first, n in ((1, 4), (1, 5), (2, 4)):
+        modes = list(range(first, n + 1))
         res = update(start, configs, modes, simulate(truth, configs, modes),
                      max_iterations=30)
-        notes[n] = [x for x in res.pairing["notes"] if x["kind"] == "cut group"]
-    assert any(x["configuration"] == "base" and x["modes"][-1] == 4 for x in notes[4])
-    assert "mode 5 (not measured)" in notes[4][0]["reason"]
-    assert notes[5] == []
+        notes[first, n] = [x for x in res.pairing["notes"] if x["kind"] == "cut group"]
+    assert any(x["configuration"] == "base" and x["modes"][-1] == 4 for x in notes[1, 4])
+    assert "mode 5 (not measured)" in notes[1, 4][0]["reason"]
+    assert "leave it out (modes up to 1)" in notes[1, 4][0]["reason"]
+    assert notes[1, 5] == []
+    # measuring modes 2-4: a group from mode 2 leaves nothing below it to keep
+    assert any(x["modes"][0] == 2 for x in notes[2, 4])
+    for x in notes[2, 4]:
+        assert ("leave it out" in x["reason"]) == (x["modes"][0] > 2), x

@@ -171,13 +171,16 @@ class Pairing:
                 rows.update(group)
                 k = self.rows[a][1]
                 modes = tuple(sorted(self.rows[i][1] for i in group))
+                lowest = min(self.rows[int(i)][1] for i in idx)
+                leave = f", or leave it out (modes up to {modes[0] - 1})" \
+                    if modes[0] > lowest else ""  # else no measured mode lies below it
                 self.notes.append(PairingNote(
                     "cut group", c, modes, 0,
                     f"the measured modes end inside a group of close modes: the model's "
                     f"mode {k + 1} (not measured) is as close to mode {k} as modes "
                     f"{list(modes)} are to each other, so their sum would miss a member "
                     f"and is not fitted (paired by order, tracked); measure the whole "
-                    f"group, or leave it out (modes up to {modes[0] - 1})"))
+                    f"group{leave}"))
         return rows
 
     def _limit(self, std_a: float, std_b: float) -> float:

@@ -101,6 +101,8 @@ def cmd_design(args) -> int:
     from eigenupdate.design.plan_io import plan_study_text
     from eigenupdate.report.design import design_text, validation_doc, validation_text
 
+    if not args.scheduler:  # the environment's scheduler, as montecarlo's
+        check_scheduler(os.environ.get(SCHEDULER_ENV), SCHEDULER_ENV)
     study = eu.load_study(args.study)
     check_outputs({"-o": args.output}, study.inputs(measurements=True, frf=True))
     done = eu.design(study, validate=args.validate, seed=args.seed, scheduler=args.scheduler,

@@ -15,6 +15,7 @@ and returns a typed result, so a notebook does what ``eigenupdate <command>`` do
 from __future__ import annotations
 
 import math
+import os
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, fields, replace
@@ -24,6 +25,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from eigenupdate.budget import require
+from eigenupdate.choices import SCHEDULER_ENV
 from eigenupdate.design.montecarlo import (  # its own imports are light
     MIN_CONVERGED,
     MonteCarloResult,
@@ -266,12 +268,13 @@ def design(study: Study, *, validate: int | None = None, seed: int | None = 0,
     then ``validate`` virtual tests of that plan (truth drawn from the prior) if given.
 
     ``executor`` screens the candidates and runs the trials (default: this process; the
-    caller closes it), or else a Dask cluster at ``scheduler`` or of ``workers`` local
-    processes, closed here; see :mod:`eigenupdate.design.executor`.
+    caller closes it), or else a Dask cluster at ``scheduler`` (or
+    ``$EIGENUPDATE_SCHEDULER``) or of ``workers`` local processes, closed here; see
+    :mod:`eigenupdate.design.executor`.
     """
     from eigenupdate.design.executor import executor_for
 
-    if executor is None and (scheduler or workers):
+    if executor is None and (scheduler or workers or os.environ.get(SCHEDULER_ENV)):
         with executor_for(scheduler, n_workers=workers) as ex:
             return design(study, validate=validate, seed=seed, executor=ex)
     from eigenupdate.design.plan import design_plan

@@ -516,6 +516,16 @@ def test_an_unknown_host_or_closed_port_fails_at_once(run_cli, address, words):
     assert time.perf_counter() - t < 8  # the connect timeout is 10 s
 
 
+def test_design_takes_the_scheduler_of_the_environment(tmp_path, run_cli, monkeypatch):
+    """As montecarlo does (README: ``--scheduler`` or EIGENUPDATE_SCHEDULER): design ran
+    in process whatever the variable said. A closed port proves it is read."""
+    monkeypatch.setenv("EIGENUPDATE_SCHEDULER", "tcp://127.0.0.1:1")
+    code, _, err = run_cli("design", FIG2_STUDY, "-o", tmp_path / "plan.toml")
+    assert not (tmp_path / "plan.toml").exists()
+    _one_line(code, err, "EIGENUPDATE_SCHEDULER: cannot connect to the Dask scheduler",
+              "Connection refused")
+
+
 def test_a_repeated_header_is_named_as_such(tmp_path, run_cli):
     """Two measurement files joined: the second header was read as a row of a
     configuration called 'configuration' ('not in the study')."""

@@ -79,7 +79,7 @@ class InProcess:
         return "in-process"
 
 
-def _reachable(address: str) -> None:
+def _reachable(address: str, field: str) -> None:
     """Refuse at once a scheduler whose host is not known or whose port refuses the
     connection (Dask retries both until its 10 s timeout, then says it timed out)."""
     import socket
@@ -94,37 +94,38 @@ def _reachable(address: str) -> None:
     except (OSError, UnicodeError) as exc:
         raise InputError(f"cannot connect to the Dask scheduler: host {host!r} is not known "
                          f"({getattr(exc, 'strerror', None) or exc})",
-                         field="--scheduler") from None
+                         field=field) from None
     try:
         socket.create_connection((host, port), timeout=10).close()
     except TimeoutError:
         raise InputError(f"cannot connect to the Dask scheduler: no answer from {address} "
-                         f"within 10 s", field="--scheduler") from None
+                         f"within 10 s", field=field) from None
     except OSError as exc:
         raise InputError(f"cannot connect to the Dask scheduler at {address}: "
-                         f"{exc.strerror or exc}", field="--scheduler") from None
+                         f"{exc.strerror or exc}", field=field) from None
 
 
 class DaskExecutor:
     """Tasks on a Dask cluster: an existing one at ``address``, else a local cluster of
     ``n_workers`` single-threaded worker processes (default: one per core)."""
 
-    def __init__(self, address: str | None = None, n_workers: int | None = None):
+    def __init__(self, address: str | None = None, n_workers: int | None = None,
+                 field: str = "--scheduler"):
         from distributed import Client, LocalCluster
 
         self.cluster = None
         if address:
-            _reachable(address)
+            _reachable(address, field)  # field: where the address came from
             try:
                 self.client = Client(address, timeout="10s")
             except (OSError, TimeoutError) as exc:
                 raise InputError(f"cannot connect to the Dask scheduler: {exc}",
-                                 field="--scheduler") from None
+                                 field=field) from None
             except Exception as exc:  # another server's reply read as Dask's handshake: a
                 # frame length of exabytes (MemoryError: 'out of memory'), too many dimensions
                 raise InputError(f"{address} answered, but not as a Dask scheduler "
                                  f"({type(exc).__name__}: {shorten(str(exc), 80)}); is "
-                                 f"that the scheduler's port?", field="--scheduler") from None
+                                 f"that the scheduler's port?", field=field) from None
         else:
             # one core per worker: its sparse solves must not start threads of their own
             self.cluster = LocalCluster(n_workers=n_workers or os.cpu_count() or 1,
@@ -229,4 +230,4 @@ def executor_for(scheduler: str | None = None, in_process: bool = False,
     address = scheduler or os.environ.get(SCHEDULER_ENV) or None
     if address is None and n_workers is None:
         return Automatic()
-    return DaskExecutor(address, n_workers)
+    return DaskExecutor(address, n_workers, "--scheduler" if scheduler else SCHEDULER_ENV)

@@ -191,7 +191,7 @@ BAD = [
     ("CBAR,1,1,1,2,0.,1.,0.\nGRID,4,,0.,1.,0.\nCQUAD8,5,1,1,2,3,4",
      "CQUAD8 5: blank mid-side grids are not supported"),
     ("CBAR,1,1,1,2,0.,1.,0.\nGRID,4,,0.,1.,0.\nCQUAD4,5,1,1,2,3,4",
-     "CQUAD4 5: property PSHELL or PCOMP 1 is not defined"),
+     "CQUAD4 5: property PSHELL, PCOMP or PCOMPG 1 is not defined"),
 ]
 
 

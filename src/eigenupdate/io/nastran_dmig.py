@@ -39,11 +39,15 @@ def selections(bdf) -> dict[str, list[tuple[float, str]]]:
     if cc is None:
         return {}
     found: dict[str, set] = {}
-    for sub in cc.subcases.values():
+    # pyNastran copies the global selections into each subcase; a subcase that selects
+    # none while another selects one is a different model too
+    subs = [s for i, s in cc.subcases.items() if i > 0] or list(cc.subcases.values())
+    for sub in subs:
         for key in (*ADDED, *AFTER_CONSTRAINTS):
             try:
                 value = sub.get_parameter(key)[0]
             except KeyError:
+                found.setdefault(key, set()).add(None)
                 continue
             if key in AFTER_CONSTRAINTS:
                 raise InputError(f"case control {key} (a direct input matrix added after the "
@@ -54,8 +58,9 @@ def selections(bdf) -> dict[str, list[tuple[float, str]]]:
     for key, chosen in found.items():
         if len(chosen) > 1:
             raise InputError(f"case control selects different {key} matrices in different "
-                             f"subcases: one model needs one")
-        out[key] = list(chosen.pop())
+                             f"subcases (or none in some): one model needs one")
+        if chosen != {None}:
+            out[key] = list(chosen.pop())
     return out
 
 

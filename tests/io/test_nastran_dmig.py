@@ -106,6 +106,8 @@ def test_dmi_is_skipped(tmp_path):
      "given both above and below the diagonal"),
     ("K2GG = KC", "DMIG,KC,0,6,3,0\nDMIG,KC,2,1,,2,1,5.,1.\n", "TIN = 3 (complex)"),
     ("K2GG = KG", "DMIG,KG,0,6,1,0\nDMIG,KG,9,1,,9,1,5.\n", "GRID 9"),
+    # pyNastran's own check while reading (was "pyNastran cannot read the deck", no card)
+    ("K2GG = KH", "DMIG,KH,0,6,1,0\nDMIG,KH,2,1,,2,7,5.\n", "DMIG KH: "),
 ])
 def test_refusals_name_the_matrix(tmp_path, case, extra, expected):
     """One line naming the DMIG (and its line, where the matrix exists)."""

@@ -413,13 +413,15 @@ def _card_in_traceback(exc: BaseException, lines: list[str], origin, main: str) 
         kind = getattr(card, "type", None)
         ident = next((getattr(card, a) for a in ("eid", "pid", "mid", "nid", "sid", "cid")
                       if isinstance(getattr(card, a, None), int)), None)
+        if ident is None and kind in ("DMIG", "DMI"):  # named, not numbered
+            ident = str(getattr(card, "name", "")).upper() or None
         if isinstance(kind, str) and kind.isupper() and ident is not None:
             found = (kind, ident)
         tb = tb.tb_next
     return "" if found is None else _located(*found, lines, origin, main)
 
 
-def _located(card: str, cid: int, lines: list[str], origin, main: str) -> str:
+def _located(card: str, cid: int | str, lines: list[str], origin, main: str) -> str:
     """``line N: CARD id`` (``file:N`` in an included file; ``CARD id`` if not found)."""
     hit = _card_starts(lines, origin).get((card, cid))
     if hit is None:

@@ -106,6 +106,8 @@ def test_dmi_is_skipped(tmp_path):
      "given both above and below the diagonal"),
     ("K2GG = KC", "DMIG,KC,0,6,3,0\nDMIG,KC,2,1,,2,1,5.,1.\n", "TIN = 3 (complex)"),
     ("K2GG = KG", "DMIG,KG,0,6,1,0\nDMIG,KG,9,1,,9,1,5.\n", "GRID 9"),
+    # pyNastran's own check while reading (was "pyNastran cannot read the deck", no card)
+    ("K2GG = KH", "DMIG,KH,0,6,1,0\nDMIG,KH,2,1,,2,7,5.\n", "DMIG KH: "),
 ])
 def test_refusals_name_the_matrix(tmp_path, case, extra, expected):
     """One line naming the DMIG (and its line, where the matrix exists)."""
@@ -115,3 +117,18 @@ def test_refusals_name_the_matrix(tmp_path, case, extra, expected):
     assert expected in msg and "\n" not in msg
     if "DMIG K" in msg and "case control" not in msg:
         assert "line " in msg
+
+
+def test_subcases_must_all_select_the_same(tmp_path):
+    """The case control selects per subcase (global values carried into each): a subcase
+    with K2GG = KX beside one without would be two models; the one model read must not
+    take KX silently (it did, for both). Same selection in every subcase: read; a global
+    selection inherited by all: read."""
+    with pytest.raises(InputError, match="or none in some"):
+        _read(tmp_path, case="SUBCASE 1\nK2GG = KX\nSUBCASE 2\nMETHOD = 1")
+    with pytest.raises(InputError, match="or none in some"):
+        _read(tmp_path, case="SUBCASE 1\nMETHOD = 1\nSUBCASE 2\nM2GG = MX")
+    nm, _ = _read(tmp_path, case="SUBCASE 1\nK2GG = KX\nSUBCASE 2\nK2GG = KX")
+    assert _dense(nm)[1][2, 2] == 300.0
+    nm, _ = _read(tmp_path, case="K2GG = KX\nSUBCASE 1\nMETHOD = 1\nSUBCASE 2\nMETHOD = 1")
+    assert _dense(nm)[1][2, 2] == 300.0

@@ -215,6 +215,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
         raise InputError(f"PARAM WTMASS {wtmass} must be > 0")
     if not bdf.nodes and not bdf.spoints:
         raise InputError("no GRID or SPOINT cards")
+    _link_cord1_grids(bdf)
     try:
         bdf._cross_reference_coordinates()
     except Exception as exc:
@@ -405,6 +406,22 @@ def _analysis_set(bdf, where, ndof: int) -> np.ndarray | None:
         mask = np.ones(ndof, bool)
         mask[_set_rows(omits, where, "OMIT")] = False
     return mask
+
+
+def _link_cord1_grids(bdf) -> None:
+    """Give the grids that define a CORD1R/C/S their CP system: pyNastran's setup of
+    those systems reads the grids' positions through it (unset, every deck with a CORD1
+    card was refused with "'NoneType' object has no attribute 'setup'")."""
+    for c in bdf.coords.values():
+        if not c.type.startswith("CORD1"):
+            continue
+        for n in (c.g1, c.g2, c.g3):
+            g = bdf.nodes.get(n)
+            if g is None:
+                raise InputError(f"{c.type} {c.cid}: GRID {n} is referenced but not defined")
+            if g.cp not in bdf.coords:
+                raise InputError(f"GRID {n}: coordinate system CP {g.cp} is not defined")
+            g.cp_ref = bdf.coords[g.cp]
 
 
 def _positions(bdf, nids: np.ndarray) -> np.ndarray:

@@ -425,13 +425,15 @@ def _card_in_traceback(exc: BaseException, lines: list[str], origin, main: str) 
         kind = getattr(card, "type", None)
         ident = next((getattr(card, a) for a in ("eid", "pid", "mid", "nid", "sid", "cid")
                       if isinstance(getattr(card, a, None), int)), None)
+        if ident is None and kind in ("DMIG", "DMI"):  # named, not numbered
+            ident = str(getattr(card, "name", "")).upper() or None
         if isinstance(kind, str) and kind.isupper() and ident is not None:
             found = (kind, ident)
         tb = tb.tb_next
     return "" if found is None else _located(*found, lines, origin, main)
 
 
-def _located(card: str, cid: int, lines: list[str], origin, main: str) -> str:
+def _located(card: str, cid: int | str, lines: list[str], origin, main: str) -> str:
     """``line N: CARD id`` (``file:N`` in an included file; ``CARD id`` if not found)."""
     hit = _card_starts(lines, origin).get((card, cid))
     if hit is None:
@@ -474,12 +476,13 @@ def _sort_cards(deck: Deck) -> None:
 def modal_subcases(bdf) -> list:
     """The subcases whose selections (SPC, MPC, K2GG, M2GG) make the normal-modes model:
     those with ANALYSIS = MODES where a multi-analysis deck has any (NX's SOL 111 with a
-    modes subcase and a base-excitation one holding another SPC set), else all of them
-    (the global subcase 0 included; pyNastran copies its selections into the others)."""
+    modes subcase and a base-excitation one holding another SPC set), else all of them;
+    the global subcase 0 only where there is no other (pyNastran copies its selections
+    into the others, which may replace them)."""
     cc = bdf.case_control_deck
     if cc is None:
         return []
-    subs = list(cc.subcases.values())
+    subs = [s for i, s in cc.subcases.items() if i > 0] or list(cc.subcases.values())
     modes = [s for s in subs if str(_value(s, "ANALYSIS") or "").upper() == "MODES"]
     return modes or subs
 

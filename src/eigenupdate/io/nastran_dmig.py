@@ -37,11 +37,13 @@ def selections(bdf) -> dict[str, list[tuple[float, str]]]:
     """{K2GG or M2GG: [(factor, DMIG name), ...]} that the case control selects; every
     subcase must select the same (one model)."""
     found: dict[str, set] = {}
+    # a subcase that selects none while another selects one is a different model too
     for sub in modal_subcases(bdf):
         for key in (*ADDED, *AFTER_CONSTRAINTS):
             try:
                 value = sub.get_parameter(key)[0]
             except KeyError:
+                found.setdefault(key, set()).add(None)
                 continue
             if key in AFTER_CONSTRAINTS:
                 raise InputError(f"case control {key} (a direct input matrix added after the "
@@ -52,8 +54,9 @@ def selections(bdf) -> dict[str, list[tuple[float, str]]]:
     for key, chosen in found.items():
         if len(chosen) > 1:
             raise InputError(f"case control selects different {key} matrices in different "
-                             f"subcases: one model needs one")
-        out[key] = list(chosen.pop())
+                             f"subcases (or none in some): one model needs one")
+        if chosen != {None}:
+            out[key] = list(chosen.pop())
     return out
 
 

@@ -61,7 +61,7 @@ def offset_parts(parts: dict, z: np.ndarray) -> dict:
         # u brings the node's ry, v its rx
         new = np.union1d(cols, np.concatenate([cols[cols % 6 == 0] + 4,
                                                cols[cols % 6 == 1] + 2]))
-        if new.size == cols.size:
+        if not np.any(cols % 6 < 2):  # no u, v: unchanged (a coupling part has ry too)
             out[name] = (cols, block)
             continue
         T = np.zeros((n, cols.size, new.size))

@@ -7,13 +7,13 @@ Imports nothing numerical: ``eigenupdate --help`` starts in about the time NumPy
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import re
 
 from eigenupdate import __version__
 from eigenupdate.choices import ESTIMATORS, FRF_KINDS, OPTIMIZERS, SCHEDULER_ENV
 from eigenupdate.errors import MAX_MESSAGE, InputError, shorten
+from eigenupdate.io.study_table import in_limits
 
 
 def _number(text: str) -> float:
@@ -23,19 +23,15 @@ def _number(text: str) -> float:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
 
 
-# as numbers in a study (io/study_table.py): beyond, sums and ratios overflow (a sweep's
+# as numbers in a study (io/study_table.in_limits): beyond, sums and ratios overflow (a sweep's
 # --max-mass 1e308 made its percentage axis inf: a traceback from matplotlib)
 _RANGE = "of magnitude 1e-100 to 1e100"
-
-
-def _in_range(v: float) -> bool:
-    return math.isfinite(v) and (v == 0 or 1e-100 <= abs(v) <= 1e100)
 
 
 def nonnegative(text: str) -> float:
     """argparse type: 0 or a number >= 1e-100 and <= 1e100."""
     v = _number(text)
-    if not _in_range(v) or v < 0:
+    if not in_limits(v) or v < 0:
         raise argparse.ArgumentTypeError(f"{text!r} must be 0 or a number {_RANGE}")
     return v
 
@@ -43,7 +39,7 @@ def nonnegative(text: str) -> float:
 def positive(text: str) -> float:
     """argparse type: a number > 0, 1e-100 to 1e100."""
     v = _number(text)
-    if not _in_range(v) or v <= 0:
+    if not in_limits(v) or v <= 0:
         raise argparse.ArgumentTypeError(f"{text!r} must be a number > 0 {_RANGE}")
     return v
 

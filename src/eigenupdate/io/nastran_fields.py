@@ -7,6 +7,7 @@ import math
 import numpy as np
 
 from eigenupdate.errors import InputError
+from eigenupdate.io.study_table import in_limits
 
 # card -> field -> (pyNastran attribute, what it scales); the rest are refused with a reason
 FIELDS = {
@@ -122,7 +123,7 @@ def in_range(value, what: str) -> float:
     """``value`` as a float; InputError unless it is finite and 0 or of magnitude 1e-100
     to 1e100 (as numbers in a study: beyond, K and M overflow or lose all precision)."""
     v = float("nan") if value is None else float(value)
-    if not math.isfinite(v) or (v != 0 and not 1e-100 <= abs(v) <= 1e100):
+    if not in_limits(v):
         raise InputError(f"{what} = {v:g} is out of range (0 or magnitude 1e-100 to 1e100)")
     return v
 

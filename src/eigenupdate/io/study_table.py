@@ -12,6 +12,16 @@ LIMIT = 1e100
 of them (K = EI/L^3, lambda = k/m, (2 pi f)^2) leave the floating-point range."""
 
 
+def in_limits(x: float) -> bool:
+    """0 or of magnitude 1/LIMIT to LIMIT (NaN and inf are not); no float(x): ints may be
+    huge. The rule for every number the package reads (study, command line, NASTRAN deck).
+
+    >>> in_limits(0), in_limits(2e-7), in_limits(float("inf")), in_limits(10**400)
+    (True, True, False, False)
+    """
+    return x == 0 or 1 / LIMIT <= abs(x) <= LIMIT
+
+
 class TableReader:
     """Typed access to one TOML table, with the dotted field name for errors."""
 
@@ -44,7 +54,7 @@ class TableReader:
             "int": lambda x: isinstance(x, int) and not isinstance(x, bool) and abs(x) < 2**31,
             "float": lambda x: (
                 isinstance(x, int | float) and not isinstance(x, bool)
-                and (x == 0 or 1 / LIMIT <= abs(x) <= LIMIT)  # no float(x): ints may be huge
+                and in_limits(x)
             ),
             "bool": lambda x: isinstance(x, bool),
             "list": lambda x: isinstance(x, list),
@@ -73,7 +83,7 @@ class TableReader:
         )
         if isinstance(v, list):
             bad = [x for x in v if isinstance(x, bool) or not isinstance(x, int | float)
-                   or (x != 0 and not 1 / LIMIT <= abs(x) <= LIMIT)]
+                   or not in_limits(x)]
             if bad or not v:
                 raise self.error(key, "must be a number or a non-empty list of numbers (0 or "
                                       f"of magnitude {1 / LIMIT:g} to {LIMIT:g})")

@@ -30,7 +30,7 @@ import scipy.sparse as sp
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_constraints import constraint_equations
 from eigenupdate.io.nastran_continuum import assemble_continuum
-from eigenupdate.io.nastran_deck import Deck, load_deck, modal_subcases
+from eigenupdate.io.nastran_deck import Deck, case_value, load_deck, modal_subcases, place
 from eigenupdate.io.nastran_dmig import assemble_dmig, idle_note
 from eigenupdate.io.nastran_fields import (
     FIELDS,
@@ -166,10 +166,7 @@ def _located(message: str, deck: Deck | None) -> str:
         return message
     key = m.group(2)
     hit = deck.lines.get((m.group(1), int(key) if key.isdigit() else key))
-    if not hit:
-        return message
-    name, line = hit.rsplit(":", 1)
-    return f"{'line ' + line if name == deck.path.name else hit}: {message}"
+    return f"{place(hit, deck.path.name)}: {message}" if hit else message
 
 
 def _param(bdf, name: str, default):
@@ -527,19 +524,12 @@ def _spc(bdf, where) -> tuple[np.ndarray, int | None]:
             if c != "0":
                 rows.append(6 * where[n] + int(c) - 1)
     ids = set(bdf.spcs) | set(bdf.spcadds)
-    chosen = None
-    cc = bdf.case_control_deck
-    if cc is not None:
-        wanted = set()
-        for sub in modal_subcases(bdf):
-            try:
-                wanted.add(int(sub.get_parameter("SPC")[0]))
-            except KeyError:  # this subcase restrains nothing
-                pass
-        if len(wanted) > 1:
-            raise InputError(f"case control selects several SPC sets {sorted(wanted)}; "
-                             f"one is needed for one model")
-        chosen = int(wanted.pop()) if wanted else None
+    wanted = {int(v) for sub in modal_subcases(bdf)
+              if (v := case_value(sub, "SPC")) is not None}  # else it restrains nothing
+    if len(wanted) > 1:
+        raise InputError(f"case control selects several SPC sets {sorted(wanted)}; "
+                         f"one is needed for one model")
+    chosen = wanted.pop() if wanted else None
     if chosen is None:
         inner = {int(s) for add in bdf.spcadds.values() for a in add for s in a.sets}
         top = sorted(ids - inner)

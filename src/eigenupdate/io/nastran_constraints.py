@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.nastran_deck import modal_subcases
+from eigenupdate.io.nastran_deck import case_value, modal_subcases
 from eigenupdate.model import constraints
 
 
@@ -122,14 +122,7 @@ def _mpc_cards(bdf) -> list:
     ids = set(bdf.mpcs) | set(bdf.mpcadds)
     if not ids:
         return []
-    wanted = set()
-    cc = bdf.case_control_deck
-    if cc is not None:
-        for sub in modal_subcases(bdf):
-            try:
-                wanted.add(int(sub.get_parameter("MPC")[0]))
-            except KeyError:
-                pass
+    wanted = {int(v) for sub in modal_subcases(bdf) if (v := case_value(sub, "MPC")) is not None}
     if len(wanted) > 1:
         raise InputError(f"case control selects several MPC sets {sorted(wanted)}")
     if not wanted:

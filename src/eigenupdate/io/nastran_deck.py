@@ -40,8 +40,7 @@ SUPPORTED = frozenset({
     "RBE2", "RBAR", "RBE3", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR",
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
     "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "CHEXA",
-    "CPENTA",
-    "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG",
+    "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG",
 })
 # cards that change neither K nor M of a normal-modes analysis
 SKIPPED = frozenset({
@@ -294,8 +293,7 @@ def load_deck(path: str | Path) -> Deck:
     _grdset_defaults(bdf)
     _implicit_spoints(bdf)
     deck = Deck(path, bdf, _card_starts(lines, origin), text=text, included=included,
-                bulk=first,
-                temperature=temperature)
+                bulk=first, temperature=temperature)
     _sort_cards(deck)
     return deck
 
@@ -436,10 +434,13 @@ def _card_in_traceback(exc: BaseException, lines: list[str], origin, main: str) 
 def _located(card: str, cid: int | str, lines: list[str], origin, main: str) -> str:
     """``line N: CARD id`` (``file:N`` in an included file; ``CARD id`` if not found)."""
     hit = _card_starts(lines, origin).get((card, cid))
-    if hit is None:
-        return f"{card} {cid}"
+    return f"{card} {cid}" if hit is None else f"{place(hit, main)}: {card} {cid}"
+
+
+def place(hit: str, main: str) -> str:
+    """``line N`` for a ``file:N`` of the deck ``main`` itself, else ``file:N``."""
     name, line = hit.rsplit(":", 1)
-    return f"{'line ' + line if name == main else hit}: {card} {cid}"
+    return f"line {line}" if name == main else hit
 
 
 def _unused_properties(bdf) -> set[str]:
@@ -483,11 +484,12 @@ def modal_subcases(bdf) -> list:
     if cc is None:
         return []
     subs = [s for i, s in cc.subcases.items() if i > 0] or list(cc.subcases.values())
-    modes = [s for s in subs if str(_value(s, "ANALYSIS") or "").upper() == "MODES"]
+    modes = [s for s in subs if str(case_value(s, "ANALYSIS") or "").upper() == "MODES"]
     return modes or subs
 
 
-def _value(sub, key: str):
+def case_value(sub, key: str):
+    """A case control command's value in a subcase, None where it has none."""
     try:
         return sub.get_parameter(key)[0]
     except KeyError:

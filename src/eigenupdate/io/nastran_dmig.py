@@ -24,12 +24,11 @@ from collections.abc import Callable
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.nastran_deck import modal_subcases
+from eigenupdate.io.nastran_deck import case_value, modal_subcases
 from eigenupdate.io.nastran_fields import in_range
 
 ADDED = {"K2GG": "CK2", "M2GG": "CM2"}
 """Selections that add a DMIG to K or M, with the PARAM that scales them."""
-DAMPING = ("B2GG", "B2PP", "K42GG")
 AFTER_CONSTRAINTS = ("K2PP", "M2PP")
 
 
@@ -40,9 +39,8 @@ def selections(bdf) -> dict[str, list[tuple[float, str]]]:
     # a subcase that selects none while another selects one is a different model too
     for sub in modal_subcases(bdf):
         for key in (*ADDED, *AFTER_CONSTRAINTS):
-            try:
-                value = sub.get_parameter(key)[0]
-            except KeyError:
+            value = case_value(sub, key)
+            if value is None:
                 found.setdefault(key, set()).add(None)
                 continue
             if key in AFTER_CONSTRAINTS:

@@ -1,0 +1,55 @@
+"""Hostile inputs of round 3 (tools/hostile_round3.py): the leftovers of round 2. Each
+refusal is one line on standard error, exit 2, no traceback, nothing written."""
+
+import json
+import shutil
+
+from conftest import ROOT
+
+FRF_EXAMPLE = ROOT / "examples" / "paper_beam_frf"
+
+
+def _one_line(code, err, *fragments):
+    assert code == 2, err
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    for f in fragments:
+        assert f in lines[0], lines[0]
+
+
+def test_saved_extraction_refused_over_swapped_frf_files(tmp_path, run_cli):
+    """Two FRF files swapped in [measurement.frf] after `extract --save`: both hold two
+    FRFs at the same points, so the saved extraction (which recorded only how many) drew
+    '0.2 kg at 1''s fits over the FRFs of '0.2 kg at 3'. It now records each FRF's values
+    (SHA-256, hashlib) and the report refuses the swap; unswapped, it is accepted."""
+    from eigenupdate.io.study import load_study
+    from eigenupdate.measure.survey import TestExtraction
+    from eigenupdate.workflow import _study_frfs
+
+    d = tmp_path / "frf"
+    shutil.copytree(FRF_EXAMPLE, d)
+    code, _, err = run_cli("extract", d / "study.toml", "-o", d / "x.csv", "--save",
+                           d / "x.json")
+    assert code == 0, err
+    saved = TestExtraction.from_dict(json.loads((d / "x.json").read_text()), "x.json")
+    assert [x["file"] for x in saved.frfs["0.2 kg at 1"]] == ["0.2_kg_at_1.uff"] * 2
+    saved.require_frfs(_study_frfs(load_study(d / "study.toml")), "x.json")  # as saved
+    text = (d / "study.toml").read_text()
+    a, b = '"frf/0.2_kg_at_1.uff"', '"frf/0.2_kg_at_3.uff"'
+    (d / "study.toml").write_text(text.replace(a, "@").replace(b, a).replace("@", b))
+    code, _, err = run_cli("report", d / "study.toml", "--saved-only", "--extraction",
+                           d / "x.json", "-o", d / "r.html")
+    _one_line(code, err, "x.json", "'0.2 kg at 1' was fitted to FRFs 0.2_kg_at_1.uff",
+              "0.2_kg_at_3.uff", "extract again")
+    assert not (d / "r.html").exists()
+    # the same bytes under the old names (files swapped on disk): refused as well
+    (d / "study.toml").write_text(text)
+    f1, f3 = d / "frf" / "0.2_kg_at_1.uff", d / "frf" / "0.2_kg_at_3.uff"
+    one = f1.read_bytes()
+    f1.write_bytes(f3.read_bytes())
+    f3.write_bytes(one)
+    code, _, err = run_cli("report", d / "study.toml", "--saved-only", "--extraction",
+                           d / "x.json", "-o", d / "r.html")
+    _one_line(code, err, "'0.2 kg at 1' was fitted to FRFs")
+    assert not (d / "r.html").exists()

@@ -53,3 +53,35 @@ def test_saved_extraction_refused_over_swapped_frf_files(tmp_path, run_cli):
                            d / "x.json", "-o", d / "r.html")
     _one_line(code, err, "'0.2 kg at 1' was fitted to FRFs")
     assert not (d / "r.html").exists()
+
+
+def test_a_unit_the_value_does_not_have_is_refused(tmp_path, run_cli):
+    """unit = "g" on the 9.7 kg mass of paper Fig. 2 printed 9.7 g: a unit is a label, so
+    on the package's SI models it must be the quantity's SI unit (kg; kg m^2 on a beam's
+    rotational coordinate) or the study is refused; the SI unit itself is accepted."""
+    src = ROOT / "examples" / "paper_fig2"
+    for f in src.iterdir():
+        if f.is_file():
+            shutil.copy(f, tmp_path / f.name)
+    text = (src / "study.toml").read_text()
+    for unit, ok in [("g", False), ("t", False), ("kg m^2", False), ("kg", True)]:
+        (tmp_path / "study.toml").write_text(
+            text.replace("value = 9.7  # kg", f'value = 9.7\nunit = "{unit}"', 1))
+        code, out, err = run_cli("frequencies", tmp_path / "study.toml")
+        if ok:
+            assert code == 0, err
+        else:
+            _one_line(code, err, "model.mass[1].unit", f"'{unit}' is not the unit",
+                      "SI, kg here")
+    beam = (ROOT / "examples" / "paper_beam" / "study.toml").read_text()
+    for coordinate, unit, ok in [(11, "kg m^2", False), (12, "kg m^2", True), (12, "kg", False),
+                                 (11, "kg", True)]:
+        (tmp_path / "beam.toml").write_text(beam.replace(
+            "coordinate = 11\nvalue = 0.0", f'coordinate = {coordinate}\nunit = "{unit}"\n'
+                                            "value = 0.0", 1).replace(
+            'frequencies = "', f'frequencies = "{ROOT}/examples/paper_beam/', 1))
+        code, out, err = run_cli("frequencies", tmp_path / "beam.toml")
+        if ok:
+            assert code == 0, err
+        else:
+            _one_line(code, err, "model.point_mass[1].unit")

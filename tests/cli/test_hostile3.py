@@ -85,3 +85,47 @@ def test_a_unit_the_value_does_not_have_is_refused(tmp_path, run_cli):
             assert code == 0, err
         else:
             _one_line(code, err, "model.point_mass[1].unit")
+
+
+def test_an_earlier_save_bdf_output_is_replaced_any_other_file_needs_force(tmp_path):
+    """The rule of `--save-bdf` (README "NASTRAN models"): a file that starts with its
+    comment block is its own earlier output and is replaced; any other existing file
+    (another study's deck, an INCLUDEd mesh) only with --force; a new name always."""
+    import pytest
+
+    from eigenupdate.errors import InputError
+    from eigenupdate.io.nastran_write import SIGNATURE
+    from eigenupdate.io.outputs import check_replaceable
+
+    ours, deck = tmp_path / "updated.bdf", tmp_path / "other.bdf"
+    ours.write_text(f"$ {SIGNATURE} frame.bdf by study study.toml\nGRID,1\n")
+    deck.write_text("$ another study's deck\nGRID,1\n")
+    check_replaceable(ours, "--save-bdf", "$ " + SIGNATURE, force=False)
+    check_replaceable(tmp_path / "new.bdf", "--save-bdf", "$ " + SIGNATURE, force=False)
+    check_replaceable(deck, "--save-bdf", "$ " + SIGNATURE, force=True)
+    with pytest.raises(InputError, match="exists and is not an earlier output of --save-bdf"):
+        check_replaceable(deck, "--save-bdf", "$ " + SIGNATURE, force=False)
+
+
+def test_design_does_not_replace_another_study_without_force(tmp_path, run_cli):
+    """`design -o truth.toml` wrote the plan over the example's truth study (not an
+    input of the run); now refused before the design, the file unchanged. Its own earlier
+    plan (first line '# eigenupdate design: plan from ...') is replaced, as is any file
+    with --force."""
+    src = ROOT / "examples" / "paper_fig2"
+    for f in src.iterdir():
+        if f.is_file():
+            shutil.copy(f, tmp_path / f.name)
+    before = (tmp_path / "truth.toml").read_bytes()
+    code, out, err = run_cli("design", tmp_path / "study.toml", "-o", tmp_path / "truth.toml")
+    _one_line(code, err, "truth.toml: -o: exists and is not an earlier output of -o")
+    assert out == "" and (tmp_path / "truth.toml").read_bytes() == before
+    for extra in ([], []):  # a new name, then its own earlier output
+        code, _, err = run_cli("design", tmp_path / "study.toml", "-o", tmp_path / "p.toml",
+                               *extra)
+        assert code == 0, err
+    assert (tmp_path / "p.toml").read_text().startswith(
+        "# eigenupdate design: plan from study.toml\n")
+    code, _, err = run_cli("design", tmp_path / "study.toml", "-o", tmp_path / "truth.toml",
+                           "--force")
+    assert code == 0, err

@@ -1,0 +1,67 @@
+"""Round-3 hostile NASTRAN input (tools/hostile_round3.py): a GRID with a blank id is
+named by its line like every other card error, and `update --save-bdf` does not replace
+a file it did not write (another study's deck) without --force. Runs in .venv-nastran."""
+
+from __future__ import annotations
+
+import shutil
+
+import pytest
+from conftest import ROOT
+from nastran_frames import need
+
+pytestmark = pytest.mark.nastran
+need("pyNastran")
+
+FRAME = ROOT / "examples" / "nastran_frame"
+G1002 = "GRID        1002              0.      3.      0."
+
+
+def _one_line(code, err, *fragments):
+    assert code == 2, err
+    assert "Traceback" not in err
+    lines = [x for x in err.strip().splitlines() if not x.startswith("eigenupdate: warning")]
+    assert len(lines) == 1, err
+    for f in fragments:
+        assert f in lines[0], lines[0]
+
+
+@pytest.mark.parametrize("card", [
+    "GRID                          0.      3.      0.",   # fixed field
+    "GRID,,,0.,3.,0.",                                    # free field
+    "GRID*                                           0.              3.\n*       0.",
+])
+def test_grid_with_a_blank_id_names_its_line(tmp_path, run_cli, card):
+    """GRID 1002 of the shipped frame (line 19 of frame.bdf) with its id blanked: was
+    "pyNastran cannot read the deck: ValueError: SyntaxError: nid = None (field #1)",
+    no line; the QRG's GRID needs an id (0 < ID < 100,000,000)."""
+    d = tmp_path / "f"
+    shutil.copytree(FRAME, d)
+    text = (d / "frame.bdf").read_text()
+    assert text.splitlines()[18] == G1002
+    (d / "frame.bdf").write_text(text.replace(G1002, card, 1))
+    code, _, err = run_cli("frequencies", d / "study.toml")
+    _one_line(code, err, "frame.bdf: line 19: GRID: the id (field 1) is blank")
+    assert "pyNastran" not in err
+
+
+def test_grid_with_a_blank_id_in_an_included_file(tmp_path, run_cli):
+    d = tmp_path / "f"
+    shutil.copytree(FRAME, d)
+    text = (d / "frame.bdf").read_text()
+    (d / "grids.bdf").write_text("$ grids\n" + G1002.replace("1002", "    ") + "\n")
+    (d / "frame.bdf").write_text(text.replace(G1002, "INCLUDE 'grids.bdf'", 1))
+    code, _, err = run_cli("frequencies", d / "study.toml")
+    _one_line(code, err, "frame.bdf: grids.bdf:2: GRID: the id (field 1) is blank")
+
+
+def test_save_bdf_does_not_replace_another_studys_deck(tmp_path, run_cli):
+    """`update --save-bdf truth.bdf` replaced the truth deck of the example (not an input
+    of the study, so nothing stopped it); refused before the update runs, unchanged."""
+    d = tmp_path / "f"
+    shutil.copytree(FRAME, d)
+    before = (d / "truth.bdf").read_bytes()
+    code, out, err = run_cli("update", d / "study.toml", "--save-bdf", d / "truth.bdf")
+    _one_line(code, err, "truth.bdf: --save-bdf: exists and is not an earlier output of "
+                         "--save-bdf", "--force")
+    assert out == "" and (d / "truth.bdf").read_bytes() == before

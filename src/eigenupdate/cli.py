@@ -289,7 +289,9 @@ def _main(argv: Sequence[str] | None) -> int:
         sys.stderr.close()
         return 0
     except (np.linalg.LinAlgError, MemoryError) as exc:  # a last resort, not a traceback
-        why = "out of memory" if isinstance(exc, MemoryError) else f"numerical failure ({exc})"
+        why = ("out of memory" if isinstance(exc, MemoryError) else
+               "numerical failure (a matrix that had to be solved is singular or not "
+               "positive definite)")
         print(f"eigenupdate: error: {shorten(getattr(args, 'study', None) or '')}: {why}; "
               f"input values or sizes out of range?", file=sys.stderr)
         return 2

@@ -65,3 +65,50 @@ def test_save_bdf_does_not_replace_another_studys_deck(tmp_path, run_cli):
     _one_line(code, err, "truth.bdf: --save-bdf: exists and is not an earlier output of "
                          "--save-bdf", "--force")
     assert out == "" and (d / "truth.bdf").read_bytes() == before
+
+
+CD7 = ("GRID        3001              0.      0.      6.",
+       "GRID        3001              0.      0.      6.       7")
+
+
+@pytest.mark.parametrize("edits, expected", [
+    # grids 1001 (0,0,0), 2001 (0,0,3), 3001 (0,0,6) lie on one line: no xz-plane
+    ([CD7, ("BEGIN BULK\n", "BEGIN BULK\nCORD1R,7,1001,2001,3001\n")],
+     "line 14: CORD1R 7: its defining points coincide or are collinear"),
+    ([CD7, ("BEGIN BULK\n", "BEGIN BULK\nCORD1R,7,1001,1001,3002\n")],
+     "line 14: CORD1R 7: G1, G2 and G3 must be three different grids"),
+    # grid 1002 is given in the system it defines: "maximum recursion depth exceeded"
+    ([("GRID        1002              0.      3.      0.",
+       "GRID        1002       7      0.      3.      0."),
+      ("BEGIN BULK\n", "BEGIN BULK\nCORD1S,7,1002,2001,3002\n")],
+     "line 14: CORD1S 7: coordinate systems defined through one another in a loop"),
+])
+def test_cord1_systems_without_axes_are_named_in_nastran_terms(tmp_path, run_cli, edits,
+                                                                expected):
+    """QRG CORD1R/C/S: G1, G2, G3 distinct and not collinear, defined in other systems.
+    pyNastran said "v=[0. 0. 0.] norm(v)=0.0", echoed the card, or ran out of stack."""
+    d = tmp_path / "f"
+    shutil.copytree(FRAME, d)
+    text = (d / "frame.bdf").read_text()
+    for old, new in edits:
+        assert old in text
+        text = text.replace(old, new, 1)
+    (d / "frame.bdf").write_text(text)
+    code, _, err = run_cli("check", d / "study.toml")
+    _one_line(code, err, expected)
+    assert "norm(v)" not in err and "recursion" not in err
+
+
+def test_pcompg_without_plies(tmp_path, run_cli):
+    """A PCOMPG with no ply lines: numpy's "need at least one array to stack" in a
+    traceback (exit 1); the laminate needs one ply at least (QRG PCOMPG)."""
+    d = tmp_path / "p"
+    shutil.copytree(ROOT / "examples" / "stiffened_panel", d)
+    text = (d / "panel.bdf").read_text()
+    (d / "panel.bdf").write_text(text.replace("PSHELL,1,1,0.002,1,,1", "PCOMPG,1,,,,,,,", 1))
+    study = (d / "study.toml").read_text()
+    start = study.index('[[model.parameter]]\nname = "t_skin"')
+    (d / "study.toml").write_text(study[:start] + study[study.index(
+        "[[model.parameter]]", start + 1):])
+    code, _, err = run_cli("check", d / "study.toml")
+    _one_line(code, err, "panel.bdf: line 7: PCOMPG 1: needs plies", "got []")

@@ -284,6 +284,8 @@ def load_deck(path: str | Path) -> Deck:
         first = msg[0] if msg else type(exc).__name__
         if re.match(r"nodes=\[", first):  # pyNastran's validate(): a grid given twice
             first = f"a grid appears twice among its nodes {first[6:].split(';')[0]}"
+        elif re.match(r"CORD1[RCS]\*?\s", first):  # its assert only echoes the card
+            first = "G1, G2 and G3 must be three different grids (QRG CORD1R/C/S)"
         elif isinstance(exc, TypeError | AttributeError | IndexError):  # its own failure
             first = (f"pyNastran fails on the card ({type(exc).__name__}: {first}); a "
                      f"blank or invalid field?")

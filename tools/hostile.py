@@ -554,7 +554,7 @@ case("frf frf --damping from other run", BF, ["frf", S, "--input", "11", "--outp
      lambda w: subprocess.run([CORE, "-m", "eigenupdate", "extract", str(w / "frf/base.uff"), "-o", str(w / "x.csv"), "--uff55", str(w / "m55.uff")],
                               env=dict(os.environ, PYTHONPATH=str(ROOT / "src")), capture_output=True))
 case("frf report --extraction garbage json", BF, ["report", S, "--saved-only", "--extraction", "@x.json", "-o", "@r.html"],
-     lambda w: (w / "x.json").write_text('{"schema": "eigenupdate.extraction/1", "configurations": 5}'))
+     lambda w: (w / "x.json").write_text('{"schema": "eigenupdate.extraction/2", "configurations": 5}'))
 case("frf report --result nested json", BF, ["report", S, "--saved-only", "--result", "@x.json", "-o", "@r.html"],
      lambda w: (w / "x.json").write_text("[" * 100000 + "]" * 100000))
 case("frf report --design huge number", BF, ["report", S, "--saved-only", "--design", "@x.json", "-o", "@r.html"],

@@ -154,12 +154,15 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--save-bdf", metavar="UPDATED.bdf",
                    help="NASTRAN model: write its BDF with the updated values in their cards")
     s.add_argument("--force", action="store_true",
-                   help="let an unconverged result replace an existing --save file")
+                   help="let an unconverged result replace an existing --save file, and "
+                        "--save-bdf replace a file it did not write")
 
     s = sub.add_parser("design", help="choose the added masses from the study's [design] table")
     s.add_argument("study")
     s.add_argument("-o", "--output", required=True, metavar="PLAN.toml",
                    help="the plan as a study file")
+    s.add_argument("--force", action="store_true",
+                   help="replace an existing PLAN.toml that design did not write")
     s.add_argument("--scheduler", metavar="tcp://HOST:PORT", type=scheduler,
                    help="screen the candidates on this Dask scheduler (default: in this process)")
     s.add_argument("--workers", type=workers,

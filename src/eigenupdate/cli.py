@@ -36,6 +36,7 @@ from eigenupdate.io.outputs import (
     check_no_replaced,
     check_not_inputs,
     check_outputs,
+    check_replaceable,
 )
 from eigenupdate.report import text
 from eigenupdate.solve import parallel
@@ -72,6 +73,7 @@ def cmd_check(args) -> int:
 
 
 def cmd_update(args) -> int:
+    from eigenupdate.io.nastran_write import SIGNATURE as BDF_SIGNATURE
     from eigenupdate.io.nastran_write import save_updated_bdf
     from eigenupdate.io.results import may_replace
 
@@ -80,6 +82,7 @@ def cmd_update(args) -> int:
         raise InputError("needs a study whose [model] type is \"nastran\"", field="--save-bdf")
     check_outputs({"--save": args.save, "--save-bdf": args.save_bdf},
                   study.inputs(measurements=True, frf=True))
+    check_replaceable(args.save_bdf, "--save-bdf", "$ " + BDF_SIGNATURE, args.force)
     res = eu.update_study(study, args.method, args.optimizer,
                           progress=lambda line: print(line, file=sys.stderr))
     kept = args.save and not (res.success or args.force or may_replace(args.save))
@@ -98,13 +101,14 @@ def cmd_update(args) -> int:
 
 
 def cmd_design(args) -> int:
-    from eigenupdate.design.plan_io import plan_study_text
+    from eigenupdate.design.plan_io import SIGNATURE, plan_study_text
     from eigenupdate.report.design import design_text, validation_doc, validation_text
 
     if not args.scheduler:  # the environment's scheduler, as montecarlo's
         check_scheduler(os.environ.get(SCHEDULER_ENV), SCHEDULER_ENV)
     study = eu.load_study(args.study)
     check_outputs({"-o": args.output}, study.inputs(measurements=True, frf=True))
+    check_replaceable(args.output, "-o", SIGNATURE, args.force)  # another study's file
     done = eu.design(study, validate=args.validate, seed=args.seed, scheduler=args.scheduler,
                      workers=args.workers)
     res, val = done.plan, done.validation
@@ -285,7 +289,9 @@ def _main(argv: Sequence[str] | None) -> int:
         sys.stderr.close()
         return 0
     except (np.linalg.LinAlgError, MemoryError) as exc:  # a last resort, not a traceback
-        why = "out of memory" if isinstance(exc, MemoryError) else f"numerical failure ({exc})"
+        why = ("out of memory" if isinstance(exc, MemoryError) else
+               "numerical failure (a matrix that had to be solved is singular or not "
+               "positive definite)")
         print(f"eigenupdate: error: {shorten(getattr(args, 'study', None) or '')}: {why}; "
               f"input values or sizes out of range?", file=sys.stderr)
         return 2

@@ -454,12 +454,8 @@ def report_data(study: Study, *, result: str | Path | None = None,
         out["extraction"] = TestExtraction.from_dict(read_json(extraction), str(extraction))
     if study.frf and (extraction is not None or not solve):
         out["frfs"] = _study_frfs(study)  # read, for the fit plots: nothing is solved
-        for i, ex in enumerate(out["extraction"].configurations if extraction else []):
-            n = len(out["frfs"].get(ex.configuration, []))
-            if any(len(m.fits) != n for m in ex.modes):
-                raise InputError(f"fits of {ex.configuration!r} do not match the study's "
-                                 f"{n} FRF file(s) (an extraction of other files?)",
-                                 source=str(extraction), field=f"configurations[{i}]")
+        if extraction is not None:
+            out["extraction"].require_frfs(out["frfs"], str(extraction))
     elif study.frf:
         done = extract_study(study)
         out.update(frfs=done.frfs, extraction=done.result)

@@ -49,9 +49,14 @@ def test_a_studys_unit_overrides_and_a_bad_one_is_refused(tmp_path, fig2):
     text = (src / "study.toml").read_text()
     stated = text.replace('name = "k1"\n', 'name = "k1"\nunit = "kN/mm"\n', 1)
     assert stated != text
+    # a label is not converted: 1.2e6 under kN/mm would be 1000 times the model's k1
     (tmp_path / "study.toml").write_text(stated)
+    with pytest.raises(InputError, match=r"model\.spring\[1\]\.unit: 'kN/mm' is not the "
+                                         r"unit of this value: the model's values are SI, N/m"):
+        eu.load_study(tmp_path / "study.toml")
+    (tmp_path / "study.toml").write_text(stated.replace('"kN/mm"', '"N / m"'))
     model = eu.load_study(tmp_path / "study.toml").model
-    assert {p.name: p.unit for p in model.parameters}["k1"] == "kN/mm"
+    assert {p.name: p.unit for p in model.parameters}["k1"] == "N / m"
     assert {p.name: p.unit for p in model.parameters}["k2"] == "N/m"
     (tmp_path / "study.toml").write_text(stated.replace('"kN/mm"', '"kN\\u0007"'))
     with pytest.raises(InputError, match=r"model\.spring\[1\]\.unit"):

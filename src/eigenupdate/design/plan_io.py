@@ -18,6 +18,8 @@ import tomli_w
 from eigenupdate.model.configurations import Configuration
 
 _MODEL_PATHS = ("K0", "M0", "bdf")
+SIGNATURE = "# eigenupdate design: plan from"
+"""The first line of ``design -o``: its own earlier output, which it may replace."""
 
 
 def plan_study_text(study_path: str | Path, configurations: Sequence[Configuration],
@@ -31,6 +33,7 @@ def plan_study_text(study_path: str | Path, configurations: Sequence[Configurati
     >>> d = pathlib.Path(tempfile.mkdtemp())
     >>> _ = (d / "s.toml").write_text('[model]\\ntype = "matrices"\\nK0 = "K.mtx"\\n')
     >>> print(plan_study_text(d / "s.toml", [mass_at(3, 0.5)], [1, 2], d / "sub" / "p.toml"))
+    # eigenupdate design: plan from s.toml
     [model]
     type = "matrices"
     K0 = "../K.mtx"
@@ -88,4 +91,4 @@ def plan_study_text(study_path: str | Path, configurations: Sequence[Configurati
     ]
     doc["measurement"] = meas
     doc.update(rest)
-    return tomli_w.dumps(doc)
+    return f"{SIGNATURE} {study_path.name}\n" + tomli_w.dumps(doc)

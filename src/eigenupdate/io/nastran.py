@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.errors import EigenupdateWarning, InputError, shorten
 from eigenupdate.io.nastran_constraints import constraint_equations
 from eigenupdate.io.nastran_continuum import assemble_continuum
 from eigenupdate.io.nastran_deck import Deck, case_value, load_deck, modal_subcases, place
@@ -205,6 +205,24 @@ class _Triplets:
         return m if keep is None else sp.csr_array(m[keep][:, keep])
 
 
+def _coordinate_error(exc: BaseException) -> str:
+    """The coordinate system pyNastran failed on (the innermost card in the traceback)
+    and why, in NASTRAN's terms."""
+    tb, card = exc.__traceback__, ""
+    while tb is not None:
+        c = tb.tb_frame.f_locals.get("self")
+        if str(getattr(c, "type", "")).startswith("CORD") and isinstance(
+                getattr(c, "cid", None), int):
+            card = f"{c.type} {c.cid}: "
+        tb = tb.tb_next
+    if isinstance(exc, RecursionError):
+        return (f"{card}coordinate systems defined through one another in a loop (a CORD1's "
+                f"grid given in that system, or CORD2 RIDs that return)")
+    if "norm" in str(exc):
+        return f"{card}its defining points coincide or are collinear: the axes are undefined"
+    return f"{card}coordinate systems: {shorten(str(exc), 120)}"
+
+
 def _assemble(path: Path, bdf, specs) -> NastranModel:
     consistent = _param(bdf, "COUPMASS", -1.0) > 0
     wtmass = _param(bdf, "WTMASS", 1.0)
@@ -215,8 +233,8 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     _link_cord1_grids(bdf)
     try:
         bdf._cross_reference_coordinates()
-    except Exception as exc:
-        raise InputError(f"coordinate systems: {exc}") from None
+    except Exception as exc:  # pyNastran's words, e.g. "v=[0. 0. 0.] norm(v)=0.0"
+        raise InputError(_coordinate_error(exc)) from None
     # scalar points take six rows like a grid, of which only the first is used
     big = [n for n in (*bdf.nodes, *bdf.spoints) if not 0 < n <= MAX_ID]
     if big:  # coordinate 10 id + component must stay an exact integer

@@ -249,8 +249,8 @@ def _pcomp(bdf, prop) -> dict:
         raise InputError(f"{where}: LAM = {lam} is not supported (blank"
                          f"{' or SYM' if prop.type == 'PCOMP' else ''})")
     t = np.asarray(prop.get_thicknesses(), float)
-    if not np.all(t > 0):
-        raise InputError(f"{where}: every ply thickness T must be > 0, got {t.tolist()}")
+    if not (t.size and np.all(t > 0)):  # a PCOMPG without plies reads as no ply
+        raise InputError(f"{where}: needs plies, every thickness T > 0, got {t.tolist()}")
     angles = np.asarray(prop.get_thetas(), float)
     if not np.all(np.abs(angles) <= MAX_ANGLE):
         raise InputError(f"{where}: ply angles THETA {angles.tolist()} must be within "

@@ -269,6 +269,7 @@ def load_deck(path: str | Path) -> Deck:
     lines, origin = _one_per_card(lines, origin)
     start = bulk + 1 if bulk < len(lines) else (len(lines) if cend >= 0 else 0)
     _free_field_overflow(lines[start:], origin[start:], path)
+    _blank_grid_ids(lines[start:], origin[start:], path.name)
     bdf = _quiet_bdf()
     bdf.disable_cards(SKIPPED - {"EPOINT"})  # extra points: kept apart from scalar points
     sink = io.StringIO()
@@ -283,6 +284,8 @@ def load_deck(path: str | Path) -> Deck:
         first = msg[0] if msg else type(exc).__name__
         if re.match(r"nodes=\[", first):  # pyNastran's validate(): a grid given twice
             first = f"a grid appears twice among its nodes {first[6:].split(';')[0]}"
+        elif re.match(r"CORD1[RCS]\*?\s", first):  # its assert only echoes the card
+            first = "G1, G2 and G3 must be three different grids (QRG CORD1R/C/S)"
         elif isinstance(exc, TypeError | AttributeError | IndexError):  # its own failure
             first = (f"pyNastran fails on the card ({type(exc).__name__}: {first}); a "
                      f"blank or invalid field?")
@@ -322,6 +325,23 @@ def _one_per_card(lines: list[str], origin: list) -> tuple[list[str], list]:
 
 
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD]?[-+]?\d+)?$")
+
+
+def _blank_grid_ids(lines: list[str], origin: list, main: str) -> None:
+    """A GRID whose id is blank, named by its line: pyNastran's "nid = None (field #1)"
+    quotes no card, so its message named neither the line nor the card."""
+    for text, (name, number) in zip(lines, origin, strict=True):
+        m = _FIRST.match(text)
+        if m is None or m.group(1).upper() != "GRID":
+            continue
+        body = text.split("$")[0]
+        if "," in body[:10]:
+            ident = (body.split(",") + [""])[1]
+        else:
+            ident = body[8:24] if m.group(2) else body[8:16]
+        if not ident.strip():
+            raise InputError(f"{place(f'{name}:{number}', main)}: GRID: the id (field 1) is "
+                             f"blank; every grid needs an id")
 
 
 def _free_field_overflow(lines: list[str], origin: list, path: Path) -> None:

@@ -193,12 +193,16 @@ def write_updated_bdf(nm: NastranModel, out: str | Path, values: dict[str, float
     write_text(out, head + "\n".join(body) + "\n")
 
 
+SIGNATURE = "eigenupdate: updated from"
+"""The start of the comment block of ``update --save-bdf``: its own earlier output."""
+
+
 def save_updated_bdf(study, result, out: str | Path) -> None:
     """Write a study's NASTRAN model back with the values of an update ``result``
     (:class:`~eigenupdate.identify.updating.UpdateResult`), a comment block saying what
     was updated, from which test and with which posterior std."""
     nm: NastranModel = study.nastran
-    lines = [f"eigenupdate: updated from {nm.path.name} by study {Path(study.path).name}",
+    lines = [f"{SIGNATURE} {nm.path.name} by study {Path(study.path).name}",
              f"measured frequencies: {study.frequencies}",
              f"method: {result.method}, {result.message} after {result.nit} iteration(s)",
              "parameter                  card field        initial      updated   post. std"]

@@ -151,6 +151,23 @@ def check_no_replaced(directory: PathLike, names: Iterable[str], flag: str) -> N
                                       f"directory, or --force to replace them")
 
 
+def check_replaceable(path: PathLike | None, flag: str, signature: str, force: bool) -> None:
+    """Refuse an existing ``path`` whose first line does not start with ``signature`` (the
+    first line this option writes) unless ``force``: an earlier output of the option is
+    replaced, another study's deck or plan is not."""
+    if path is None or force or not os.path.lexists(path):
+        return
+    try:
+        with open(path, encoding="utf-8", errors="replace") as f:
+            first = f.readline(len(signature) + 1)
+    except OSError:
+        first = ""
+    if not first.startswith(signature):
+        raise _error(path, flag, f"exists and is not an earlier output of {flag} (its first "
+                                 f"line is not {signature!r}...): give a new name, or --force "
+                                 f"to replace it")
+
+
 def write_stdout(text: str, out) -> str | None:
     """Write a command's held standard output to ``out`` (``sys.stdout`` as it was);
     None if written, else why not (closed, broken pipe), after pointing the descriptor at

@@ -46,6 +46,17 @@ def _parameter(r: TableReader, seen: dict[str, str], default_value: Any = ...) -
     return Parameter(name, value, std, update, unit.strip())
 
 
+def _si(r: TableReader, p: Parameter, unit: str) -> None:
+    """A unit label on a model whose values are SI must be the SI unit: ``unit = "g"`` on
+    a 9.7 kg mass printed 9.7 g (labels are not converted)."""
+    def norm(u: str) -> str:
+        return u.translate(str.maketrans("\u00b2", "2", " *\u00b7^"))
+    if p.unit and norm(p.unit) != norm(unit):
+        raise r.error("unit", f"{p.unit!r} is not the unit of this value: the model's values "
+                              f"are SI, {unit} here (a unit is a label, not converted); give "
+                              f"the value in {unit} and unit = \"{unit}\" or no unit")
+
+
 def _positive(r: TableReader, p: Parameter) -> None:
     if p.value <= 0:
         raise r.error("value", f"must be > 0, got {p.value}")
@@ -57,6 +68,7 @@ def _spring_mass(m: TableReader, _base: Path) -> ParametricModel:
         r = TableReader(t, f"model.mass[{i + 1}]", m.source)
         p = _parameter(r, seen)
         _positive(r, p)
+        _si(r, p, "kg")
         c = r.get("coordinate", "int")
         if c < 1:
             raise r.error("coordinate", f"must be >= 1, got {c}")
@@ -66,6 +78,7 @@ def _spring_mass(m: TableReader, _base: Path) -> ParametricModel:
         r = TableReader(t, f"model.spring[{i + 1}]", m.source)
         p = _parameter(r, seen)
         _positive(r, p)
+        _si(r, p, "N/m")
         cs = r.get("coordinates", "list")
         if len(cs) != 2 or cs[0] == cs[1] or not all(
                 isinstance(c, int) and not isinstance(c, bool) and c >= 0 for c in cs):
@@ -105,6 +118,8 @@ def _beam(m: TableReader, _base: Path) -> ParametricModel:
         r = TableReader(t, f"model.point_mass[{i + 1}]", m.source)
         p = _parameter(r, seen)
         pms.append((p, r.get("coordinate", "int")))
+        if isinstance(pms[-1][1], int):  # odd: a translation; even: a rotary inertia
+            _si(r, p, "kg" if pms[-1][1] % 2 else "kg m^2")
         r.finish()
     restrained = m.get("restrained", "list", [])
     if not all(isinstance(c, int) and not isinstance(c, bool) for c in restrained):

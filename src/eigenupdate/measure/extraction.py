@@ -223,9 +223,10 @@ def extract_resonances(
             per_frf = [_dobson(x, bands, where) for x in frfs]
             checks = [_rational_fraction(x, bands) if with_check and bands else None
                       for x in frfs]
-        except np.linalg.LinAlgError as exc:  # e.g. SVD of a corrupted FRF did not converge
-            raise InputError(f"{where}: the modal fit failed ({exc}); the FRF data cannot be "
-                             f"fitted (corrupted file?)", source=_sources(frfs)) from None
+        except np.linalg.LinAlgError:  # e.g. SVD of a corrupted FRF did not converge
+            raise InputError(f"{where}: the modal fit failed (its least-squares solve found "
+                             f"no solution); the FRF data cannot be fitted (corrupted "
+                             f"file?)", source=_sources(frfs)) from None
         verdicts = [_verdicts(x, fits, chk, bands)
                     for x, fits, chk in zip(frfs, per_frf, checks, strict=True)]
         bad = [k for k in range(len(bands))

@@ -20,6 +20,7 @@ Files: :mod:`eigenupdate.io.frf_csv` (CSV) and :mod:`eigenupdate.io.uff` (univer
 
 from __future__ import annotations
 
+import hashlib
 import operator
 import os
 from collections.abc import Sequence
@@ -154,6 +155,14 @@ class FRF:
         object.__setattr__(self, "response", _as_dof(self.response, "response", src))
         object.__setattr__(self, "reference", _as_dof(self.reference, "reference", src))
         object.__setattr__(self, "source", str(self.source))
+
+    def fingerprint(self) -> str:
+        """SHA-256 of the points and values: what a saved extraction's fits were fitted
+        to (a file's name and size survive two files swapped; its values do not)."""
+        h = hashlib.sha256(f"{self.response}{self.reference}".encode())
+        h.update(self.frequency_hz.tobytes())
+        h.update(self.receptance.tobytes())
+        return h.hexdigest()
 
     def __repr__(self) -> str:
         f = self.frequency_hz

@@ -7,8 +7,9 @@ FRFs already read (io/), so a notebook user calls it the same way.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, field, replace
 from typing import ClassVar
 
 from eigenupdate.measure.extraction import (
@@ -18,7 +19,7 @@ from eigenupdate.measure.extraction import (
     extract_resonances,
     missing_used_modes,
 )
-from eigenupdate.measure.frf import FRF
+from eigenupdate.measure.frf import FRF, dof_label
 from eigenupdate.measure.modal_fit import ModalFit
 from eigenupdate.measure.numbering import interlacing_bounds, number_resonances
 from eigenupdate.model.configurations import BASE, Configuration
@@ -31,7 +32,10 @@ __all__ = ["TestExtraction", "extract_test"]
 @dataclass(frozen=True)
 class TestExtraction:
     """Every configuration's extraction; ``numbered_by`` is "model" or "order";
-    ``problems`` are one-line errors (a used mode not found, an ambiguous number)."""
+    ``problems`` are one-line errors (a used mode not found, an ambiguous number);
+    ``frfs`` identifies the FRFs of each configuration, in the order of every mode's
+    ``fits`` (file name, points, :meth:`FRF.fingerprint`): a saved extraction is shown
+    only over the FRFs it was fitted to."""
 
     __test__ = False  # not a pytest test class despite its name
 
@@ -39,8 +43,9 @@ class TestExtraction:
     numbered_by: str
     used_modes: list[int]
     problems: list[str]
+    frfs: dict[str, list[dict[str, str]]] = field(default_factory=dict)
 
-    SCHEMA: ClassVar[str] = "eigenupdate.extraction/1"
+    SCHEMA: ClassVar[str] = "eigenupdate.extraction/2"
 
     @property
     def modes(self) -> list[ExtractedMode]:
@@ -51,7 +56,32 @@ class TestExtraction:
         by :meth:`from_dict`."""
         return {"schema": self.SCHEMA, "numbered_by": self.numbered_by,
                 "used_modes": self.used_modes, "problems": self.problems,
-                "configurations": [_configuration_doc(ex) for ex in self.configurations]}
+                "configurations": [_configuration_doc(ex) for ex in self.configurations],
+                "frfs": self.frfs}
+
+    def require_frfs(self, frfs: dict[str, Sequence[FRF]], source: str | None = None
+                     ) -> None:
+        """InputError unless every configuration's fits were fitted to ``frfs`` (the
+        study's files, read now), FRF by FRF: with two files swapped in
+        ``[measurement.frf]`` the report drew the saved fits over the wrong FRFs."""
+        from eigenupdate.errors import InputError
+
+        for i, ex in enumerate(self.configurations):
+            now = [frf_id(f) for f in frfs.get(ex.configuration, [])]
+            saved = self.frfs.get(ex.configuration)
+            if saved is None or [x["sha256"] for x in saved] != [x["sha256"] for x in now]:
+                def names(ids):
+                    return ", ".join(f"{x['file']} {x['points']}" for x in ids) or "none"
+                raise InputError(
+                    f"{ex.configuration!r} was fitted to FRFs "
+                    f"{'not recorded' if saved is None else names(saved)}; the study's "
+                    f"files give other FRFs ({names(now)}): an extraction of other files "
+                    f"or another order; extract again", source=source,
+                    field=f"frfs.{ex.configuration}" if saved is not None
+                    else f"configurations[{i}]")
+            if any(len(m.fits) != len(now) for m in [*ex.modes, *ex.unexpected]):
+                raise InputError(f"a mode of {ex.configuration!r} has not one fit per FRF "
+                                 f"({len(now)})", source=source, field=f"configurations[{i}]")
 
     @classmethod
     def from_dict(cls, doc: dict, source: str | None = None) -> TestExtraction:
@@ -60,9 +90,16 @@ class TestExtraction:
         numbered = r.str("numbered_by")
         if numbered not in ("model", "order"):
             raise r.fail("numbered_by", f"{numbered!r} is not 'model' or 'order'")
+        frfs = {}
+        for name, ids in r.raw("frfs", dict).items():
+            if not isinstance(ids, list) or not all(
+                    isinstance(x, dict) and all(isinstance(x.get(k), str) for k in _FRF_ID)
+                    for x in ids):
+                raise r.fail(f"frfs.{name}", f"must be a list of objects with {_FRF_ID}")
+            frfs[name] = [{k: x[k] for k in _FRF_ID} for x in ids]
         return cls([_configuration(c) for c in r.items("configurations")], numbered,
                    [int(k) for k in r.array("used_modes")],
-                   [str(p) for p in r.raw("problems", list)])
+                   [str(p) for p in r.raw("problems", list)], frfs)
 
 
 def extract_test(
@@ -111,7 +148,17 @@ def extract_test(
         if text:
             problems.append(text)
     return TestExtraction(out, "model" if by_model else "order", sorted(used_modes),
-                          problems)
+                          problems, {name: [frf_id(f) for f in these]
+                                     for name, these in frfs.items()})
+
+
+_FRF_ID = ("file", "points", "sha256")
+
+
+def frf_id(f: FRF) -> dict[str, str]:
+    """What identifies an FRF in a saved extraction (``TestExtraction.frfs``)."""
+    return {"file": os.path.basename(f.source), "points":
+            f"{dof_label(f.response)}/{dof_label(f.reference)}", "sha256": f.fingerprint()}
 
 
 def _pair_by_shapes(out: list[ConfigurationExtraction], frfs: dict[str, Sequence[FRF]],

@@ -113,8 +113,23 @@ def massless_hint(K, M, coordinates: np.ndarray) -> str:
     rel = ratio[i] / np.min(finite)
     if not rel > 1e8:
         return ""
+    if not m[i] > 0:
+        return f"; coordinate {int(coordinates[i])} has stiffness and no mass"
     return (f"; coordinate {int(coordinates[i])} has almost no mass (M_ii = {m[i]:.3g}, "
             f"K_ii/M_ii is {rel:.3g} times the smallest)")
+
+
+def _singular_cause(K, M, sigma: float) -> str:
+    """Why K - sigma M cannot be factorised, in the model's terms."""
+    empty = np.flatnonzero((abs(K).sum(axis=1) == 0) & (abs(M).sum(axis=1) == 0))
+    if empty.size:
+        rows = ", ".join(str(i + 1) for i in empty[:5]) + (" ..." if empty.size > 5 else "")
+        return (f"{empty.size} coordinate(s) with neither stiffness nor mass (row(s) {rows} "
+                f"of K and M are empty); remove them or connect them")
+    if sigma < 0:  # K - sigma M is then semi-definite: K and M share a null vector
+        return ("a motion with neither strain energy nor mass (a massless mechanism: "
+                "unconnected massless coordinates, a free massless part)")
+    return "the shift is an eigenvalue of the model"
 
 
 class ShiftInvert:
@@ -138,9 +153,9 @@ class ShiftInvert:
                 diag_pivot_thresh=0.0 if self.sigma < 0 else 0.1,
                 options={"SymmetricMode": True},
             )
-        except RuntimeError as exc:  # exactly singular
-            raise SingularMatrixError(
-                f"K - sigma M is singular for sigma = {sigma:g}: {exc}") from None
+        except RuntimeError:  # SuperLU's "Factor is exactly singular": say which part
+            raise SingularMatrixError(f"K - sigma M is singular for sigma = {sigma:g}: "
+                                      f"{_singular_cause(K, M, sigma)}") from None
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         return self._lu.solve(np.asarray(b, dtype=float))
@@ -410,8 +425,17 @@ def lowest_modes(K, M, k: int, op: ShiftInvert, start: np.ndarray | None = None
             lam, phi = spla.eigsh(K, k=min(k, n - 1), M=M, sigma=op.sigma, which="LM",
                                   OPinv=linop, tol=LANCZOS_RTOL, v0=v0)
     except spla.ArpackNoConvergence as exc:
-        raise NotConvergedError(f"Lanczos (ARPACK) did not converge for {k} eigenpairs: "
-                                f"{exc}") from None
+        raise NotConvergedError(f"Lanczos did not converge: {len(exc.eigenvalues)} of {k} "
+                                f"eigenpairs within its iteration limit") from None
+    except spla.ArpackError as exc:  # "-9999: could not build an Arnoldi factorization"
+        massive = int(np.count_nonzero(M.diagonal()))
+        why = (f"the model has mass at only {massive} of its {n} coordinates, too few for "
+               f"Lanczos to find {k} eigenpairs (the modes used, the rigid-body modes and "
+               f"one more); give the massless coordinates mass or leave them out"
+               if massive <= 2 * k + 1 else
+               f"Lanczos found no basis for {k} eigenpairs (ARPACK info {exc.info}): K and "
+               f"M may be inconsistent (a part with stiffness and no mass?)")
+        raise InputError(why) from None
     order = np.argsort(lam)
     lam, phi = lam[order], phi[:, order]
     phi = phi / np.sqrt(np.einsum("ij,ij->j", phi, M @ phi))

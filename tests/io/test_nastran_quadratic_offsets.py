@@ -139,28 +139,42 @@ def test_simply_supported_plate_on_its_bottom_face_is_navier_with_b_equal_z_a(
     assert abs(plain / f8 - 1) <= 1e-9
 
 
+def _edges(tmp_path, triangles):
+    """Our lowest frequency (Hz) of the plate held at its bottom edges (ZOFFS T/2), 8 and
+    16 per side."""
+    return [_hz(deck(tmp_path / f"o{n}.bdf", n, H / 2, EDGES_PSHELL, triangles, "edges"))[0]
+            for n in (8, 16)]
+
+
 @pytest.mark.skipif(shutil.which("ccx") is None, reason="CalculiX (ccx) absent")
 @pytest.mark.parametrize("triangles", [False, True], ids=["CQUAD8", "CTRIA6"])
-def test_plate_held_on_its_bottom_edges_agrees_with_bricks_and_cquad4(tmp_path, triangles):
-    """Sources: a second code, CalculiX's C3D20R bricks of the 1 x 1 x 0.02 plate with
-    u, v, w held along its bottom face's edges (test_nastran_offsets._calculix_bricks),
-    and the CQUAD4 with ZOFFS on the same problem. Each mesh's 16-error is taken as at
-    most its change from 8 to 16 (this edge condition converges as about h^1.4 in all
-    three: CQUAD8 141.73, 140.92, 140.60 Hz at 4, 8, 16; CQUAD4 139.14, 140.02, 140.34
-    at 8, 16, 32; CalculiX 140.34, 140.11 at 8, 16), plus the plate models' O((h/a)^2)
-    = 4e-4 against the bricks: the CQUAD8 and CTRIA6 at 16 agree with each within the
-    sum (measured CQUAD8 0.34 % from the bricks, bound 0.43 %). The offset matters: the
-    same plate without it is 20 % lower."""
-    ours = [_hz(deck(tmp_path / f"o{n}.bdf", n, H / 2, EDGES_PSHELL, triangles, "edges"))[0]
-            for n in (8, 16)]
+def test_plate_held_on_its_bottom_edges_agrees_with_calculix_bricks(tmp_path, triangles):
+    """Source: a second code, CalculiX's C3D20R bricks of the 1 x 1 x 0.02 plate with
+    u, v, w held along its bottom face's edges (test_nastran_offsets._calculix_bricks).
+    Each code's 16-error is taken as at most its change from 8 to 16 (this edge
+    condition converges slowly, about as h^1.4, in every code here: CQUAD8 141.73,
+    140.92, 140.60 Hz at 4, 8, 16; CalculiX 140.34, 140.11 at 8, 16), plus the plate
+    models' O((h/a)^2) = 4e-4: within the sum (measured CQUAD8 0.34 % from the bricks,
+    bound 0.43 %; CTRIA6 0.02 %)."""
+    ours = _edges(tmp_path, triangles)
     ccx = [_calculix_bricks(tmp_path, n) for n in (8, 16)]
+    bound = abs(ours[1] - ours[0]) + abs(ccx[1] - ccx[0]) + H**2 * ccx[1]
+    assert abs(ours[1] - ccx[1]) <= bound, (ours, ccx)
+
+
+@pytest.mark.parametrize("triangles", [False, True], ids=["CQUAD8", "CTRIA6"])
+def test_plate_held_on_its_bottom_edges_converges_with_cquad4(tmp_path, triangles):
+    """Source: the CQUAD4 with ZOFFS (model/shell_offsets.py, itself checked against the
+    bricks) on the same problem: CQUAD4 139.14, 140.02, 140.34 Hz at 8, 16, 32 from
+    below, CQUAD8 from above; at 32 (CQUAD4) and 16 (CQUAD8, CTRIA6) within the sum of
+    their last changes. The offset matters: the plate without it is 30 % lower."""
+    ours = _edges(tmp_path, triangles)
     quad4 = [_hz(linear_deck(tmp_path / f"q{n}.bdf", n, H / 2, EDGES_PSHELL, False,
                              "edges"))[0] for n in (16, 32)]
-    mine = abs(ours[1] - ours[0])
-    assert abs(ours[1] - ccx[1]) <= mine + abs(ccx[1] - ccx[0]) + H**2 * ccx[1], (ours, ccx)
-    assert abs(ours[1] - quad4[1]) <= mine + abs(quad4[1] - quad4[0]), (ours, quad4)
+    assert abs(ours[1] - quad4[1]) <= abs(ours[1] - ours[0]) + abs(quad4[1] - quad4[0]), (
+        ours, quad4)
     plain = _hz(deck(tmp_path / "p.bdf", 8, 0.0, EDGES_PSHELL, triangles, "edges"))[0]
-    assert plain < 0.85 * ours[0]
+    assert plain < 0.8 * ours[0], plain
 
 
 def _cylinder(path, nc, nl, z, R=1.0, L=1.0, h=0.02):

@@ -257,3 +257,26 @@ def test_offset_folding_a_curved_cquad8_is_refused(tmp_path):
     with pytest.raises(InputError, match=r"CQUAD8 \d+: ZOFFS = -1.5 turns its reference "
                                          r"surface inside out"):
         _read(_cylinder(tmp_path / "c.bdf", 12, 1, -1.5))
+
+
+def test_curved_ctria6_with_zoffs_is_its_offset_facets(tmp_path):
+    """A curved CTRIA6 (read as four flat CTRIA3 on its grids) with ZOFFS is those four
+    CTRIA3 with the same ZOFFS, each offset along its own normal: the same K and M (to
+    the rounding of another summation order, 1e-12 of the largest entry)."""
+    from eigenupdate.model.shells_quadratic import FACETS
+
+    xyz, el = cylinder_mesh(12, 2, 1.0, 1.0, True)
+    z = 0.004
+    head = ["BEGIN BULK", "PARAM,COUPMASS,1", f"PSHELL,1,1,0.01,1,,1,{5 / 6!r}",
+            f"MAT1,1,2.1e11,,0.3,{RHO!r}"]
+    head += [f"GRID,{i + 1},,{x!r},{y!r},{w!r}" for i, (x, y, w) in enumerate(xyz)]
+    six = [_element(k + 1, e + 1, z, True) for k, e in enumerate(el)]
+    three = [f"CTRIA3,{4 * k + j + 1},1," + ",".join(str(e[i] + 1) for i in f) + f",,{z!r}"
+             for k, e in enumerate(el) for j, f in enumerate(FACETS)]
+    models = []
+    for name, cards in (("t6.bdf", six), ("t3.bdf", three)):
+        (tmp_path / name).write_text("\n".join(head + cards) + "\nENDDATA\n")
+        models.append(_read(tmp_path / name).model)
+    a, b = models
+    for x, y in ((a.stiffness(), b.stiffness()), (a.mass(), b.mass())):
+        assert abs(x - y).max() <= 1e-12 * abs(y).max()

@@ -202,3 +202,20 @@ def test_concave_cshear_is_refused(tmp_path):
     path.write_text(path.read_text().replace(f"GRID,3,,{A!r},{B!r}", "GRID,3,,0.1,0.1"))
     with pytest.raises(InputError, match="CSHEAR 1: not convex"):
         _read(path)
+
+
+def test_displacement_axes_do_not_change_the_frequencies(tmp_path):
+    """Source: invariance. The web with every grid's displacements in a CORD2R turned
+    0.4 rad about y (CD: the web's in-plane x and z mixed; y, held, kept) has the same
+    frequencies as in basic axes (the panel's blocks turned node by node; 1e-9 with room
+    for the eigen-solver's rounding)."""
+    plain = _web(tmp_path / "a.bdf")
+    c, s = np.cos(0.4), np.sin(0.4)
+    turned = tmp_path / "b.bdf"
+    turned.write_text(plain.read_text().replace(",,2456", ",5,2456").replace(
+        "BEGIN BULK\n", f"BEGIN BULK\nCORD2R,5,,0.,0.,0.,{s!r},0.,{c!r}\n,{c!r},0.,{-s!r}\n"))
+    a, b = _read(plain).model, _read(turned).model
+    fa = solve_elastic(a.stiffness(), a.mass(), 8)
+    fb = solve_elastic(b.stiffness(), b.mass(), 8)
+    assert fa.n_rigid == fb.n_rigid == 3
+    assert np.max(np.abs(fb.frequencies_hz[3:] / fa.frequencies_hz[3:] - 1)) <= 1e-9

@@ -58,6 +58,15 @@ mesh size squared (0.69, 0.15 % at 8, 16 per side on that plate). MITC6-type tyi
 bubble locks mildly (0.19 % at 16 per side, a/h = 1e4, against 0.0025 % at a/h = 100),
 so CTRIA6 keeps the factor.
 
+Offsets (NASTRAN's ZOFFS, :func:`offset_geometry`): the element is integrated on its
+reference surface, its nodes moved along their directors (CQUAD8's normals vary over a
+curved element, so its reference surface is the parallel surface; CTRIA6's is the
+corners' plane moved along its normal), rigidly linked to the grids (u + z theta x V_i,
+the link of the CTRIA6 projection above), its mass with it: a free offset element keeps
+its rigid modes and frequencies exactly. The directors are per element, so on a curved
+mesh two elements' offset nodes at a shared grid may differ by the angle between their
+normals there times z (zero on a flat mesh, O(h^2 / R^2) z on a smooth one).
+
 Mass: translational (no rotary inertia, as :mod:`~eigenupdate.model.shells`),
 consistent ``sum w N_i N_j`` or lumped by the HRZ diagonal scaling (Hinton, Rock &
 Zienkiewicz, Earthq. Eng. Struct. Dyn. 4, 1976: positive nodal masses; the row sums of

@@ -337,23 +337,6 @@ def test_written_bdf_keeps_zoffs(tmp_path, triangles):
         assert abs(a - b).max() <= 1e-12 * abs(b).max()
 
 
-@pytest.mark.parametrize(("card", "line", "words"), [
-    ("CQUAD8", "CQUAD8,1,1,1,2,3,4,5,6\n,7,8,,,,,,.001",
-     r"CQUAD8 1: ZOFFS = 0.001 .* not supported on CQUAD8 \(CQUAD4 and CTRIA3 only\)"),
-    ("CTRIA6", "CTRIA6,1,1,1,2,3,5,6,9\n,,.001",
-     r"CTRIA6 1: ZOFFS = 0.001 .* not supported on CTRIA6 \(CQUAD4 and CTRIA3 only\)"),
-])
-def test_quadratic_elements_with_zoffs_are_refused(tmp_path, card, line, words):
-    """One line naming the element: CQUAD8/CTRIA6 have no offset here."""
-    grids = [f"GRID,{i + 1},,{x!r},{y!r},0." for i, (x, y) in enumerate(
-        [(0., 0.), (1., 0.), (1., 1.), (0., 1.), (.5, 0.), (1., .5), (.5, 1.), (0., .5),
-         (.5, .5)])]
-    path = tmp_path / "q.bdf"
-    path.write_text("BEGIN BULK\n" + PSHELL + "\n".join(grids) + "\n" + line + "\nENDDATA\n")
-    with pytest.raises(InputError, match=words):
-        _read(path)
-
-
 def test_shifted_pcomp_on_cquad8_is_refused(tmp_path):
     """A stack off its reference plane (Z0 != -T/2) is an offset: refused on CQUAD8,
     naming the property."""

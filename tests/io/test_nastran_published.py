@@ -183,17 +183,17 @@ def test_scalar_element_on_an_extra_point_is_refused(tmp_path):
 
 
 def test_property_no_element_uses_is_skipped(tmp_path):
-    """A property card of a type we do not assemble (PBEND, PSHEAR) that no element names
+    """A property card of a type we do not assemble (PBEND, PBUSH1D) that no element names
     cannot change K or M: skipped with a note, the frequencies equal the plain deck's;
     once an element names it, it is refused."""
     plain = _deck(tmp_path, "plain.bdf", "", "SPC = 1\n", BAR)
-    extra = BAR + "PBEND,7,1,1.e-3,2.e-7,2.e-7,4.e-7\nPSHEAR,8,1,.01\n"
+    extra = BAR + "PBEND,7,1,1.e-3,2.e-7,2.e-7,4.e-7\nPBUSH1D,8,1.e5\n"
     props = _deck(tmp_path, "props.bdf", "", "SPC = 1\n", extra)
-    with pytest.warns(EigenupdateWarning, match=r"PBEND x1 \(no element uses it\), PSHEAR x1 "
+    with pytest.warns(EigenupdateWarning, match=r"PBEND x1 \(no element uses it\), PBUSH1D x1 "
                                                  r"\(no element uses it\)"):
         read_nastran(props)
     assert np.array_equal(_hz(plain, 3), _hz(props, 3))
     used = _deck(tmp_path, "used.bdf", "", "SPC = 1\n",
-                 extra + "GRID,4,,2.,1.,0.\nGRID,5,,0.,1.,0.\nCSHEAR,9,8,2,3,4,5\n")
-    with pytest.raises(InputError, match=r"not supported: CSHEAR x1, PSHEAR x1"):
+                 extra + "CBUSH1D,9,8,2,3\n")
+    with pytest.raises(InputError, match=r"not supported: CBUSH1D x1, PBUSH1D x1"):
         read_nastran(used)

@@ -209,11 +209,10 @@ def test_ply_angle_follows_the_element_axes(tmp_path, card):
 
 @pytest.mark.parametrize(("edit", "message"), [
     (lambda line: line + ",.004,.004,.005,.004", "corner thicknesses T1-T4"),
-    (lambda line: line + ",,,,,,.001", "ZOFFS = 0.001"),
-], ids=["T1-T4", "ZOFFS"])
+], ids=["T1-T4"])
 def test_unsupported_cquad8_fields_are_refused(tmp_path, edit, message):
     """Source: as CQUAD4 (io/nastran_continuum.py): corner thicknesses differing from
-    the PSHELL's T and offsets are refused, naming the element."""
+    the PSHELL's T are refused, naming the element."""
     path = plate(tmp_path / "a.bdf", nx=2)
     text = path.read_text().splitlines()
     i = next(k for k, line in enumerate(text) if line.startswith("CQUAD8,1,"))

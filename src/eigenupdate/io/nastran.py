@@ -47,6 +47,7 @@ from eigenupdate.io.nastran_points import (
     assemble_conm2,
     assemble_scalars,
 )
+from eigenupdate.io.nastran_shear import assemble_shear
 from eigenupdate.model import constraints, reduction, shells
 from eigenupdate.model.coordinates import CoordinateTable
 from eigenupdate.model.parameters import Parameter
@@ -284,6 +285,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     assemble_continuum(bdf, grid, xyz, frames, nids.size, consistent, wtmass,
                        _param(bdf, "K6ROT", shells.K6ROT), pindex, values, k0, m0, kj, mj,
                        extra)
+    assemble_shear(bdf, grid, xyz, frames, nids.size, wtmass, pindex, values, k0, m0, kj, mj)
     assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj)
     assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
     assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj)

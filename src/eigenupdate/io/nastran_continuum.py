@@ -26,7 +26,7 @@ from eigenupdate.errors import InputError
 from eigenupdate.io import nastran_offsets as offsets
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
 from eigenupdate.io.nastran_plies import ply_terms, thickness_terms
-from eigenupdate.model import laminate, shell_offsets, shells, solids
+from eigenupdate.model import laminate, shells, solids
 from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model.assembly import assemble_many
 
@@ -388,10 +388,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
              "shear": G3 * shells.shear_thickness(T, size),
              shells.COUPLING: np.where(np.abs(cc).max(axis=(1, 2)) > 0, E1 * T**2, 0.0)}
     mass = offsets.mass_moments(rows, zo, wtmass)  # (3, n): m0, m1, m2
-    if k in SHELL_EDGES and np.any(mass[1:]):
-        i = int(np.flatnonzero(np.any(mass[1:], axis=0))[0])
-        raise InputError(f"{labels[i]}: its property's mass is not symmetric about its "
-                         f"mid-plane (a first mass moment), not supported on CQUAD8/CTRIA6")
+    if k in SHELL_EDGES:
+        offsets.flat_mass(rows, labels)
     deriv_k: list[dict] = [{} for _ in kj]
     deriv_m: list = [None for _ in mj]
     mids = {q: np.array([p[q] for p in rows]) for q in ("mid1", "mid2", "mid3")}
@@ -442,9 +440,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
 
     def blocks(s: slice) -> list:
         cpl = {"coupling": cc[s]} if np.any(total[shells.COUPLING][s]) else {}
-        R, parts = elem.local_parts(xyz_e[s], cm[s], cb[s], cs[s], k6rot, labels[s], **cpl)
-        if np.any(zk[s]):  # NASTRAN's rigid offset of the reference plane
-            parts = shell_offsets.offset_parts(parts, zk[s])
+        R, parts = offsets.stiffness_parts(elem, xyz_e[s], cm[s], cb[s], cs[s], k6rot,
+                                           labels[s], zk[s], **cpl)
         hit = {p: c[s] for p, c in base.items() if np.any(c[s])}
         out = [_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6) if hit else None]
         for d in deriv_k:
@@ -453,10 +450,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                        if hit else None)
         # a node's lumped block m I is the same in any axes, but the coupled mass's
         # blocks between grids with different CD axes (cylindrical) are not
-        m = [_to_cd(elem.shell_mass(xyz_e[s], lumped, labels[s]), frames, nodes[s], 6)]
-        if np.any(mass[1:, s]) or np.any(zo[s]):  # a mass off the grid plane
-            m += [_to_cd(x, frames, nodes[s], 6)
-                  for x in shell_offsets.offset_mass(xyz_e[s], lumped, labels[s])]
+        m = [_to_cd(x, frames, nodes[s], 6) for x in offsets.unit_masses(
+            elem, xyz_e[s], lumped, labels[s], zo[s], mass[:, s])]
 
         def moved(c):  # sum of c[i] (n,) times the mass of moment i
             return sum(c[i][s, None, None] * m[i] for i in range(len(m)))
@@ -473,11 +468,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                 key = tuple(id(c) for c in (*moduli[:3], moduli[4]))
                 if key not in cache:
                     cond = {} if moduli[4] is None else {"condense_with": moduli[4][s]}
-                    cache[key] = elem.local_parts(xyz_e[s], *(c[s] for c in moduli[:3]),
-                                                  k6rot, labels[s], **cond)
-                    if np.any(zk[s]):
-                        cache[key] = (cache[key][0],
-                                      shell_offsets.offset_parts(cache[key][1], zk[s]))
+                    cache[key] = offsets.stiffness_parts(
+                        elem, xyz_e[s], *(c[s] for c in moduli[:3]), k6rot, labels[s],
+                        zk[s], **cond)
                 Rb, pb = cache[key]
                 out.append(_to_cd(shells.combine(Rb, pb, {q: mask[s].astype(float)
                                                           for q in moduli[3]}),

@@ -32,6 +32,8 @@ FIELDS = {
     "PSHELL": {"T": "t"},
     # ply k's thickness (the card's k-th ply; LAM=SYM: and its mirror): A, D, H, mass
     "PCOMP": {f"T{k + 1}": ("_ply", k) for k in range(99)},
+    # shear panel thickness: K ~ G T, mass ~ RHO T + NSM (linear)
+    "PSHEAR": {"T": "t"},
 }
 
 def field_unit(card: str, field: str) -> str:
@@ -47,7 +49,7 @@ def field_unit(card: str, field: str) -> str:
         return {"E": "force/length^2", "RHO": "mass/length^3"}.get(field, "")
     if card in ("PBAR", "PBEAM", "PROD"):
         return "length^2" if field == "A" else "length^4"
-    if card in ("PBARL", "PBEAML", "PSHELL", "PCOMP"):
+    if card in ("PBARL", "PBEAML", "PSHELL", "PCOMP", "PSHEAR"):
         return "length"
     if card == "PBUSH":
         return "force/length" if field in ("K1", "K2", "K3") else "force*length/rad"
@@ -69,7 +71,7 @@ def stores(bdf) -> dict:
             "PELAS": bdf.properties, "CELAS2": bdf.elements, "CELAS4": bdf.elements,
             "CMASS4": bdf.masses, "CONM2": bdf.masses, "CONM1": bdf.masses,
             "PBUSH": bdf.properties, "PBARL": bdf.properties, "PBEAML": bdf.properties,
-            "PSHELL": bdf.properties, "PCOMP": bdf.properties,
+            "PSHELL": bdf.properties, "PCOMP": bdf.properties, "PSHEAR": bdf.properties,
             "CMASS2": bdf.masses, "PMASS": bdf.properties_mass}
 
 

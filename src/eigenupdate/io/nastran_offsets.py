@@ -1,6 +1,8 @@
-"""CQUAD4/CTRIA3 ZOFFS and a shell's mass off its grid plane, for
+"""Shell ZOFFS and a shell's mass off its grid plane, for
 :mod:`eigenupdate.io.nastran_continuum` (the formulation: :mod:`eigenupdate.model.
-shell_offsets`).
+shell_offsets` for CQUAD4/CTRIA3, :func:`eigenupdate.model.shells_quadratic.
+offset_geometry` for CQUAD8/CTRIA6: the element on its reference surface, rigidly linked
+to the grids, stiffness and mass alike).
 
 The mass per area is a sum over components (each material of the property, its plies at
 their centroid; NSM on the reference plane) of m_i at height H_i along the normal from
@@ -17,8 +19,8 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range
-
-OFFSET_ELEMENTS = ("CQUAD4", "CTRIA3")
+from eigenupdate.model import shell_offsets, shells
+from eigenupdate.model import shells_quadratic as quadratic
 
 
 def ply_heights(t: np.ndarray, z0: float, mids) -> dict:
@@ -39,17 +41,13 @@ def ply_heights(t: np.ndarray, z0: float, mids) -> dict:
 
 
 def element_offsets(elems, labels: list[str], rows: list[dict]) -> np.ndarray:
-    """ZOFFS (n,) of the elements: CQUAD4 and CTRIA3 only, with a PSHELL's MID2 given
-    (NASTRAN requires MID1 and MID2 with ZOFFS); anything else is refused naming the
-    element."""
+    """ZOFFS (n,) of the elements, with a PSHELL's MID2 given (NASTRAN requires MID1
+    and MID2 with ZOFFS); a curved CTRIA6's facets are offset along their own normals."""
     z = np.zeros(len(elems))
     for i, (e, lab, p) in enumerate(zip(elems, labels, rows, strict=True)):
         if not e.zoffset:
             continue
         value = in_range(e.zoffset, f"{lab}: ZOFFS")
-        if e.type not in OFFSET_ELEMENTS:  # a curved CTRIA6's facets keep its type
-            raise InputError(f"{lab}: ZOFFS = {value:g} (offset from the grids) is not "
-                             f"supported on {e.type} (CQUAD4 and CTRIA3 only)")
         if p["laminate"] is None and not p["mid2"]:
             raise InputError(f"{lab}: ZOFFS = {value:g} needs MID2 (bending) on PSHELL "
                              f"{e.pid} (NASTRAN requires MID1 and MID2 with ZOFFS)")
@@ -86,3 +84,38 @@ def rho_moments(rows: list[dict], zo: np.ndarray, wtmass: float, mid: int) -> np
 def at_height(weights: np.ndarray, z: np.ndarray) -> np.ndarray:
     """(3, n) moments of a mass ``weights`` (n,) on the reference plane, z above the grids."""
     return np.stack([weights, weights * z, weights * z * z])
+
+
+def stiffness_parts(elem, xyz: np.ndarray, cm, cb, cs, k6rot: float, labels: list[str],
+                    zk: np.ndarray, **kw) -> tuple:
+    """``elem.local_parts`` (:mod:`~eigenupdate.model.shells` or its quadratic
+    module) of elements whose reference plane lies ``zk`` (n,) from their grids."""
+    if elem is quadratic:  # its blocks are global: the offset enters its geometry
+        return quadratic.local_parts(xyz, cm, cb, cs, k6rot, labels,
+                                     offset=zk if np.any(zk) else None)
+    R, parts = elem.local_parts(xyz, cm, cb, cs, k6rot, labels, **kw)
+    return R, shell_offsets.offset_parts(parts, zk) if np.any(zk) else parts
+
+
+def unit_masses(elem, xyz: np.ndarray, lumped: bool, labels: list[str], zo: np.ndarray,
+                moments: np.ndarray) -> list:
+    """The masses per unit m0, m1, m2 (:func:`mass_moments`; global axes): CQUAD4's and
+    CTRIA3's translation, first and second moment; a quadratic element's translation
+    on its reference surface alone (its mass all lies there: :func:`flat_mass`)."""
+    if elem is quadratic:
+        return [quadratic.shell_mass(xyz, lumped, labels, zo if np.any(zo) else None)]
+    out = [shells.shell_mass(xyz, lumped, labels)]
+    if np.any(moments[1:]) or np.any(zo):  # a mass off the grid plane
+        out += list(shell_offsets.offset_mass(xyz, lumped, labels))
+    return out
+
+
+def flat_mass(rows: list[dict], labels: list[str]) -> None:
+    """Refuse on CQUAD8/CTRIA6 a property whose materials' mass lies off its reference
+    plane (a PCOMP's plies of one material not symmetric about its mid-plane): these
+    elements carry their mass on the reference surface."""
+    for p, lab in zip(rows, labels, strict=True):
+        if any(p["heights"].values()):
+            raise InputError(f"{lab}: its property's mass is not symmetric about its "
+                             f"mid-plane (a first mass moment), not supported on "
+                             f"CQUAD8/CTRIA6")

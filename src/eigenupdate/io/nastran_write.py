@@ -27,7 +27,7 @@ FIELD_INDEX = {
     ("PBEAM", "A"): 3, ("PBEAM", "I1"): 4, ("PBEAM", "I2"): 5, ("PBEAM", "J"): 7,
     ("PROD", "A"): 3, ("PROD", "J"): 4,
     ("CELAS2", "K"): 2, ("CELAS4", "K"): 2, ("CMASS2", "M"): 2, ("CMASS4", "M"): 2,
-    ("CONM2", "M"): 4, ("PSHELL", "T"): 3,
+    ("CONM2", "M"): 4, ("PSHELL", "T"): 3, ("PSHEAR", "T"): 3,
     # PCOMP PID Z0 NSM SB FT TREF GE LAM, then MIDk Tk THETAk SOUTk a ply
     **{("PCOMP", f"T{k}"): 4 * k + 6 for k in range(1, 100)},
     # PBARL/PBEAML PID MID GROUP TYPE, then DIM1... on the continuation (one station)

@@ -58,6 +58,16 @@ mesh size squared (0.69, 0.15 % at 8, 16 per side on that plate). MITC6-type tyi
 bubble locks mildly (0.19 % at 16 per side, a/h = 1e4, against 0.0025 % at a/h = 100),
 so CTRIA6 keeps the factor.
 
+Offsets (NASTRAN's ZOFFS, :func:`offset_geometry`): the element is integrated on its
+reference surface, its nodes moved along their directors (CQUAD8's normals vary over a
+curved element, so its reference surface is the parallel surface; CTRIA6's is the
+corners' plane moved along its normal), rigidly linked to the grids (u + z theta x V_i,
+the link of the CTRIA6 projection above), its mass with it: a free offset element keeps
+its rigid modes and frequencies exactly. The directors are per element, so on a curved
+mesh two elements' offset nodes at a shared grid may differ by the angle between their
+normals there times z (zero on a flat mesh; 0.028 rad between neighbours on a cylinder
+of eight CQUAD8 round, 45 degrees each, falling as the cube of the element's angle).
+
 Mass: translational (no rotary inertia, as :mod:`~eigenupdate.model.shells`),
 consistent ``sum w N_i N_j`` or lumped by the HRZ diagonal scaling (Hinton, Rock &
 Zienkiewicz, Earthq. Eng. Struct. Dyn. 4, 1976: positive nodal masses; the row sums of
@@ -338,16 +348,40 @@ def _b_matrices(N, R, G, Vp, dV, V):
             (("membrane", bm), ("bending", bb), ("shear", bs), ("drilling", bd))}
 
 
+def offset_geometry(xyz: np.ndarray, offset: np.ndarray | None = None,
+                    labels: list[str] | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`geometry`'s nodes moved ``offset`` (n,) along their directors (the
+    reference surface of a ZOFFS: CQUAD8's nodes along its surface's normal at each,
+    so a curved element's reference surface is the parallel one; CTRIA6's along its
+    corners' normal) and the directors, unchanged (the fibres through the grids).
+    A reference surface folded over (an offset beyond a curved element's radius) is
+    an :class:`InputError`, as a zero or reversed Jacobian on it."""
+    xyz, V = geometry(xyz, labels)
+    if offset is None or not np.any(offset):
+        return xyz, V
+    xyz = xyz + np.asarray(offset, float)[:, None, None] * V
+    turned = np.flatnonzero(np.min(np.sum(directors(xyz, labels) * V, axis=2), axis=1) <= 0)
+    if turned.size:
+        raise InputError(f"{_name(labels, turned[0])}: ZOFFS = {offset[turned[0]]:g} turns "
+                         f"its reference surface inside out (an offset beyond its radius "
+                         f"of curvature)")
+    return xyz, V
+
+
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
-                shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None):
+                shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None,
+                offset: np.ndarray | None = None):
     """As :func:`eigenupdate.model.shells.local_parts` for CQUAD8 (xyz (n, 8, 3)) or
     CTRIA6 (n, 6, 3): axes R and ``{part: (columns, (n, 6k, 6k) block)}`` per unit
     thickness power. The blocks are already in global axes (R is the identity: the
     element axes change from point to point), so :func:`eigenupdate.model.shells.combine`
-    applies unchanged. The moduli are in the element axes of :func:`material_axes`."""
+    applies unchanged. The moduli are in the element axes of :func:`material_axes`.
+    ``offset`` (n,): NASTRAN's ZOFFS, the element on :func:`offset_geometry`'s
+    reference surface rigidly linked to the grids (u + z theta x V_i, rotations
+    unchanged: on a flat element u + z ry, v - z rx in its axes, as CQUAD4's)."""
     real = np.asarray(xyz, float)
     n, k = real.shape[:2]
-    xyz, V = geometry(real, labels)
+    xyz, V = offset_geometry(real, offset, labels)
     T = _offset_links(real, xyz)
     cm, cb, cs = (np.broadcast_to(np.asarray(c, float), (n,) + np.shape(c)[-2:])
                   for c in (membrane, bending, shear))
@@ -395,8 +429,11 @@ def material_axes(xyz: np.ndarray, labels: list[str] | None = None
     return R, np.arctan2(t[:, 1], t[:, 0])
 
 
-def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None) -> np.ndarray:
-    """Translational mass (n, 6k, 6k) per unit mass per area: consistent or HRZ-lumped.
+def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None,
+               offset: np.ndarray | None = None) -> np.ndarray:
+    """Translational mass (n, 6k, 6k) per unit mass per area: consistent or HRZ-lumped;
+    with ``offset`` (ZOFFS, n,), on the reference surface of :func:`offset_geometry`
+    rigidly linked to the grids (so moved with it, as the stiffness).
 
     Examples
     --------
@@ -409,9 +446,9 @@ def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None) -
     >>> round(float(shell_mass(x, True)[0, 0, 0] * 76 / 2), 12)
     3.0
     """
-    xyz = np.asarray(xyz, float)
-    n, k = xyz.shape[:2]
-    xyz, V = geometry(xyz, labels)
+    real = np.asarray(xyz, float)
+    n, k = real.shape[:2]
+    xyz, V = offset_geometry(real, offset, labels)
     m = np.zeros((n, k, k))
     for p, q, weight in _RULES[k]["full"]:
         N, _, _, det, _, _, _ = _point(xyz, V, k, p, q)
@@ -423,7 +460,9 @@ def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None) -
     out = np.zeros((n, 6 * k, 6 * k))
     for c in range(3):
         out[:, c::6, c::6] = m
-    return out  # at the grids: a CTRIA6's projection changes only its stiffness
+    if offset is None or not np.any(offset):
+        return out  # at the grids: a CTRIA6's projection changes only its stiffness
+    return _linked(out, _offset_links(real, xyz))
 
 
 def stabilisation_size(xyz: np.ndarray) -> np.ndarray:

@@ -21,6 +21,7 @@ import time
 from collections.abc import Callable, Sequence
 
 import numpy as np
+from scipy.optimize import least_squares
 from scipy.stats import chi2
 
 from eigenupdate.errors import InputError, NumericalError
@@ -34,6 +35,7 @@ from eigenupdate.model.parametric import ParametricModel
 from eigenupdate.solve.eigen import WarmStart
 from eigenupdate.solve.jacobian import Linearisation, linearise
 from eigenupdate.solve.perturbed import CertificateReport
+from eigenupdate.solve.reduced import ReducedModel
 
 FLOOR = 1e-3
 """A parameter with a positive initial value may not fall below FLOOR times it."""
@@ -45,6 +47,10 @@ JOINT posterior std of the current point, all parameters together (its objective
 decrease is below JOINT^2 in units of one datum's variance)."""
 CHI2_LEVEL = 0.999
 """JOINT applies where the objective lies below this quantile of its chi-square."""
+REDUCED_XTOL = 1e-8
+"""The reduced model's optimum is solved to this relative step (its own accuracy is
+lower: the point it gives is solved in full)."""
+REDUCED_NFEV = 40
 CACHE_SIZE = 3
 """Points kept: ``fun`` and ``jac`` at the same point cost one solve; few (memory)."""
 
@@ -156,6 +162,43 @@ class Fit:
         except (InputError, NumericalError) as exc:
             self.refusal = str(exc)
             return None
+
+    def reduced_model(self, point: Point, rom: ReducedModel | None = None) -> ReducedModel:
+        """The reduced model of the configurations (:mod:`eigenupdate.solve.reduced`)
+        exact at ``point``: ``rom`` anchored there, or a new one."""
+        if rom is None:
+            return ReducedModel(self.model, self.configurations, self.modes, point.lin,
+                                self.full(point.z))
+        rom.anchor(point.lin, self.full(point.z))
+        return rom
+
+    def reduced_step(self, point: Point, rom: ReducedModel) -> Point | None:
+        """The optimum of ``rom`` (exact at ``point``) under the current pairing, solved
+        in full: that point if its objective is below ``point``'s, else None."""
+        pairing, prior, z0 = self.pairing, self.prior, self.z0
+        cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+        far = np.full(point.f.size, np.sqrt(1e6 * (point.obj + 1.0) / point.f.size))
+
+        def equations(z):
+            key = z.tobytes()
+            if key not in cache:
+                try:
+                    lam, J = rom.evaluate(z * self.scale)
+                except np.linalg.LinAlgError:  # a trial far outside: a step too long
+                    return far, point.A
+                lam, Jn = pairing.paired(lam, J * self.scale, point.perm)
+                r, Ar = pairing.equations(lam, Jn)
+                cache.clear()
+                cache[key] = (np.concatenate([r, prior * (z - z0)]),
+                              np.vstack([Ar, np.diag(prior)]))
+            return cache[key]
+
+        # dogbox, as the trust region of the full problem (see its module for why)
+        res = least_squares(lambda z: equations(z)[0], point.z, jac=lambda z: equations(z)[1],
+                            bounds=(self.lower, np.inf), method="dogbox", xtol=REDUCED_XTOL,
+                            max_nfev=REDUCED_NFEV)
+        trial = self.attempt(res.x, point.obj)
+        return trial if trial is not None and trial.obj < point.obj else None
 
     def paired(self, z: np.ndarray, lin: Linearisation) -> Point:
         """The point z with linearisation ``lin`` under the current pairing."""

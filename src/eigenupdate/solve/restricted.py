@@ -70,6 +70,20 @@ def _restrict(term):
     return rows, cols, sp.csr_array(t[rows][:, cols])
 
 
+def projected(term, V: np.ndarray) -> np.ndarray:
+    """V^T T V for a sparse parameter matrix T, through the rows it touches only.
+
+    >>> import numpy as np, scipy.sparse as sp
+    >>> T = sp.csr_array(([2.0], ([1], [1])), shape=(3, 3))
+    >>> projected(T, np.arange(6.0).reshape(3, 2))   # 2 [2 3]^T [2 3]
+    array([[ 8., 12.],
+           [12., 18.]])
+    """
+    rows, cols, sub = _restrict(term)
+    P = V[rows].T @ (sub @ V[cols])
+    return (P + P.T) / 2
+
+
 def _quadratic(term, phi: np.ndarray) -> np.ndarray:
     rows, cols, sub = term
     return np.einsum("ij,ij->j", phi[rows], sub @ phi[cols])

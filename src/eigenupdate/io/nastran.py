@@ -265,7 +265,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
                    k0, m0, kj, mj, extra)
     assemble_continuum(bdf, grid, xyz, frames, nids.size, consistent, wtmass,
                        _param(bdf, "K6ROT", shells.K6ROT), pindex, values, k0, m0, kj, mj,
-                       extra)
+                       extra, _param(bdf, "SNORM", shells.SNORM))
     assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj)
     assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
     assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj)

@@ -90,6 +90,21 @@ flat projection accepts; beyond it the projection (no rigid-link warp correction
 change the answer unnoticed. NASTRAN only warns (GEOMCHECK Q4_WARP, default 0.05 in its
 own measure)."""
 
+CURVED_DRILLING = 1000.0
+"""On a curved surface of flat facets, one facet's drilling rotation at a grid is part of
+its neighbours' bending rotations: left to the K6ROT penalty alone, the grid's rotation
+about its normal becomes a hinge between the facets, which converges LOW (a cylinder at
+R/T = 50: -1.5 % at 64 x 32, and K6ROT moved it by 2.7 %). MSC NASTRAN removes the hinge
+with its unique grid normals (PARAM SNORM, 20 degrees by default since V2001); here the
+drilling mismatch (rz - (v,x - u,y)/2)^2, exact in rigid motion, is added to the bending
+part with modulus CURVED_DRILLING D66 kappa^2 (kappa the facet's curvature from the grid
+normals, 0 on a flat mesh), which outweighs the hinge's bending energy (about D kappa^2
+per unit area) by a fixed factor on any mesh."""
+SNORM = 20.0
+"""PARAM SNORM's default (MSC NASTRAN since V2001; V70.7 had 0, no grid normals): the
+largest angle (degrees) between a facet and its grid's normal for the grid to count as
+on a smooth surface; beyond it, a fold. SNORM <= 0: no grid normals, plain facets."""
+
 MIN_AREA = 1e-6
 """Smallest twice-area over the squared largest centre-to-node distance: a strip L x w
 has about 8 w / L, so aspect ratios beyond about 1e7 are refused (their membrane
@@ -306,7 +321,8 @@ def _expand(terms, n: int, m: int) -> np.ndarray:
 
 def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                  shear: np.ndarray, k6rot: float, labels: list[str] | None,
-                 condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None):
+                 condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None,
+                 normals: np.ndarray | None = None, snorm: float = SNORM):
     """Element axes R and the stiffness parts in element axes, each as its columns and
     its block on them (membrane: u, v; drilling: u, v, rz; bending: rx, ry; shear: w,
     rx, ry; coupling, when ``coupling`` moduli are given: u, v, rx, ry), all integration
@@ -329,6 +345,15 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     kc = 0.0
     if cc is not None and c0 is not None:
         raise ValueError("coupling with condense_with is not formed")
+    rotations = cols["bending"]  # rx, ry: the coupling's bending columns
+    curved = None
+    if normals is not None:
+        gb = (CURVED_DRILLING * cb[:, 2, 2] * facet_curvature(R, xy, normals, snorm) ** 2
+              ).reshape(n, 1, 1)
+        if np.any(gb):
+            curved = np.zeros((n, 4, 4))
+            curved[:, :3, :3], curved[:, 3:, 3:] = cb, gb
+            cols["bending"] = (6 * np.arange(k)[:, None] + np.array([0, 1, 3, 4, 5])).ravel()
     if k == 4:
         points, shape, shear_b = _QUAD_POINTS, _quad_shape, _quad_shear
         _, det0, inv0, _ = _jacobian(_quad_shape(0.0, 0.0)[1], xy)
@@ -344,8 +369,11 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
             # Jacobian (det J0 / det J) so that constant strains stay exact
             ga = inv0 @ np.diag([-2.0 * p, -2.0 * q]) * (det0 / det)[:, None, None]
             bm = np.concatenate([bm, _b_membrane(ga)[:, :, [0, 1, 6, 7]]], axis=2)
+        bb, cbb = _b_bending(g), cb
+        if curved is not None:  # the drilling mismatch on a curved surface: see CURVED_DRILLING
+            bb, cbb = np.concatenate([bb, _b_drilling(N, g)], axis=1), curved
         for name, b, d in (("membrane", bm, cm), ("drilling", _b_drilling(N, g), gd),
-                           ("bending", _b_bending(g), cb),
+                           ("bending", bb, cbb),
                            ("shear", shear_b(p, q, xy, inv), cs)):
             if name != "membrane":
                 b = b[:, :, cols[name]]
@@ -353,7 +381,7 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
             db_all[name].append(np.einsum("nab,nbj->naj", d, b) * w)
         if cc is not None:  # membrane (with Wilson's modes) x curvature: (n, 2k(+4), 2k)
             kc = kc + np.einsum("nai,nab,nbj->nij", bm * w, cc,
-                                _b_bending(g)[:, :, cols["bending"]])
+                                _b_bending(g)[:, :, rotations])
         if c0 is not None:
             db0.append(np.einsum("nab,nbj->naj", c0, bm) * w)
     out = {name: (cols[name], np.einsum("nai,naj->nij", np.concatenate(b_all[name], 1),
@@ -384,7 +412,8 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
 
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None,
-                condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None):
+                condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None,
+                normals: np.ndarray | None = None, snorm: float = SNORM):
     """Element axes R (n, 3, 3) and the stiffness parts per unit thickness power in
     element axes, compact: ``{part: (columns, (n, c, c) block)}``; :func:`combine` sums
     them with per-element factors and turns the sum to global axes (one rotation for
@@ -398,9 +427,52 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     A's shape elsewhere (a Ritz approximation with A0's incompatible modes).
 
     ``coupling`` (n, 3, 3) or (3, 3): a laminate's B / T^2 in element axes; the part
-    ``coupling`` (factor T^2, :data:`THICKNESS_POWER`) is formed only when it is given."""
+    ``coupling`` (factor T^2, :data:`THICKNESS_POWER`) is formed only when it is given.
+
+    ``normals`` (n, k, 3): the grids' normals (:func:`grid_normals`); where the facets are
+    curved the part ``bending`` gains the drilling mismatch (:data:`CURVED_DRILLING`) and
+    the columns u, v, rz, at grids whose normal is within ``snorm`` degrees (PARAM SNORM)."""
     return _local_parts(xyz, membrane, bending, shear, k6rot, labels, condense_with,
-                        coupling)
+                        coupling, normals, snorm)
+
+
+def facet_curvature(R: np.ndarray, xy: np.ndarray, normals: np.ndarray,
+                    snorm: float = SNORM) -> np.ndarray:
+    """Curvature estimate (n,) of flat facets (axes R, in-plane node coordinates xy about
+    the centre) from their grids' normals (n, k, 3): the largest sin(angle) between the
+    facet's normal and a grid's over the grid's distance from the centre, over the grids
+    within ``snorm`` degrees (a fold beyond it is not a curvature).
+
+    >>> R = np.eye(3)[None]; xy = np.array([[[-1., -1], [1, -1], [1, 1], [-1, 1]]])
+    >>> a = 0.1; nrm = np.array([[-np.sin(a), 0, np.cos(a)], [np.sin(a), 0, np.cos(a)]])
+    >>> round(float(facet_curvature(R, xy, nrm[[0, 1, 1, 0]][None])[0]), 6)
+    0.070593
+    """
+    cos = np.abs(np.einsum("nkj,nj->nk", normals, R[:, 2]))
+    sin = np.sqrt(np.clip(1.0 - cos**2, 0.0, None))
+    sin = np.where(cos >= np.cos(np.radians(snorm)), sin, 0.0)
+    return np.max(sin / np.linalg.norm(xy, axis=2), axis=1)
+
+
+def grid_normals(facets: list, n_nodes: int) -> np.ndarray:
+    """Unit normals (N, 3) of grids from their facets' normals and nodes, ``facets`` a
+    list of (normals (n, 3), nodes (n, k)) (CTRIA3 and CQUAD4 apart):
+    the principal axis of the sum of n n^T over the facets at a grid, so that neither
+    the facets' orientation (G1-G2-G3 order) nor a fold's flipped side matters; zero at a
+    grid of no facet.
+
+    >>> nrm = np.array([[0., 0, 1], [0, 0, -1]])
+    >>> grid_normals([(nrm, np.array([[0, 1], [1, 2]]))], 3)[:, 2].round(6).tolist()
+    [1.0, 1.0, 1.0]
+    """
+    S = np.zeros((n_nodes, 3, 3))
+    for normal, nodes in facets:
+        np.add.at(S, nodes.ravel(), np.repeat(np.einsum("ni,nj->nij", normal, normal),
+                                              nodes.shape[1], axis=0))
+    w, v = np.linalg.eigh(S)
+    out = v[:, :, 2]
+    out[w[:, 2] <= 0] = 0.0
+    return out * np.where(out[:, 2] < 0, -1.0, 1.0)[:, None]
 
 
 def combine(R: np.ndarray, parts: dict, factors: dict[str, np.ndarray]) -> np.ndarray:

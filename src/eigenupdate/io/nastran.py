@@ -47,7 +47,7 @@ from eigenupdate.io.nastran_points import (
     assemble_conm2,
     assemble_scalars,
 )
-from eigenupdate.model import constraints, reduction, shells
+from eigenupdate.model import constraints, reduction, shell_normals, shells
 from eigenupdate.model.coordinates import CoordinateTable
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel, Term
@@ -177,6 +177,23 @@ def _param(bdf, name: str, default):
     return v if isinstance(default, str) else float(v)
 
 
+def _curvature(bdf, grid, xyz: np.ndarray, n_nodes: int):
+    """``nodes (n, k) -> curvature (n,)`` of CQUAD4 (k = 4) or CTRIA3 (k = 3) elements
+    from the normals of their grids (model/shell_normals.py) under PARAM SNORM; None when
+    SNORM <= 0 or the deck has neither. Normals from every CQUAD4 and CTRIA3 at a grid."""
+    snorm = _param(bdf, "SNORM", shell_normals.SNORM)
+    facets = []
+    for card in ("CQUAD4", "CTRIA3"):
+        nodes = np.array([[grid(g, f"{card} {e.eid}") for g in e.node_ids]
+                          for e in bdf.elements.values() if e.type == card], dtype=int)
+        if nodes.size:
+            facets.append((shell_normals.facet_normals(xyz[nodes]), nodes))
+    if snorm <= 0 or not facets:
+        return None
+    normals = shell_normals.grid_normals(facets, n_nodes)
+    return lambda nodes: shell_normals.facet_curvature(xyz[nodes], normals[nodes], snorm)
+
+
 class _Triplets:
     """COO pieces of one sparse matrix."""
 
@@ -265,7 +282,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
                    k0, m0, kj, mj, extra)
     assemble_continuum(bdf, grid, xyz, frames, nids.size, consistent, wtmass,
                        _param(bdf, "K6ROT", shells.K6ROT), pindex, values, k0, m0, kj, mj,
-                       extra, _param(bdf, "SNORM", shells.SNORM))
+                       extra, _curvature(bdf, grid, xyz, nids.size))
     assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj)
     assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
     assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj)

@@ -47,7 +47,7 @@ multiple of MID2's E / (2 (1 + NU)) T."""
 
 
 def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot, pindex,
-                       values, k0, m0, kj, mj, extra, snorm=shells.SNORM) -> None:
+                       values, k0, m0, kj, mj, extra, curvature=None) -> None:
     """Add the shells' and solids' K and M (and each parameter's K_j, M_j) to the
     triplets of :mod:`eigenupdate.io.nastran`; a PSHELL's T as a parameter adds its
     terms to ``extra`` (:func:`~eigenupdate.io.nastran_plies.thickness_terms`)."""
@@ -72,8 +72,7 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
     tria6 = groups.get(("shell", 6), [])
     if tria6 and all(all(e.node_ids) for e in tria6):  # blank grids: refused in _shells
         labels = [f"CTRIA6 {e.eid}" for e in tria6]
-        nodes = [[grid(g, lab) for g in e.node_ids] for e, lab in zip(tria6, labels,
-                                                                       strict=True)]
+        nodes = [[grid(g, lab) for g in e.node_ids] for e, lab in zip(tria6, labels, strict=True)]
         curved = quadratic.curved_tria6(xyz[np.array(nodes)], labels)
         if curved.any():
             groups[("shell", 6)] = [e for e, c in zip(tria6, curved, strict=True) if not c]
@@ -82,32 +81,13 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
                 for f in quadratic.FACETS)
             if not groups[("shell", 6)]:
                 del groups[("shell", 6)]
-    normals = _grid_normals(groups, grid, xyz, n_nodes) if snorm > 0 else None
     for (family, k), elems in sorted(groups.items()):
         if family == "shell":
             _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot,
-                    pindex, values, k0, m0, kj, mj, extra, (normals, snorm))
+                    pindex, values, k0, m0, kj, mj, extra, curvature)
         else:
             _solids(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, pindex,
                     values, k0, m0, kj, mj)
-
-
-def _grid_normals(groups, grid, xyz, n_nodes) -> np.ndarray | None:
-    """The grids' normals from every CQUAD4 and CTRIA3 (shells.grid_normals), for the
-    drilling mismatch of facets on a curved surface (shells.CURVED_DRILLING)."""
-    facets = []
-    for k in (3, 4):
-        elems = groups.get(("shell", k), [])
-        if elems:
-            lab = [f"{e.type} {e.eid}" for e in elems]
-            nd = np.array([[grid(g, a) for g in e.node_ids] for e, a in zip(elems, lab,
-                                                                          strict=True)])
-            x = xyz[nd]  # NASTRAN's normals (shells.shell_axes), checked there later
-            z = (np.cross(x[:, 2] - x[:, 0], x[:, 3] - x[:, 1]) if k == 4 else
-                 np.cross(x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]))
-            norm = np.linalg.norm(z, axis=1, keepdims=True)
-            facets.append((np.divide(z, norm, out=np.zeros_like(z), where=norm > 0), nd))
-    return shells.grid_normals(facets, n_nodes) if facets else None
 
 
 class _Facet:
@@ -333,7 +313,7 @@ def _material_angle(bdf, elems, xyz_e: np.ndarray, labels: list[str]) -> np.ndar
 
 
 def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot, pindex,
-            values, k0, m0, kj, mj, extra, normals=(None, 0.0)) -> None:
+            values, k0, m0, kj, mj, extra, curvature=None) -> None:
     props: dict = {}
     labels = [f"{e.type} {e.eid}" for e in elems]
     elem = quadratic if k in (6, 8) else shells
@@ -459,14 +439,10 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             [p["nsm"] + p.get("fixed_mass", 0.0) for p in rows]), zo)[:, on]
     lumped = not consistent
 
-    curved = {} if normals[0] is None or k not in (3, 4) else {"normals": normals[0][nodes]}
-
     def blocks(s: slice) -> list:
         cpl = {"coupling": cc[s]} if np.any(total[shells.COUPLING][s]) else {}
-        cpl.update({q: v[s] for q, v in curved.items()})
-        if curved:
-            cpl["snorm"] = normals[1]
-        R, parts = elem.local_parts(xyz_e[s], cm[s], cb[s], cs[s], k6rot, labels[s], **cpl)
+        kap = {"curvature": curvature(nodes[s])} if curvature and k in (3, 4) else {}
+        R, parts = elem.local_parts(xyz_e[s], cm[s], cb[s], cs[s], k6rot, labels[s], **cpl | kap)
         if np.any(zk[s]):  # NASTRAN's rigid offset of the reference plane
             parts = shell_offsets.offset_parts(parts, zk[s])
         hit = {p: c[s] for p, c in base.items() if np.any(c[s])}
@@ -497,11 +473,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                 key = tuple(id(c) for c in (*moduli[:3], moduli[4]))
                 if key not in cache:
                     cond = {} if moduli[4] is None else {"condense_with": moduli[4][s]}
-                    cond.update({q: v[s] for q, v in curved.items()})
-                    if curved:
-                        cond["snorm"] = normals[1]
                     cache[key] = elem.local_parts(xyz_e[s], *(c[s] for c in moduli[:3]),
-                                                  k6rot, labels[s], **cond)
+                                                  k6rot, labels[s], **cond, **kap)
                     if np.any(zk[s]):
                         cache[key] = (cache[key][0],
                                       shell_offsets.offset_parts(cache[key][1], zk[s]))

@@ -18,7 +18,9 @@ normal): displacements ``u + z ry``, ``v - z rx``, ``w``, so that
   condensed per element), free of the bilinear element's parasitic shear in in-plane
   bending (MacNeal's QUAD4 avoids it too, by other means);
 * drilling rotation: MSC/NX NASTRAN's penalty ``1e-6 K6ROT G T (rz - (v,x - u,y)/2)^2``
-  (PARAM K6ROT, default 100), whose only job is to keep ``rz`` from being singular.
+  (PARAM K6ROT, default 100), whose only job is to keep ``rz`` from being singular; on a
+  curved surface (``curvature`` given) also a term of the bending part that ties ``rz``
+  to the membrane rotation (:mod:`eigenupdate.model.shell_normals`).
 
 Element axes are NASTRAN's: CQUAD4's normal is the cross product of the diagonals
 G1-G3 and G2-G4, its x axis bisects the angle between them (the mean plane's nodes are
@@ -60,6 +62,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from eigenupdate.errors import InputError
+from eigenupdate.model.shell_normals import CURVED_DRILLING
 
 STIFFNESS_PARTS = ("membrane", "drilling", "bending", "shear")
 COUPLING = "coupling"
@@ -89,21 +92,6 @@ MAX_WARP = 0.05
 flat projection accepts; beyond it the projection (no rigid-link warp correction) would
 change the answer unnoticed. NASTRAN only warns (GEOMCHECK Q4_WARP, default 0.05 in its
 own measure)."""
-
-CURVED_DRILLING = 1000.0
-"""On a curved surface of flat facets, one facet's drilling rotation at a grid is part of
-its neighbours' bending rotations: left to the K6ROT penalty alone, the grid's rotation
-about its normal becomes a hinge between the facets, which converges LOW (a cylinder at
-R/T = 50: -1.5 % at 64 x 32, and K6ROT moved it by 2.7 %). MSC NASTRAN removes the hinge
-with its unique grid normals (PARAM SNORM, 20 degrees by default since V2001); here the
-drilling mismatch (rz - (v,x - u,y)/2)^2, exact in rigid motion, is added to the bending
-part with modulus CURVED_DRILLING D66 kappa^2 (kappa the facet's curvature from the grid
-normals, 0 on a flat mesh), which outweighs the hinge's bending energy (about D kappa^2
-per unit area) by a fixed factor on any mesh."""
-SNORM = 20.0
-"""PARAM SNORM's default (MSC NASTRAN since V2001; V70.7 had 0, no grid normals): the
-largest angle (degrees) between a facet and its grid's normal for the grid to count as
-on a smooth surface; beyond it, a fold. SNORM <= 0: no grid normals, plain facets."""
 
 MIN_AREA = 1e-6
 """Smallest twice-area over the squared largest centre-to-node distance: a strip L x w
@@ -322,7 +310,7 @@ def _expand(terms, n: int, m: int) -> np.ndarray:
 def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                  shear: np.ndarray, k6rot: float, labels: list[str] | None,
                  condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None,
-                 normals: np.ndarray | None = None, snorm: float = SNORM):
+                 curvature: np.ndarray | None = None):
     """Element axes R and the stiffness parts in element axes, each as its columns and
     its block on them (membrane: u, v; drilling: u, v, rz; bending: rx, ry; shear: w,
     rx, ry; coupling, when ``coupling`` moduli are given: u, v, rx, ry), all integration
@@ -347,8 +335,8 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
         raise ValueError("coupling with condense_with is not formed")
     rotations = cols["bending"]  # rx, ry: the coupling's bending columns
     curved = None
-    if normals is not None:
-        gb = (CURVED_DRILLING * cb[:, 2, 2] * facet_curvature(R, xy, normals, snorm) ** 2
+    if curvature is not None:
+        gb = (CURVED_DRILLING * cb[:, 2, 2] * np.asarray(curvature, float) ** 2
               ).reshape(n, 1, 1)
         if np.any(gb):
             curved = np.zeros((n, 4, 4))
@@ -370,7 +358,7 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
             ga = inv0 @ np.diag([-2.0 * p, -2.0 * q]) * (det0 / det)[:, None, None]
             bm = np.concatenate([bm, _b_membrane(ga)[:, :, [0, 1, 6, 7]]], axis=2)
         bb, cbb = _b_bending(g), cb
-        if curved is not None:  # the drilling mismatch on a curved surface: see CURVED_DRILLING
+        if curved is not None:  # the drilling mismatch on a curved surface (shell_normals)
             bb, cbb = np.concatenate([bb, _b_drilling(N, g)], axis=1), curved
         for name, b, d in (("membrane", bm, cm), ("drilling", _b_drilling(N, g), gd),
                            ("bending", bb, cbb),
@@ -413,7 +401,7 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None,
                 condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None,
-                normals: np.ndarray | None = None, snorm: float = SNORM):
+                curvature: np.ndarray | None = None):
     """Element axes R (n, 3, 3) and the stiffness parts per unit thickness power in
     element axes, compact: ``{part: (columns, (n, c, c) block)}``; :func:`combine` sums
     them with per-element factors and turns the sum to global axes (one rotation for
@@ -429,50 +417,12 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     ``coupling`` (n, 3, 3) or (3, 3): a laminate's B / T^2 in element axes; the part
     ``coupling`` (factor T^2, :data:`THICKNESS_POWER`) is formed only when it is given.
 
-    ``normals`` (n, k, 3): the grids' normals (:func:`grid_normals`); where the facets are
-    curved the part ``bending`` gains the drilling mismatch (:data:`CURVED_DRILLING`) and
-    the columns u, v, rz, at grids whose normal is within ``snorm`` degrees (PARAM SNORM)."""
+    ``curvature`` (n,): the facets' curvature from their grids' normals
+    (:func:`eigenupdate.model.shell_normals.facet_curvature`); where it is not zero the
+    part ``bending`` gains the drilling mismatch (``shell_normals.CURVED_DRILLING``) and
+    the columns u, v, rz."""
     return _local_parts(xyz, membrane, bending, shear, k6rot, labels, condense_with,
-                        coupling, normals, snorm)
-
-
-def facet_curvature(R: np.ndarray, xy: np.ndarray, normals: np.ndarray,
-                    snorm: float = SNORM) -> np.ndarray:
-    """Curvature estimate (n,) of flat facets (axes R, in-plane node coordinates xy about
-    the centre) from their grids' normals (n, k, 3): the largest sin(angle) between the
-    facet's normal and a grid's over the grid's distance from the centre, over the grids
-    within ``snorm`` degrees (a fold beyond it is not a curvature).
-
-    >>> R = np.eye(3)[None]; xy = np.array([[[-1., -1], [1, -1], [1, 1], [-1, 1]]])
-    >>> a = 0.1; nrm = np.array([[-np.sin(a), 0, np.cos(a)], [np.sin(a), 0, np.cos(a)]])
-    >>> round(float(facet_curvature(R, xy, nrm[[0, 1, 1, 0]][None])[0]), 6)
-    0.070593
-    """
-    cos = np.abs(np.einsum("nkj,nj->nk", normals, R[:, 2]))
-    sin = np.sqrt(np.clip(1.0 - cos**2, 0.0, None))
-    sin = np.where(cos >= np.cos(np.radians(snorm)), sin, 0.0)
-    return np.max(sin / np.linalg.norm(xy, axis=2), axis=1)
-
-
-def grid_normals(facets: list, n_nodes: int) -> np.ndarray:
-    """Unit normals (N, 3) of grids from their facets' normals and nodes, ``facets`` a
-    list of (normals (n, 3), nodes (n, k)) (CTRIA3 and CQUAD4 apart):
-    the principal axis of the sum of n n^T over the facets at a grid, so that neither
-    the facets' orientation (G1-G2-G3 order) nor a fold's flipped side matters; zero at a
-    grid of no facet.
-
-    >>> nrm = np.array([[0., 0, 1], [0, 0, -1]])
-    >>> grid_normals([(nrm, np.array([[0, 1], [1, 2]]))], 3)[:, 2].round(6).tolist()
-    [1.0, 1.0, 1.0]
-    """
-    S = np.zeros((n_nodes, 3, 3))
-    for normal, nodes in facets:
-        np.add.at(S, nodes.ravel(), np.repeat(np.einsum("ni,nj->nij", normal, normal),
-                                              nodes.shape[1], axis=0))
-    w, v = np.linalg.eigh(S)
-    out = v[:, :, 2]
-    out[w[:, 2] <= 0] = 0.0
-    return out * np.where(out[:, 2] < 0, -1.0, 1.0)[:, None]
+                        coupling, curvature)
 
 
 def combine(R: np.ndarray, parts: dict, factors: dict[str, np.ndarray]) -> np.ndarray:

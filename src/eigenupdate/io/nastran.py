@@ -48,6 +48,7 @@ from eigenupdate.io.nastran_points import (
     assemble_scalars,
 )
 from eigenupdate.model import constraints, reduction, shell_normals, shells
+from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model.coordinates import CoordinateTable
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel, Term
@@ -180,15 +181,17 @@ def _param(bdf, name: str, default):
 def _curvature(bdf, grid, xyz: np.ndarray, n_nodes: int):
     """``nodes (n, k) -> curvature (n,)`` of CQUAD4 (k = 4) or CTRIA3 (k = 3) elements
     from the normals of their grids (model/shell_normals.py) under PARAM SNORM; None when
-    SNORM <= 0 or the deck has neither. Normals from every CQUAD4 and CTRIA3 at a grid."""
+    SNORM <= 0 or the deck has none. Normals from every CQUAD4, CTRIA3 and a CTRIA6's four
+    facets (quadratic.FACETS, as a curved one is modelled) at a grid."""
     snorm = _param(bdf, "SNORM", shell_normals.SNORM)
     facets = []
-    for card in ("CQUAD4", "CTRIA3"):
-        nodes = np.array([[grid(g, f"{card} {e.eid}") for g in e.node_ids]
-                          for e in bdf.elements.values() if e.type == card], dtype=int)
-        if nodes.size:
-            facets.append((shell_normals.facet_normals(xyz[nodes]), nodes))
-    if snorm <= 0 or not facets:
+    for card, corners in (("CQUAD4", [(0, 1, 2, 3)]), ("CTRIA3", [(0, 1, 2)]),
+                          ("CTRIA6", quadratic.FACETS)):
+        nodes = np.array([[grid(g, f"{card} {e.eid}") for g in e.node_ids] for e in
+                          bdf.elements.values() if e.type == card and all(e.node_ids)], int)
+        facets += [(shell_normals.facet_normals(xyz[nodes[:, c]]), nodes[:, c])
+                   for c in map(list, corners) if nodes.size and snorm > 0]
+    if not facets:
         return None
     normals = shell_normals.grid_normals(facets, n_nodes)
     return lambda nodes: shell_normals.facet_curvature(xyz[nodes], normals[nodes], snorm)

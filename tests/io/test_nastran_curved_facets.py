@@ -111,14 +111,17 @@ def test_free_cylinder_converges_to_calculix_s8r(tmp_path):
 
 
 def test_k6rot_hardly_moves_a_curved_facet_mesh(tmp_path):
-    """Source: Rayleigh's bound: a penalty only adds stiffness, so every K6ROT's frequency
-    lies between K6ROT = 0's and the drilling held to the membrane rotation (K6ROT = 1e6,
-    penalty G T). With CURVED_DRILLING = 1000 that interval is 0.03 % (measured; it falls
-    as 1 / CURVED_DRILLING: 0.24 % at 100) at 32 x 16; 0.1 % allowed. It was 2.8 %
-    (141.86 .. 145.88 Hz; 143.57 at the default 100) with the K6ROT penalty alone."""
-    f = [_cylinder_hz(tmp_path, 32, 16, f"PARAM,K6ROT,{k!r}\n")[2] for k in (0.0, 100.0, 1e6)]
+    """Source: Rayleigh's bound: a penalty only adds stiffness, so the frequency rises
+    with K6ROT, and what K6ROT can still add is bounded by the hinge that
+    CURVED_DRILLING = 1000 leaves: 0.03 % at 32 x 16 (145.76 Hz against 145.80 with the
+    factor 1e4, the drilling as good as held to the membrane rotation). K6ROT 0, 100
+    and 1e4 (the largest default a NASTRAN uses: Autodesk's for modal solutions): within
+    0.05 % (measured 145.76, 145.76, 145.77 Hz). With the K6ROT penalty alone it was
+    141.86, 143.57, 145.74 Hz: 2.7 %. (Beyond 1e4 the penalty stiffens the membrane
+    itself, plain facets as these: +0.1 % at 1e6.)"""
+    f = [_cylinder_hz(tmp_path, 32, 16, f"PARAM,K6ROT,{k!r}\n")[2] for k in (0.0, 100.0, 1e4)]
     assert f[0] <= f[1] * (1 + 1e-9) and f[1] <= f[2] * (1 + 1e-9), f
-    assert f[2] / f[0] - 1 <= 1e-3, f
+    assert f[2] / f[0] - 1 <= 5e-4, f
 
 
 def test_param_snorm_zero_keeps_plain_facets(tmp_path):

@@ -4,7 +4,7 @@ On a curved surface of flat facets one facet's drilling rotation at a grid is pa
 its neighbours' bending rotations. Left to the K6ROT penalty alone, the grid's rotation
 about its normal is then a hinge between the facets, and the mesh converges LOW: a
 cylinder at R/T = 50 (its n = 2 mode that varies along the axis) -0.66, -1.43, -1.7 % at
-32 x 16, 64 x 32, 96 x 48 from CalculiX S8R, moved by 2.8 % between K6ROT 0 and 1e6.
+32 x 16, 64 x 32, 96 x 48 from CalculiX S8R, moved by 2.7 % between K6ROT 0 and 1e4.
 MSC NASTRAN removes the hinge with unique grid normals (PARAM SNORM, 20 degrees by
 default since V2001: "What's New in MSC.Nastran 2004", section 12). Their rotation of
 each facet's axes to the grid's normal is not exact in rigid motion on flat facets (on

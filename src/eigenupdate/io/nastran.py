@@ -193,7 +193,7 @@ def _curvature(bdf, grid, xyz: np.ndarray, n_nodes: int):
                    for c in map(list, corners) if nodes.size and snorm > 0]
     if not facets:
         return None
-    normals = shell_normals.grid_normals(facets, n_nodes)
+    normals = shell_normals.grid_normals(facets, n_nodes, snorm)
     return lambda nodes: shell_normals.facet_curvature(xyz[nodes], normals[nodes], snorm)
 
 

@@ -42,20 +42,32 @@ def facet_normals(xyz: np.ndarray) -> np.ndarray:
     return np.divide(z, norm, out=np.zeros_like(z), where=norm > 0)
 
 
-def grid_normals(facets: list, n_nodes: int) -> np.ndarray:
+def grid_normals(facets: list, n_nodes: int, snorm: float = SNORM) -> np.ndarray:
     """Unit normals (N, 3) of grids from their facets, ``facets`` a list of (normals
     (n, 3), nodes (n, k)) (CTRIA3 and CQUAD4 apart): the principal axis of the sum of
     n n^T over the facets at a grid, so that neither the facets' orientation (G1-G2-G3
-    order) nor a fold's side matters; zero at a grid of no facet.
+    order) nor a fold's side matters; then again over the facets within ``snorm``
+    degrees of it, so that at a fold between equal sides (whose principal axis is any in
+    their plane) the normal is one side's or none. Zero at a grid of no such facet.
 
     >>> nrm = np.array([[0., 0, 1], [0, 0, -1]])
     >>> grid_normals([(nrm, np.array([[0, 1], [1, 2]]))], 3)[:, 2].round(6).tolist()
     [1.0, 1.0, 1.0]
     """
+    first = _principal(facets, n_nodes)
+    return _principal(facets, n_nodes, first, np.cos(np.radians(snorm)))
+
+
+def _principal(facets: list, n_nodes: int, near: np.ndarray | None = None,
+               cos: float = 0.0) -> np.ndarray:
     S = np.zeros((n_nodes, 3, 3))
     for normal, nodes in facets:
-        np.add.at(S, nodes.ravel(), np.repeat(np.einsum("ni,nj->nij", normal, normal),
-                                              nodes.shape[1], axis=0))
+        nn = np.repeat(np.einsum("ni,nj->nij", normal, normal), nodes.shape[1], axis=0)
+        if near is not None:  # only the facets within the angle of the first estimate
+            nn *= (np.abs(np.einsum("mj,mj->m", near[nodes.ravel()],
+                                    np.repeat(normal, nodes.shape[1], axis=0))) >= cos
+                   )[:, None, None]
+        np.add.at(S, nodes.ravel(), nn)
     w, v = np.linalg.eigh(S)
     out = v[:, :, 2]
     out[w[:, 2] <= 0] = 0.0

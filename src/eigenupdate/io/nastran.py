@@ -28,6 +28,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from eigenupdate.errors import EigenupdateWarning, InputError, shorten
+from eigenupdate.io import nastran_offsets as offsets
 from eigenupdate.io.nastran_constraints import constraint_equations
 from eigenupdate.io.nastran_continuum import assemble_continuum
 from eigenupdate.io.nastran_deck import Deck, case_value, load_deck, modal_subcases, place
@@ -284,7 +285,8 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
                    k0, m0, kj, mj, extra)
     assemble_continuum(bdf, grid, xyz, frames, nids.size, consistent, wtmass,
                        _param(bdf, "K6ROT", shells.K6ROT), pindex, values, k0, m0, kj, mj,
-                       extra)
+                       extra, offsets.curvature(bdf, grid, xyz, nids.size,
+                                                  _param(bdf, "SNORM", offsets.SNORM)))
     assemble_shear(bdf, grid, xyz, frames, nids.size, wtmass, pindex, values, k0, m0, kj, mj)
     assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj)
     assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)

@@ -47,7 +47,7 @@ multiple of MID2's E / (2 (1 + NU)) T."""
 
 
 def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot, pindex,
-                       values, k0, m0, kj, mj, extra) -> None:
+                       values, k0, m0, kj, mj, extra, curvature=None) -> None:
     """Add the shells' and solids' K and M (and each parameter's K_j, M_j) to the
     triplets of :mod:`eigenupdate.io.nastran`; a PSHELL's T as a parameter adds its
     terms to ``extra`` (:func:`~eigenupdate.io.nastran_plies.thickness_terms`)."""
@@ -72,8 +72,7 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
     tria6 = groups.get(("shell", 6), [])
     if tria6 and all(all(e.node_ids) for e in tria6):  # blank grids: refused in _shells
         labels = [f"CTRIA6 {e.eid}" for e in tria6]
-        nodes = [[grid(g, lab) for g in e.node_ids] for e, lab in zip(tria6, labels,
-                                                                       strict=True)]
+        nodes = [[grid(g, lab) for g in e.node_ids] for e, lab in zip(tria6, labels, strict=True)]
         curved = quadratic.curved_tria6(xyz[np.array(nodes)], labels)
         if curved.any():
             groups[("shell", 6)] = [e for e, c in zip(tria6, curved, strict=True) if not c]
@@ -85,7 +84,7 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
     for (family, k), elems in sorted(groups.items()):
         if family == "shell":
             _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot,
-                    pindex, values, k0, m0, kj, mj, extra)
+                    pindex, values, k0, m0, kj, mj, extra, curvature)
         else:
             _solids(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, pindex,
                     values, k0, m0, kj, mj)
@@ -314,7 +313,7 @@ def _material_angle(bdf, elems, xyz_e: np.ndarray, labels: list[str]) -> np.ndar
 
 
 def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot, pindex,
-            values, k0, m0, kj, mj, extra) -> None:
+            values, k0, m0, kj, mj, extra, curvature=None) -> None:
     props: dict = {}
     labels = [f"{e.type} {e.eid}" for e in elems]
     elem = quadratic if k in (6, 8) else shells
@@ -440,8 +439,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
 
     def blocks(s: slice) -> list:
         cpl = {"coupling": cc[s]} if np.any(total[shells.COUPLING][s]) else {}
+        kap = {"curvature": curvature(nodes[s])} if curvature and k in (3, 4) else {}
         R, parts = offsets.stiffness_parts(elem, xyz_e[s], cm[s], cb[s], cs[s], k6rot,
-                                           labels[s], zk[s], **cpl)
+                                           labels[s], zk[s], **cpl | kap)
         hit = {p: c[s] for p, c in base.items() if np.any(c[s])}
         out = [_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6) if hit else None]
         for d in deriv_k:
@@ -470,7 +470,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                     cond = {} if moduli[4] is None else {"condense_with": moduli[4][s]}
                     cache[key] = offsets.stiffness_parts(
                         elem, xyz_e[s], *(c[s] for c in moduli[:3]), k6rot, labels[s],
-                        zk[s], **cond)
+                        zk[s], **cond, **kap)
                 Rb, pb = cache[key]
                 out.append(_to_cd(shells.combine(Rb, pb, {q: mask[s].astype(float)
                                                           for q in moduli[3]}),

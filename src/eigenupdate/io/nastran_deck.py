@@ -78,9 +78,9 @@ SKIPPED = frozenset({
     "DMI",
 })
 # PARAMs that change K, M or the coordinates of line, spring, mass and rigid elements in
-# normal modes, and are interpreted; the others (shell-only SNORM, nonlinear LGDISP, output
-# and damping PARAMs) are skipped and listed
-PARAMS_READ = frozenset({"WTMASS", "COUPMASS", "AUTOSPC", "K6ROT", "CK2", "CM2"})
+# normal modes, and are interpreted (SNORM: shells.SNORM); the others (nonlinear LGDISP,
+# output and damping PARAMs) are skipped and listed
+PARAMS_READ = frozenset({"WTMASS", "COUPMASS", "AUTOSPC", "K6ROT", "SNORM", "CK2", "CM2"})
 # temperature-dependent tables of supported materials: used only when the case control
 # selects a TEMPERATURE set (MATT1 remark 1), otherwise the MAT1/MAT8 values hold
 TEMPERATURE_TABLES = frozenset({"MATT1", "MATT8"})

@@ -19,7 +19,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range
-from eigenupdate.model import shell_offsets, shells
+from eigenupdate.model import shell_normals, shell_offsets, shells
 from eigenupdate.model import shells_quadratic as quadratic
 
 
@@ -119,3 +119,32 @@ def flat_mass(rows: list[dict], labels: list[str]) -> None:
             raise InputError(f"{lab}: its property's mass is not symmetric about its "
                              f"mid-plane (a first mass moment), not supported on "
                              f"CQUAD8/CTRIA6")
+
+
+SNORM = 0.0
+"""PARAM SNORM where a deck sets none: no grid normals, the plain facets of NASTRAN-95
+and MSC V70.7 (MSC's default has been 20 since V2001, model/shell_normals.py). The
+published decks we compare with were run without them: the MSC 70.7 cylinder's n = 2
+modes are -0.36/-0.56 % off with plain facets, +0.17/+1.02 % with normals
+(tests/io/test_shell_decks.py). A deck that sets PARAM SNORM > 0 gets them."""
+
+
+def curvature(bdf, grid, xyz: np.ndarray, n_nodes: int, snorm: float):
+    """``nodes (n, k) -> curvature (n,)`` of CQUAD4 (k = 4) or CTRIA3 (k = 3) elements
+    from the normals of their grids (model/shell_normals.py) under PARAM SNORM ``snorm``
+    (degrees); None when it is <= 0 or the deck has no such shells. Normals from every
+    CQUAD4, CTRIA3 and a CTRIA6's four facets (quadratic.FACETS, as a curved one is
+    modelled) at a grid."""
+    if not snorm > 0:
+        return None
+    facets = []
+    for card, corners in (("CQUAD4", [(0, 1, 2, 3)]), ("CTRIA3", [(0, 1, 2)]),
+                          ("CTRIA6", quadratic.FACETS)):
+        nodes = np.array([[grid(g, f"{card} {e.eid}") for g in e.node_ids] for e in
+                          bdf.elements.values() if e.type == card and all(e.node_ids)], int)
+        facets += [(shell_normals.facet_normals(xyz[nodes[:, c]]), nodes[:, c])
+                   for c in map(list, corners) if nodes.size]
+    if not facets:
+        return None
+    normals = shell_normals.grid_normals(facets, n_nodes, snorm)
+    return lambda nodes: shell_normals.facet_curvature(xyz[nodes], normals[nodes], snorm)

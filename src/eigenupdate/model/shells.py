@@ -18,7 +18,9 @@ normal): displacements ``u + z ry``, ``v - z rx``, ``w``, so that
   condensed per element), free of the bilinear element's parasitic shear in in-plane
   bending (MacNeal's QUAD4 avoids it too, by other means);
 * drilling rotation: MSC/NX NASTRAN's penalty ``1e-6 K6ROT G T (rz - (v,x - u,y)/2)^2``
-  (PARAM K6ROT, default 100), whose only job is to keep ``rz`` from being singular.
+  (PARAM K6ROT, default 100), whose only job is to keep ``rz`` from being singular; on a
+  curved surface (``curvature`` given) also a term of the bending part that ties ``rz``
+  to the membrane rotation (:mod:`eigenupdate.model.shell_normals`).
 
 Element axes are NASTRAN's: CQUAD4's normal is the cross product of the diagonals
 G1-G3 and G2-G4, its x axis bisects the angle between them (the mean plane's nodes are
@@ -60,6 +62,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from eigenupdate.errors import InputError
+from eigenupdate.model.shell_normals import CURVED_DRILLING
 
 STIFFNESS_PARTS = ("membrane", "drilling", "bending", "shear")
 COUPLING = "coupling"
@@ -306,7 +309,8 @@ def _expand(terms, n: int, m: int) -> np.ndarray:
 
 def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                  shear: np.ndarray, k6rot: float, labels: list[str] | None,
-                 condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None):
+                 condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None,
+                 curvature: np.ndarray | None = None):
     """Element axes R and the stiffness parts in element axes, each as its columns and
     its block on them (membrane: u, v; drilling: u, v, rz; bending: rx, ry; shear: w,
     rx, ry; coupling, when ``coupling`` moduli are given: u, v, rx, ry), all integration
@@ -329,6 +333,15 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     kc = 0.0
     if cc is not None and c0 is not None:
         raise ValueError("coupling with condense_with is not formed")
+    rotations = cols["bending"]  # rx, ry: the coupling's bending columns
+    curved = None
+    if curvature is not None:
+        gb = (CURVED_DRILLING * cb[:, 2, 2] * np.asarray(curvature, float) ** 2
+              ).reshape(n, 1, 1)
+        if np.any(gb):
+            curved = np.zeros((n, 4, 4))
+            curved[:, :3, :3], curved[:, 3:, 3:] = cb, gb
+            cols["bending"] = (6 * np.arange(k)[:, None] + np.array([0, 1, 3, 4, 5])).ravel()
     if k == 4:
         points, shape, shear_b = _QUAD_POINTS, _quad_shape, _quad_shear
         _, det0, inv0, _ = _jacobian(_quad_shape(0.0, 0.0)[1], xy)
@@ -344,8 +357,11 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
             # Jacobian (det J0 / det J) so that constant strains stay exact
             ga = inv0 @ np.diag([-2.0 * p, -2.0 * q]) * (det0 / det)[:, None, None]
             bm = np.concatenate([bm, _b_membrane(ga)[:, :, [0, 1, 6, 7]]], axis=2)
+        bb, cbb = _b_bending(g), cb
+        if curved is not None:  # the drilling mismatch on a curved surface (shell_normals)
+            bb, cbb = np.concatenate([bb, _b_drilling(N, g)], axis=1), curved
         for name, b, d in (("membrane", bm, cm), ("drilling", _b_drilling(N, g), gd),
-                           ("bending", _b_bending(g), cb),
+                           ("bending", bb, cbb),
                            ("shear", shear_b(p, q, xy, inv), cs)):
             if name != "membrane":
                 b = b[:, :, cols[name]]
@@ -353,7 +369,7 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
             db_all[name].append(np.einsum("nab,nbj->naj", d, b) * w)
         if cc is not None:  # membrane (with Wilson's modes) x curvature: (n, 2k(+4), 2k)
             kc = kc + np.einsum("nai,nab,nbj->nij", bm * w, cc,
-                                _b_bending(g)[:, :, cols["bending"]])
+                                _b_bending(g)[:, :, rotations])
         if c0 is not None:
             db0.append(np.einsum("nab,nbj->naj", c0, bm) * w)
     out = {name: (cols[name], np.einsum("nai,naj->nij", np.concatenate(b_all[name], 1),
@@ -384,7 +400,8 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
 
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None,
-                condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None):
+                condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None,
+                curvature: np.ndarray | None = None):
     """Element axes R (n, 3, 3) and the stiffness parts per unit thickness power in
     element axes, compact: ``{part: (columns, (n, c, c) block)}``; :func:`combine` sums
     them with per-element factors and turns the sum to global axes (one rotation for
@@ -398,9 +415,14 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     A's shape elsewhere (a Ritz approximation with A0's incompatible modes).
 
     ``coupling`` (n, 3, 3) or (3, 3): a laminate's B / T^2 in element axes; the part
-    ``coupling`` (factor T^2, :data:`THICKNESS_POWER`) is formed only when it is given."""
+    ``coupling`` (factor T^2, :data:`THICKNESS_POWER`) is formed only when it is given.
+
+    ``curvature`` (n,): the facets' curvature from their grids' normals
+    (:func:`eigenupdate.model.shell_normals.facet_curvature`); where it is not zero the
+    part ``bending`` gains the drilling mismatch (``shell_normals.CURVED_DRILLING``) and
+    the columns u, v, rz."""
     return _local_parts(xyz, membrane, bending, shear, k6rot, labels, condense_with,
-                        coupling)
+                        coupling, curvature)
 
 
 def combine(R: np.ndarray, parts: dict, factors: dict[str, np.ndarray]) -> np.ndarray:

@@ -14,6 +14,13 @@ optimisers:
   Newton's). Every residual is an eigen-solution of all configurations: the
   linearisation gives the residual and J together, so ``fun`` and ``jac`` at the same
   point cost one solve (:mod:`eigenupdate.identify.optimizers`).
+  On a large model (the sparse path) its first steps go to the optimum of a reduced
+  model that follows the mode shapes (:mod:`eigenupdate.solve.reduced`, built once at
+  the start and anchored at each point reached, exact there in value and J), solved in
+  full; while each lowers the objective a hundredfold. Gauss-Newton's linear model misses
+  how the shapes change: on the 103k benchmark frame its first step put densities 49 %
+  off from a start 4.8 % off, and the update took 7 linearisations; with the reduced
+  model 4 (history note "step to the optimum of a reduced model ...").
 * ``gauss-newton``: the paper's plain iteration with the safeguards below; it reproduces
   Table 4's iterates exactly.
 

@@ -548,15 +548,19 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
     def blocks(s: slice) -> list:
         ku = _to_cd(solids.solid_stiffness(xyz_e[s], unit[s], labels[s]), frames, nodes[s], 3)
         m = _to_cd(solids.solid_mass(xyz_e[s], lumped, labels[s]), frames, nodes[s], 3)
-        return ([kfac[s, None, None] * ku if np.any(kfac[s]) else None]
-                + [None if d is None or not np.any(d[s]) else d[s, None, None] * ku
-                   for d in dk]
-                + [mfac[s, None, None] * m if np.any(mfac[s]) else None]
-                + [None if d is None or not np.any(d[s]) else d[s, None, None] * m
-                   for d in dm])
+        return scaled(ku, m, s, kfac, dk, mfac, dm)
 
     _add_all(assemble_many(nodes, blocks, 2 + len(kj) + len(mj), n_nodes, 3),
              k0, kj, m0, mj, 3)
+
+
+def scaled(ku, m, s: slice, kfac, dk, mfac, dm) -> list:
+    """Element blocks K, each K_j, M, each M_j of elements ``s`` from their unit stiffness
+    ``ku`` and mass ``m`` and the per-element factors (None where zero)."""
+    return ([kfac[s, None, None] * ku if np.any(kfac[s]) else None]
+            + [None if d is None or not np.any(d[s]) else d[s, None, None] * ku for d in dk]
+            + [mfac[s, None, None] * m if np.any(mfac[s]) else None]
+            + [None if d is None or not np.any(d[s]) else d[s, None, None] * m for d in dm])
 
 
 def _to_cd(blocks: np.ndarray, frames: np.ndarray, nodes: np.ndarray, per_node: int

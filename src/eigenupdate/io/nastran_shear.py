@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.nastran_continuum import _add_all, _to_cd
+from eigenupdate.io.nastran_continuum import _add_all, _to_cd, scaled
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
 from eigenupdate.model import shear_panel
 from eigenupdate.model.assembly import assemble_many
@@ -101,12 +101,7 @@ def assemble_shear(bdf, grid, xyz, frames, n_nodes, wtmass, pindex, values,
         ku = _to_cd(shear_panel.shear_stiffness(xyz_e[s], nu[s], labels[s]), frames,
                     nodes[s], 3)
         m = shear_panel.shear_mass(xyz_e[s])  # a node's m I: the same in any axes
-        return ([kfac[s, None, None] * ku if np.any(kfac[s]) else None]
-                + [None if d is None or not np.any(d[s]) else d[s, None, None] * ku
-                   for d in dk]
-                + [mfac[s, None, None] * m if np.any(mfac[s]) else None]
-                + [None if d is None or not np.any(d[s]) else d[s, None, None] * m
-                   for d in dm])
+        return scaled(ku, m, s, kfac, dk, mfac, dm)
 
     _add_all(assemble_many(nodes, blocks, 2 + len(kj) + len(mj), n_nodes, 3),
              k0, kj, m0, mj, 3)

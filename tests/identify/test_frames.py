@@ -105,3 +105,18 @@ def test_a_refused_reduced_step_leaves_the_trust_region_its_start(monkeypatch):
     res = update(model, configs, modes, data)
     assert res.success and _error(res, model, truth) <= 1e-8, res.message
     assert all(it.kind is not Step.REDUCED for it in res.history)
+
+
+def test_a_basis_beyond_its_bound_is_not_built(monkeypatch):
+    """The reduced model's basis is bounded before it is built (optimizers.MAX_ENTRIES):
+    beyond it the progress says so and the trust region alone converges (1 x 1 bay, 5
+    storeys, seed 3)."""
+    from eigenupdate.identify import optimizers
+
+    monkeypatch.setattr(optimizers, "MAX_ENTRIES", 0)
+    lines = []
+    model, configs, modes, data, truth = frame_problem((1, 1, 5, 3), 3)
+    res = update(model, configs, modes, data, progress=lines.append)
+    assert res.success and _error(res, model, truth) <= 1e-8, res.message
+    assert all(it.kind is not Step.REDUCED for it in res.history)
+    assert any("no reduced model" in line for line in lines)

@@ -21,8 +21,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from scipy.optimize import least_squares, lsq_linear
 
+from eigenupdate.errors import InputError, NumericalError
 from eigenupdate.solve.eigen import LANCZOS_RTOL
 from eigenupdate.solve.jacobian import Linearisation
+from eigenupdate.solve.reduced import MAX_ENTRIES, ReducedModel
 
 if TYPE_CHECKING:
     from eigenupdate.identify.fit import Fit
@@ -276,14 +278,22 @@ def _reduced_steps(fit: Fit, point: Point) -> tuple[Point, str | None]:
     from a start 4.8 % off, the reduced model's 1.6e-3 (benchmarks/README.md).
     Returns the last point and, if the fit converged there, why."""
     rom, say = None, fit.say
+    size = fit.model.n * ReducedModel.columns(fit.model, fit.configurations, fit.modes)
+    if size > MAX_ENTRIES:
+        say(f"[0/{fit.max_iterations}] no reduced model: its basis would hold {size:.2g} "
+            f"numbers (at most {MAX_ENTRIES:.0e}); trust-region steps follow")
+        return point, None
     while fit.iterations < fit.max_iterations:
         t = time.perf_counter()
-        rom = fit.reduced_model(point, rom)
-        trial = fit.reduced_step(point, rom)
+        try:
+            rom = fit.reduced_model(point, rom)
+            trial = fit.reduced_step(point, rom)
+            why = "did not lower the objective"
+        except (InputError, NumericalError, np.linalg.LinAlgError) as exc:
+            trial, why = None, f"failed ({exc})"
         if trial is None:
-            say(f"[{fit.iterations}/{fit.max_iterations}] the reduced model's step did not "
-                f"lower the objective ({time.perf_counter() - t:.1f} s): trust-region steps "
-                f"follow")
+            say(f"[{fit.iterations}/{fit.max_iterations}] the reduced model's step {why} "
+                f"({time.perf_counter() - t:.1f} s): trust-region steps follow")
             return point, None
         it = len(fit.history)
         fit.pairing.accept(trial.perm, trial.pending, trial.lin.shapes, it)

@@ -41,6 +41,11 @@ TOL = 1e-12
 sqrt(TOL) of the largest are dropped (a shape error of 1e-4 moves an eigenvalue by
 ~1e-8 relative; the first-order correction absorbs the rest at the point)."""
 
+MAX_ENTRIES = 10**8
+"""Largest basis (coordinates x columns) built: the basis and its mass products take about
+three times this many doubles (2.4 GB here; the 103k benchmark frame's 220 columns: 0.5
+GB). A larger model or more parameters x modes are left to the trust region alone."""
+
 EXTRA = 6
 """Reduced eigenpairs beyond the highest mode used among which the tracked ones are
 chosen (modes that swap within a step)."""
@@ -82,6 +87,17 @@ class ReducedModel:
     >>> float(np.max(np.abs(linear / full.eigenvalues - 1))) > 1e-3
     True
     """
+
+    @staticmethod
+    def columns(model: ParametricModel, configurations: Sequence[Configuration],
+                modes: Sequence[int]) -> int:
+        """Columns of the basis before truncation (its bare modes, two per added
+        coordinate, one per stiffness parameter and mode): with ``model.n``, what
+        :data:`MAX_ENTRIES` bounds."""
+        nm = len(set(int(k) for k in modes))
+        sites = {int(r) for c in configurations for r in c.rows(model)}
+        stiff = sum(model.k_terms[j] is not None for j in model.updated)
+        return nm * (1 + stiff) + 2 * len(sites)
 
     def __init__(self, model: ParametricModel, configurations: Sequence[Configuration],
                  modes: Sequence[int], lin: Linearisation, values: np.ndarray):

@@ -87,7 +87,8 @@ _NOT_SCHEDULER = ("is not a scheduler address tcp://HOST:PORT (tls:// and other 
 
 def _is_scheduler(address: str) -> bool:
     # tls:// needs certificates this command does not take
-    return bool(_SCHEDULER.fullmatch(address)) and int(address.rsplit(":", 1)[1]) <= 65535
+    # port 0 is "any free port" to a server, no port a client can reach
+    return bool(_SCHEDULER.fullmatch(address)) and 1 <= int(address.rsplit(":", 1)[1]) <= 65535
 
 
 def check_scheduler(address: str | None, flag: str) -> None:

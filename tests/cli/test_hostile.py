@@ -563,3 +563,13 @@ def test_fit_plots_of_two_names_that_make_one_file_name_are_both_kept(tmp_path, 
     # two FRFs (responses 1 and 15) per file
     assert names == ["extract_x_1.png", "extract_x_2.png", "extract_x__1.png",
                      "extract_x__2.png"], names
+
+
+def test_port_zero_is_no_scheduler_address(run_cli):
+    """Port 0 means "any free port" to a server, none a client can connect to: Dask waited
+    its 10 s connect timeout. Now a usage error, at once."""
+    t = time.perf_counter()
+    code, _, err = run_cli("montecarlo", FIG2_STUDY, "--trials", "3", "--scheduler",
+                           "tcp://127.0.0.1:0")
+    _one_line(code, err, "'tcp://127.0.0.1:0' is not a scheduler address")
+    assert time.perf_counter() - t < 8

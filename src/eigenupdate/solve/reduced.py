@@ -8,17 +8,20 @@ amplified: on the 6,228-coordinate benchmark frame, from a start 4.8 % off, the 
 Gauss-Newton step leaves the parameters 23 % off and the fit needs 7 eigen-solutions of
 every configuration. Rayleigh-Ritz on a basis V that holds
 
-* the modes computed at the point, of every configuration,
-* the static responses A^-1 e_r at the coordinates r of the additions,
+* the bare structure's modes computed at the point,
+* the static responses A^-1 e_r at the coordinates r of the additions and one Krylov
+  level A^-1 M A^-1 e_r (with the bare modes they span the configurations' modes: adding
+  those modes themselves changed no step on that frame),
 * A^-1 K_j phi_i for every stiffness parameter j and every bare mode phi_i used (the
   right-hand sides of the modes' derivatives, Nelson's method, with A = K - sigma M for
   K - lambda_i M),
 
 follows the shape changes a step makes: solved to its optimum, the same start ends
-5.2e-4 off (the densities' own derivative directions A^-1 M_j phi_i add nothing there:
-alone they give 0.25). The reduced eigenvalues are corrected to the full model's values
-and sensitivities at the point (first-order consistent, as a trust region's model must
-be), so a basis truncated to TOL loses only curvature.
+1.6e-3 off (the densities' own derivative directions A^-1 M_j phi_i double the basis for
+a factor of two there; alone, without the stiffnesses', they leave 0.25). The reduced
+eigenvalues are corrected to the full model's values and sensitivities at the point
+(first-order consistent, as a trust region's model must be), so a basis truncated to TOL
+loses only curvature.
 """
 
 from __future__ import annotations

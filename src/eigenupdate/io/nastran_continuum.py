@@ -536,12 +536,7 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
                 dk[slots["E"]] = np.where(mid == cid, 1.0, 0.0)
             if "RHO" in slots:
                 dm[slots["RHO"]] = np.where(mid == cid, wtmass, 0.0)
-    for j, d in enumerate(dk):
-        if d is not None:
-            kfac = kfac - values[j] * d
-    for j, d in enumerate(dm):
-        if d is not None:
-            mfac = mfac - values[j] * d
+    kfac, mfac = fixed(kfac, dk, values), fixed(mfac, dm, values)
     lumped = not consistent
     xyz_e = xyz[nodes]
 
@@ -552,6 +547,12 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
 
     _add_all(assemble_many(nodes, blocks, 2 + len(kj) + len(mj), n_nodes, 3),
              k0, kj, m0, mj, 3)
+
+
+def fixed(total: np.ndarray, terms: list, values) -> np.ndarray:
+    """The per-element factor left fixed once each parameter's share (``values[j]``
+    times ``terms[j]``, None where it has none) is taken out of ``total``."""
+    return total - sum(values[j] * d for j, d in enumerate(terms) if d is not None)
 
 
 def scaled(ku, m, s: slice, kfac, dk, mfac, dm) -> list:

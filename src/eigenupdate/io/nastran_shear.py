@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.nastran_continuum import _add_all, _to_cd, scaled
+from eigenupdate.io.nastran_continuum import _add_all, _to_cd, fixed, scaled
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
 from eigenupdate.model import shear_panel
 from eigenupdate.model.assembly import assemble_many
@@ -89,12 +89,7 @@ def assemble_shear(bdf, grid, xyz, frames, n_nodes, wtmass, pindex, values,
                 dk[slots["E"]] = np.where(on, g * t / mat.e, 0.0)
         if card == "MAT1" and "RHO" in slots:
             dm[slots["RHO"]] = np.where(on, wtmass * t, 0.0)
-    for j, d in enumerate(dk):
-        if d is not None:
-            kfac = kfac - values[j] * d
-    for j, d in enumerate(dm):
-        if d is not None:
-            mfac = mfac - values[j] * d
+    kfac, mfac = fixed(kfac, dk, values), fixed(mfac, dm, values)
     xyz_e = xyz[nodes]
 
     def blocks(s: slice) -> list:

@@ -46,7 +46,7 @@ sqrt(TOL) of the largest are dropped (a shape error of 1e-4 moves an eigenvalue 
 
 MAX_ENTRIES = 10**8
 """Largest basis (coordinates x columns) built: the basis and its mass products take about
-three times this many doubles (2.4 GB here; the 103k benchmark frame's 220 columns: 0.5
+three times this many doubles (2.4 GB here; the 103k benchmark frame's 200 columns: 0.5
 GB). A larger model or more parameters x modes are left to the trust region alone."""
 
 EXTRA = 6
@@ -203,26 +203,27 @@ class ReducedModel:
         return lam + self.offset + self.slope @ (s - self.at), J + self.slope
 
 
-def _solve(op: ShiftInvert, B: np.ndarray) -> np.ndarray:
-    """op.solve on the columns of B, in one block of columns per thread (the triangular
-    solves release the GIL)."""
-    k = max(1, min(parallel.shares(B.shape[0]), B.shape[1]))
-    cut = np.linspace(0, B.shape[1], k + 1).astype(int)
-    parts = parallel.map_shares(lambda share: [op.solve(B[:, a:b]) for a, b in share],
-                                list(zip(cut[:-1], cut[1:], strict=True)), B.shape[0])
-    return np.hstack(parts)
-
-
-def _blocks(n: int) -> list[tuple[int, int]]:
-    k = max(1, parallel.shares(n))
-    cut = np.linspace(0, n, k + 1).astype(int)
+def _blocks(count: int, rows: int) -> list[tuple[int, int]]:
+    """``count`` items (rows or columns of vectors of ``rows`` coordinates) cut into one
+    contiguous block per thread."""
+    k = max(1, min(parallel.shares(rows), count))
+    cut = np.linspace(0, count, k + 1).astype(int)
     return list(zip(cut[:-1], cut[1:], strict=True))
+
+
+def _solve(op: ShiftInvert, B: np.ndarray) -> np.ndarray:
+    """op.solve on the columns of B, one block of columns per thread (the triangular
+    solves release the GIL)."""
+    n, c = B.shape
+    return np.hstack(parallel.map_shares(
+        lambda share: [op.solve(B[:, a:b]) for a, b in share], _blocks(c, n), n))
 
 
 def _inner(A: np.ndarray, B: np.ndarray) -> np.ndarray:
     """A^T B summed over blocks of rows, one per thread (BLAS runs single-threaded)."""
+    n = A.shape[0]
     return sum(parallel.map_shares(lambda share: [A[a:b].T @ B[a:b] for a, b in share],
-                                   _blocks(A.shape[0]), A.shape[0]))
+                                   _blocks(n, n), n))
 
 
 def _sym(A: np.ndarray) -> np.ndarray:

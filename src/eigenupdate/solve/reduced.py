@@ -121,11 +121,9 @@ class ReducedModel:
         E = np.zeros((model.n, sites.size))
         E[sites, np.arange(sites.size)] = 1.0
         static = _solve(op, E)
-        blocks = [phi, static, _solve(op, np.hstack(
-            [np.asarray(M @ static)] + [np.asarray(k @ phi) for k in kt if k is not None]))]
+        X = np.hstack([phi, static, _solve(op, np.hstack(
+            [np.asarray(M @ static)] + [np.asarray(k @ phi) for k in kt if k is not None]))])
         del E, static
-        X = np.hstack(blocks)
-        del blocks
         MX = M @ X
         norm = np.sqrt(np.maximum(np.einsum("ij,ij->j", X, MX), 1e-300))
         X /= norm
@@ -136,7 +134,10 @@ class ReducedModel:
         # the basis W = X T (M-orthonormal) is never formed: every projection goes
         # through X and then T, which saves two products of X's size
         T = V[:, keep] / np.sqrt(w[keep])
-        self._T, self._MX = T, MX
+        # single precision for the shapes' projections in anchor(): they only choose
+        # which reduced mode follows which (MAC), and halve its cost
+        self._T, self._MX = T, MX.astype(np.float32)
+        del MX
         self.dim = T.shape[1]
         self.K0 = _sym(T.T @ _inner(X, K @ X) @ T)
         self.M0 = _sym(T.T @ G @ T)
@@ -160,7 +161,8 @@ class ReducedModel:
         (all parameter values ``values``), whose modes it then follows."""
         values = np.asarray(values, dtype=float)
         nm = len(self.modes)
-        R = self._T.T @ _inner(self._MX, np.hstack(lin.shapes))
+        R = self._T.T @ _inner(self._MX, np.concatenate(
+            lin.shapes, axis=1, dtype=np.float32, casting="same_kind"))
         self.ref = [R[:, i * nm:(i + 1) * nm] for i in range(len(self.configurations))]
         self.at = values[self._upd].copy()
         self.offset = np.zeros_like(lin.eigenvalues)

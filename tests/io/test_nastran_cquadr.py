@@ -116,7 +116,8 @@ def test_model_at_new_values_is_the_hand_edited_deck(tmp_path, triangles):
 
 
 def test_unsymmetric_laminate_is_refused(tmp_path):
-    """An unsymmetric PCOMP ([0/90] of MAT8) on a CQUADR: one line naming the card (coupling not built)."""
+    """An unsymmetric PCOMP ([0/90] of MAT8) on a CQUADR: one line naming the card
+    (the membrane-bending coupling is not built for these elements)."""
     path = tmp_path / "u.bdf"
     path.write_text("BEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,1.,1.,0.\n"
                     "GRID,4,,0.,1.,0.\nCQUADR,1,7,1,2,3,4\nPCOMP,7\n,2,0.001,0.\n"

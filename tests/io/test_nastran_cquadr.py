@@ -181,3 +181,61 @@ def test_in_plane_modes_agree_with_opensees_shelldkgq(tmp_path):
     bound = np.abs(a[4] / a[2] - 1) + np.abs(b[4] / b[2] - 1) + 0.005
     rel = np.abs(a[4] / b[4] - 1)
     assert np.all(rel <= bound), (a, b, rel, bound)
+
+
+@pytest.mark.parametrize("triangles", [False, True], ids=["CQUADR", "CTRIAR"])
+def test_free_offset_plate_keeps_its_rigid_modes_and_frequencies(tmp_path, triangles):
+    """Source: exact invariance (as test_nastran_offsets.py's CQUAD4): the grids' and the
+    reference plane's coordinates are related by an invertible map under which the
+    offset plate's K and rigidly moved M are the plate's without offset, so a free
+    plate (1 x 1 x 0.004, 8 x 8, ZOFFS T/2) keeps its first ten elastic frequencies to
+    the eigen-solver's rounding (1e-9 with room) and its six rigid modes. The offset
+    couples the drilling membrane with bending here, so this exercises it too."""
+    xyz, el = square_mesh(8, 1.0, triangles)
+    card = "CTRIAR" if triangles else "CQUADR"
+    hz, ks = [], []
+    for z in (0.0, 0.002):
+        lines = [f"GRID,{i + 1},,{x!r},{y!r},0." for i, (x, y, _) in enumerate(xyz)]
+        lines += [f"{card},{k + 1},1," + ",".join(str(n + 1) for n in e)
+                  + (f",,{z!r}" if z else "") for k, e in enumerate(el)]  # THETA, ZOFFS
+        path = tmp_path / f"z{z}.bdf"
+        path.write_text("BEGIN BULK\nPARAM,COUPMASS,1\nPSHELL,1,1,0.004,1,,1,,0.5\n"
+                        f"MAT1,1,{E!r},,{NU!r},{RHO!r}\n" + "\n".join(lines) + "\nENDDATA\n")
+        m = _read(path).model
+        sol = solve_elastic(m.stiffness(), m.mass(), 10)
+        assert sol.n_rigid == 6
+        hz.append(sol.frequencies_hz)
+        ks.append(m.stiffness())
+    assert abs(ks[1] - ks[0]).max() > 1e-3 * abs(ks[0]).max()  # the offset was read
+    assert np.max(np.abs(hz[1] / hz[0] - 1)) <= 1e-9, hz
+
+
+@pytest.mark.parametrize("triangles", [False, True], ids=["CQUADR", "CTRIAR"])
+def test_ply_thickness_and_angle_on_a_laminate(tmp_path, triangles):
+    """PCOMP (LAM = SYM [0/45]s of MAT8, THETA 30 on the element) with two ply
+    thicknesses as parameters: dK/dt, dM/dt against central differences
+    (tests/bounds.py); the membrane is linear in the plies' moduli (nothing condensed),
+    so the derivative is exact, and the deck re-read with the thicknesses changed gives
+    the model's K at those values to a few ulps."""
+    xyz, el = square_mesh(4, 1.0, triangles)
+    card = "CTRIAR" if triangles else "CQUADR"
+
+    def write(path, t1, t2):
+        lines = [f"GRID,{i + 1},,{x!r},{y!r},0." for i, (x, y, _) in enumerate(xyz)]
+        lines += [f"{card},{k + 1},1," + ",".join(str(n + 1) for n in e) + ",30."
+                  for k, e in enumerate(el)]
+        lines += [f"SPC1,1,123,{i + 1}" for i, (x, y, _) in enumerate(xyz) if x == 0.0]
+        path.write_text("BEGIN BULK\nPARAM,COUPMASS,1\n"
+                        f"PCOMP,1,,0.5,,,,,SYM\n,1,{t1!r},0.,,1,{t2!r},45.\n"
+                        "MAT8,1,1.4e11,1.0e10,0.3,5.0e9,5.0e9,3.0e9,1600.\n"
+                        + "\n".join(lines) + "\nENDDATA\n")
+        return path
+
+    spec = [(Parameter(n, 0.0), CardField("PCOMP", 1, f)) for n, f in (("a", "T1"),
+                                                                       ("b", "T2"))]
+    model = _read(write(tmp_path / "a.bdf", 1e-3, 2e-3), spec).model
+    assert_matrix_derivatives(model)
+    ref = _read(write(tmp_path / "b.bdf", 1.2e-3, 1.7e-3)).model
+    s = np.array([1.2e-3, 1.7e-3])
+    for a, b in ((model.stiffness(s), ref.stiffness()), (model.mass(s), ref.mass())):
+        assert abs(a - b).max() <= 1e-12 * abs(b).max()

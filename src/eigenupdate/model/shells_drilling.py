@@ -4,7 +4,9 @@ degree of freedom of the membrane, vectorised over elements.
 MSC's documentation (QRG CQUADR/CTRIAR: "isoparametric membrane-bending ... plate element
 with vertex rotations"; the rotations normal to the element "are active in the element
 formulation"; PARAM K6ROT is ignored for them) does not publish the membrane's
-interpolation, so the best-documented one of that kind is built here:
+interpolation. "Vertex rotations" is Allman's term (Comput. Struct. 19, 1984: "A
+compatible triangular element including vertex rotations for plane elasticity"), so the
+best-documented element of that family is built here, without a claim that it is MSC's:
 
 * membrane: Allman's vertex-rotation field (Allman, Comput. Struct. 19, 1984, triangle;
   Ibrahimbegovic, Taylor & Wilson, Int. J. Numer. Meth. Eng. 30, 1990, quadrilateral):

@@ -185,9 +185,9 @@ BAD = [
     ("CBAR,1,1,1,9,0.,1.,0.", "CBAR 1: GRID 9 is referenced but not defined"),
     ("CBAR,1,1,1,2,0.,1.,0.\nMAT1,2,2.e11,,0.3,-7800.\nPBAR,2,2,1.e-3,1.e-7,1.e-7,1.e-7\n"
      "CBAR,2,2,2,3,0.,1.,0.", "MAT1 2: negative density"),
-    ("CBAR,1,1,1,2,0.,1.,0.\nGRID,4,,0.,1.,0.\nCQUADR,5,1,1,2,3,4\nCQUADR,6,1,1,2,3,4\n"
-     "RSPLINE,7,,1,2\nCTRIAR,8,1,1,2,3",
-     "not supported: CQUADR x2, CTRIAR x1, RSPLINE x1"),
+    ("CBAR,1,1,1,2,0.,1.,0.\nGRID,4,,0.,1.,0.\nCQUADX,5,1,1,2,3,4\nCQUADX,6,1,1,2,3,4\n"
+     "RSPLINE,7,,1,2\nCTRIAX,8,1,1,2,3",
+     "not supported: CQUADX x2, CTRIAX x1, RSPLINE x1"),
     ("CBAR,1,1,1,2,0.,1.,0.\nGRID,4,,0.,1.,0.\nCQUAD8,5,1,1,2,3,4",
      "CQUAD8 5: blank mid-side grids are not supported"),
     ("CBAR,1,1,1,2,0.,1.,0.\nGRID,4,,0.,1.,0.\nCQUAD4,5,1,1,2,3,4",

@@ -29,7 +29,7 @@ LINE_DECKS = ["cofe_ten_bar", "cofe_svanberg_beam", "cofe_cantilever_guyan", "py
               "n95_d03081a", "pyn_solid_shell_bar"]
 # cards still refused: every one named with its count
 REFUSED = ("GRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,1.,1.,0.\nGRID,4,,0.,1.,0.\n"
-           "GRID,5,,.5,.5,1.\nCQUADR,1,1,1,2,3,4\nCTRIAR,2,1,1,2,3\nCTRIAR,3,1,1,3,4\n"
+           "GRID,5,,.5,.5,1.\nCQUADX,1,1,1,2,3,4\nCTRIAX,2,1,1,2,3\nCTRIAX,3,1,1,3,4\n"
            "PSHELL,1,1,.1\nPSOLID,2,1\nMAT1,1,1.e7,,.3,.1\n")
 
 
@@ -91,7 +91,7 @@ def test_unsupported_elements_refused(run_cli, tmp_path, monkeypatch):
     study.write_text(f'[model]\ntype = "nastran"\nbdf = "{deck}"\n')
     code, out, err = run_cli("frequencies", study, "--modes", "1")
     assert code == 2 and out == "" and err.count("\n") == 1 and "Traceback" not in err
-    assert "not supported: CQUADR x1, CTRIAR x2" in err
+    assert "not supported: CQUADX x1, CTRIAX x2" in err
     assert not list(tmp_path.glob("pyNastran_*"))
 
 

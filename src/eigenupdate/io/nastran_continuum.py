@@ -24,13 +24,14 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io import nastran_offsets as offsets
-from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
+from eigenupdate.io.nastran_fields import in_range, mat9, tied_shear_modulus
 from eigenupdate.io.nastran_plies import ply_terms, thickness_terms
-from eigenupdate.model import laminate, shells, solids
+from eigenupdate.model import laminate, shells, shells_drilling, solids
 from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model.assembly import assemble_many
 
 SHELLS = {"CQUAD4": 4, "CTRIA3": 3, "CQUAD8": 8, "CTRIA6": 6}
+DRILLING = {"CQUADR": 4, "CTRIAR": 3}  # model/shells_drilling.py
 SOLIDS = {("CHEXA", 8): "CHEXA8", ("CHEXA", 20): "CHEXA20", ("CPENTA", 6): "CPENTA6",
           ("CPENTA", 15): "CPENTA15", ("CTETRA", 4): "CTETRA4", ("CTETRA", 10): "CTETRA10",
           ("CPYRAM", 5): "CPYRAM5", ("CPYRAM", 13): "CPYRAM13"}
@@ -53,7 +54,7 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
     terms to ``extra`` (:func:`~eigenupdate.io.nastran_plies.thickness_terms`)."""
     groups: dict = {}
     for eid, e in sorted(bdf.elements.items()):
-        if e.type in SHELLS or e.type in ("CHEXA", "CPENTA", "CTETRA", "CPYRAM"):
+        if e.type in SHELLS | DRILLING or e.type in ("CHEXA", "CPENTA", "CTETRA", "CPYRAM"):
             given = [g for g in e.node_ids if g]
             twice = sorted({g for g in given if given.count(g) > 1})
             if twice:
@@ -61,6 +62,8 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
                                  f"nodes (a collapsed element is not supported)")
         if e.type in SHELLS:
             groups.setdefault(("shell", SHELLS[e.type]), []).append(e)
+        elif e.type in DRILLING:
+            groups.setdefault(("shellr", DRILLING[e.type]), []).append(e)
         elif e.type in ("CHEXA", "CPENTA", "CTETRA", "CPYRAM"):
             n = sum(1 for g in e.node_ids if g)
             kind = SOLIDS.get((e.type, n))
@@ -82,9 +85,9 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
             if not groups[("shell", 6)]:
                 del groups[("shell", 6)]
     for (family, k), elems in sorted(groups.items()):
-        if family == "shell":
+        if family in ("shell", "shellr"):
             _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot,
-                    pindex, values, k0, m0, kj, mj, extra, curvature)
+                    pindex, values, k0, m0, kj, mj, extra, curvature, family == "shellr")
         else:
             _solids(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, pindex,
                     values, k0, m0, kj, mj)
@@ -122,32 +125,6 @@ def _mat1(bdf, mid, where: str):
     if (mat.g or 0.0) < 0:
         raise InputError(f"MAT1 {mid}: negative shear modulus G = {mat.g:g}")
     return mat
-
-
-_MAT9 = ("G11", "G12", "G13", "G14", "G15", "G16", "G22", "G23", "G24", "G25", "G26",
-         "G33", "G34", "G35", "G36", "G44", "G45", "G46", "G55", "G56", "G66")
-
-
-def _mat9(bdf, mat, cordm, where: str) -> np.ndarray:
-    """MAT9's moduli (xx, yy, zz, xy, yz, zx; engineering shear, MSC QRG MAT9) in basic,
-    turned from the PSOLID's rectangular CORDM (0 or blank: basic)."""
-    label = f"MAT9 {mat.mid}"
-    c = np.zeros((6, 6))  # _MAT9 lists the upper triangle row by row
-    c[np.triu_indices(6)] = [in_range(getattr(mat, g) or 0.0, f"{label}: {g}") for g in _MAT9]
-    c += np.triu(c, 1).T
-    if mat.rho is not None:
-        in_range(mat.rho, f"{label}: RHO")
-    if (mat.rho or 0.0) < 0:
-        raise InputError(f"{label}: negative density RHO = {mat.rho:g}")
-    if np.linalg.eigvalsh(c)[0] <= 1e-12 * np.abs(c).max():
-        raise InputError(f"{label}: G11 ... G66 is not positive definite (no elastic material)")
-    if cordm in (0, None):
-        return c
-    system = bdf.coords.get(cordm)
-    if cordm == -1 or system is None or system.Type != "R":
-        raise InputError(f"{where}: CORDM {cordm} with {label}: only a rectangular "
-                         f"material system (or 0, basic) is supported")
-    return solids.rotated_elasticity(c, system.beta())
 
 
 def _linear_in_e(mat, slots) -> None:
@@ -313,10 +290,10 @@ def _material_angle(bdf, elems, xyz_e: np.ndarray, labels: list[str]) -> np.ndar
 
 
 def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot, pindex,
-            values, k0, m0, kj, mj, extra, curvature=None) -> None:
+            values, k0, m0, kj, mj, extra, curvature=None, drilling=False) -> None:
     props: dict = {}
     labels = [f"{e.type} {e.eid}" for e in elems]
-    elem = quadratic if k in (6, 8) else shells
+    elem = quadratic if k in (6, 8) else shells_drilling if drilling else shells
     for e, lab in zip(elems, labels, strict=True):
         if any(not g for g in e.node_ids):
             # tied to their corners (straight, linear edges) they lock the shear
@@ -373,7 +350,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                                      f"reference plane) is not supported on CQUAD8/CTRIA6")
                 zk[sel] += shift
             big = np.abs(B).max(axis=(1, 2)) > 1e-9 * np.abs(A).max(axis=(1, 2)) * Tp
-            why = ("on CQUAD8/CTRIA6" if k in SHELL_EDGES else "with a ply thickness "
+            why = ("on CQUAD8/CTRIA6" if k in SHELL_EDGES else "on CQUADR/CTRIAR" if
+                   drilling else "with a ply thickness "
                    "parameter" if ("PCOMP", pid) in pindex else "")
             if big.any() and why:
                 raise InputError(f"{card} {pid}: membrane-bending coupling (an unsymmetric "
@@ -423,7 +401,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     fixed_shear = np.zeros(n)
     thick = [(*t, None) for t in thickness_terms(elems, rows, pindex, size, wtmass,
                                                    deriv_k, deriv_m, fixed_shear)]
-    thick += ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, k == 4)
+    thick += ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m,
+                       k == 4 and not drilling)
     base = {part: tot - sum((values[j] * d[part] for j, d in enumerate(deriv_k) if part in d),
                             np.zeros(n)) for part, tot in total.items()}
     mbase = mass - sum((values[j] * d for j, d in enumerate(deriv_m) if d is not None),
@@ -439,7 +418,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
 
     def blocks(s: slice) -> list:
         cpl = {"coupling": cc[s]} if np.any(total[shells.COUPLING][s]) else {}
-        kap = {"curvature": curvature(nodes[s])} if curvature and k in (3, 4) else {}
+        kap = {"curvature": curvature(nodes[s])} if curvature and elem is shells else {}
         R, parts = offsets.stiffness_parts(elem, xyz_e[s], cm[s], cb[s], cs[s], k6rot,
                                            labels[s], zk[s], **cpl | kap)
         hit = {p: c[s] for p, c in base.items() if np.any(c[s])}
@@ -514,7 +493,7 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
             raise InputError(f"{where}: CORDM {cordm} is not a defined coordinate system")
         mat = bdf.materials.get(prop.mid)
         if mat is not None and mat.type == "MAT9":
-            aniso[i] = _mat9(bdf, mat, cordm, where)
+            aniso[i] = mat9(bdf, mat, cordm, where)
             mats.setdefault(prop.mid, mat)
         elif prop.mid not in mats:
             mats[prop.mid] = _mat1(bdf, prop.mid, where)

@@ -40,7 +40,8 @@ SUPPORTED = frozenset({
     "RBE2", "RBAR", "RBE3", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR",
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
     "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "CHEXA",
-    "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG", "CSHEAR", "PSHEAR",
+    "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG", "CSHEAR", "PSHEAR", "CQUADR",
+    "CTRIAR",
 })
 # cards that change neither K nor M of a normal-modes analysis
 SKIPPED = frozenset({

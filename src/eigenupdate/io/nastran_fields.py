@@ -8,6 +8,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.study_table import in_limits
+from eigenupdate.model import solids
 
 # card -> field -> (pyNastran attribute, what it scales); the rest are refused with a reason
 FIELDS = {
@@ -141,3 +142,29 @@ def tied_shear_modulus(mat) -> bool:
         return "G" in blank and "NU" not in blank
     g, nu = mat.g or 0.0, mat.nu
     return nu is not None and g > 0 and math.isclose(g, mat.e / (2 * (1 + nu)), rel_tol=1e-12)
+
+
+_MAT9 = ("G11", "G12", "G13", "G14", "G15", "G16", "G22", "G23", "G24", "G25", "G26",
+         "G33", "G34", "G35", "G36", "G44", "G45", "G46", "G55", "G56", "G66")
+
+
+def mat9(bdf, mat, cordm, where: str) -> np.ndarray:
+    """MAT9's moduli (xx, yy, zz, xy, yz, zx; engineering shear, MSC QRG MAT9) in basic,
+    turned from the PSOLID's rectangular CORDM (0 or blank: basic)."""
+    label = f"MAT9 {mat.mid}"
+    c = np.zeros((6, 6))  # _MAT9 lists the upper triangle row by row
+    c[np.triu_indices(6)] = [in_range(getattr(mat, g) or 0.0, f"{label}: {g}") for g in _MAT9]
+    c += np.triu(c, 1).T
+    if mat.rho is not None:
+        in_range(mat.rho, f"{label}: RHO")
+    if (mat.rho or 0.0) < 0:
+        raise InputError(f"{label}: negative density RHO = {mat.rho:g}")
+    if np.linalg.eigvalsh(c)[0] <= 1e-12 * np.abs(c).max():
+        raise InputError(f"{label}: G11 ... G66 is not positive definite (no elastic material)")
+    if cordm in (0, None):
+        return c
+    system = bdf.coords.get(cordm)
+    if cordm == -1 or system is None or system.Type != "R":
+        raise InputError(f"{where}: CORDM {cordm} with {label}: only a rectangular "
+                         f"material system (or 0, basic) is supported")
+    return solids.rotated_elasticity(c, system.beta())

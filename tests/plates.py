@@ -11,6 +11,33 @@ from eigenupdate.model.assembly import node_dofs, scatter
 E, NU, RHO = 200e9, 0.3, 7850.0
 
 
+# two PSHELL regions of one MAT1, their thicknesses and the material as parameters (the
+# NASTRAN shell-deck tests)
+INIT = {"t1": 0.004, "t2": 0.006, "E": E, "rho": RHO}
+FIELDS = [("t1", "PSHELL", 1, "T"), ("t2", "PSHELL", 2, "T"), ("E", "MAT1", 1, "E"),
+          ("rho", "MAT1", 1, "RHO")]
+
+
+def read_deck(path, specs=()):
+    """``read_nastran(path, specs)`` with its warnings silenced (needs pyNastran)."""
+    import warnings
+
+    from eigenupdate.errors import EigenupdateWarning
+    from eigenupdate.io.nastran import read_nastran
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EigenupdateWarning)
+        return read_nastran(path, specs)
+
+
+def card_specs(fields=FIELDS):
+    """(Parameter, CardField) pairs of (name, card, id, field) rows, values from the deck."""
+    from eigenupdate.io.nastran import CardField
+    from eigenupdate.model.parameters import Parameter
+
+    return [(Parameter(n, 0.0), CardField(c, i, f)) for n, c, i, f in fields]
+
+
 def square_mesh(nx: int, a: float, triangles: bool) -> tuple[np.ndarray, np.ndarray]:
     """Nodes (N, 3) and elements (n, 4) (or (2n, 3)) of an a x a square in z = 0."""
     x, y = np.meshgrid(np.linspace(0, a, nx + 1), np.linspace(0, a, nx + 1), indexing="ij")

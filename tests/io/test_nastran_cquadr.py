@@ -16,36 +16,23 @@ dbxdra2 (complex modes) holds CTRIAX6, RBE1 and others not supported."""
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import pytest
 from bounds import assert_matrix_derivatives
 from nastran_frames import need, opensees
 from plates import square_mesh
 
-from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.errors import InputError
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.solve.eigen import solve_elastic
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
-from eigenupdate.io.nastran import CardField, read_nastran  # noqa: E402
+from plates import INIT, NU, RHO, E  # noqa: E402
+from plates import card_specs as _spec  # noqa: E402
+from plates import read_deck as _read  # noqa: E402
 
-E, NU, RHO = 2.0e11, 0.3, 7850.0
-INIT = {"t1": 0.004, "t2": 0.006, "E": E, "rho": RHO}
-FIELDS = [("t1", "PSHELL", 1, "T"), ("t2", "PSHELL", 2, "T"), ("E", "MAT1", 1, "E"),
-          ("rho", "MAT1", 1, "RHO")]
-
-
-def _read(path, specs=()):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EigenupdateWarning)
-        return read_nastran(path, specs)
-
-
-def _spec(fields=FIELDS):
-    return [(Parameter(n, 0.0), CardField(c, i, f)) for n, c, i, f in fields]
+from eigenupdate.io.nastran import CardField  # noqa: E402
 
 
 def plate(path, v=INIT, nx=8, a=1.0, triangles=False, drilling=True, nsm=0.5, held="12"):

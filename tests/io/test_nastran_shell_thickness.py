@@ -8,8 +8,6 @@ and the updated BDF read back. Runs in .venv-nastran (pyNastran)."""
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import pytest
 from bounds import assert_matrix_derivatives
@@ -20,29 +18,17 @@ from eigenupdate.errors import EigenupdateWarning
 from eigenupdate.identify.updating import update
 from eigenupdate.io.measurements import Measurement
 from eigenupdate.model.configurations import Configuration, mass_at
-from eigenupdate.model.parameters import Parameter
 from eigenupdate.solve.eigen import solve_elastic
 from eigenupdate.solve.jacobian import solve_configurations
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
-from eigenupdate.io.nastran import CardField, dof_number, read_nastran  # noqa: E402
+from plates import FIELDS, INIT, NU, RHO, E  # noqa: E402
+from plates import card_specs as _spec  # noqa: E402
+from plates import read_deck as _read  # noqa: E402
+
+from eigenupdate.io.nastran import dof_number, read_nastran  # noqa: E402
 from eigenupdate.io.nastran_write import write_updated_bdf  # noqa: E402
-
-E, NU, RHO = 2.0e11, 0.3, 7850.0
-INIT = {"t1": 0.004, "t2": 0.006, "E": E, "rho": RHO}
-FIELDS = [("t1", "PSHELL", 1, "T"), ("t2", "PSHELL", 2, "T"), ("E", "MAT1", 1, "E"),
-          ("rho", "MAT1", 1, "RHO")]
-
-
-def _read(path, specs=()):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EigenupdateWarning)
-        return read_nastran(path, specs)
-
-
-def _spec(fields=FIELDS):
-    return [(Parameter(n, 0.0), CardField(c, i, f)) for n, c, i, f in fields]
 
 
 def plate(path, v=INIT, nx=8, a=1.0, triangles=False, nsm=0.5):

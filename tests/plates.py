@@ -111,3 +111,23 @@ def constant_strain_state(xy: np.ndarray, which: str) -> np.ndarray:
         out[:, 3] = 1e-3 * (1.5 * x + 2 * y)
         out[:, 4] = -1e-3 * (1 + 4 * x + 1.5 * y)
     return out
+
+
+def two_region_deck(path, v=INIT, nx=8, a=1.0, card="CQUAD4", nsm=0.5, held="126"):
+    """An a x a plate of ``card`` elements (CQUAD4, CTRIA3, CQUADR, CTRIAR), w held on its
+    edges and the components ``held`` everywhere, PSHELL 1 (thickness t1) on x < a/2 and
+    PSHELL 2 (t2, NSM) beyond, both MAT1 1, coupled mass; written with the values ``v``
+    in the cards' text (repr: every digit)."""
+    xyz, el = square_mesh(nx, a, card in ("CTRIA3", "CTRIAR"))
+    lines = [f"GRID,{i + 1},,{x!r},{y!r},0." for i, (x, y, _) in enumerate(xyz)]
+    for k, e in enumerate(el):
+        pid = 1 if xyz[e, 0].mean() < a / 2 else 2
+        lines.append(f"{card},{k + 1},{pid}," + ",".join(str(n + 1) for n in e))
+    edge = [i + 1 for i, (x, y, _) in enumerate(xyz)
+            if min(x, y) < 1e-12 * a or max(x, y) > a * (1 - 1e-12)]
+    lines += [f"SPC1,1,{held},1,THRU,{len(xyz)}"] + [f"SPC1,1,3,{n}" for n in edge]
+    path.write_text(
+        "BEGIN BULK\nPARAM,COUPMASS,1\n"
+        f"PSHELL,1,1,{v['t1']!r},1,,1\nPSHELL,2,1,{v['t2']!r},1,,1,,{nsm!r}\n"
+        f"MAT1,1,{v['E']!r},,{NU!r},{v['rho']!r}\n" + "\n".join(lines) + "\nENDDATA\n")
+    return path

@@ -28,7 +28,13 @@ from eigenupdate.solve.eigen import solve_elastic
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
-from plates import INIT, NU, RHO, E  # noqa: E402
+from plates import (  # noqa: E402
+    INIT,
+    NU,
+    RHO,
+    E,
+    two_region_deck,  # noqa: E402
+)
 from plates import card_specs as _spec  # noqa: E402
 from plates import read_deck as _read  # noqa: E402
 
@@ -36,24 +42,11 @@ from eigenupdate.io.nastran import CardField  # noqa: E402
 
 
 def plate(path, v=INIT, nx=8, a=1.0, triangles=False, drilling=True, nsm=0.5, held="12"):
-    """An a x a plate, w held on its edges and ``held`` everywhere (u, v: the drilling
-    rotation stays free, as NASTRAN's remark 5 asks), PSHELL 1 (t1) on x < a/2 and
-    PSHELL 2 (t2, NSM) beyond, MAT1 1; values in the cards' text (repr)."""
-    xyz, el = square_mesh(nx, a, triangles)
-    lines = [f"GRID,{i + 1},,{x!r},{y!r},0." for i, (x, y, _) in enumerate(xyz)]
+    """The two-region plate (tests/plates.py), w held on its edges and ``held`` everywhere
+    (u, v: the drilling rotation stays free, as NASTRAN's remark 5 asks)."""
     card = {(False, True): "CQUADR", (False, False): "CQUAD4", (True, True): "CTRIAR",
             (True, False): "CTRIA3"}[triangles, drilling]
-    for k, e in enumerate(el):
-        pid = 1 if xyz[e, 0].mean() < a / 2 else 2
-        lines.append(f"{card},{k + 1},{pid}," + ",".join(str(n + 1) for n in e))
-    edge = [i + 1 for i, (x, y, _) in enumerate(xyz)
-            if min(x, y) < 1e-12 * a or max(x, y) > a * (1 - 1e-12)]
-    lines += [f"SPC1,1,{held},1,THRU,{len(xyz)}"] + [f"SPC1,1,3,{n}" for n in edge]
-    path.write_text(
-        "BEGIN BULK\nPARAM,COUPMASS,1\n"
-        f"PSHELL,1,1,{v['t1']!r},1,,1\nPSHELL,2,1,{v['t2']!r},1,,1,,{nsm!r}\n"
-        f"MAT1,1,{v['E']!r},,{NU!r},{v['rho']!r}\n" + "\n".join(lines) + "\nENDDATA\n")
-    return path
+    return two_region_deck(path, v, nx, a, card, nsm, held)
 
 
 @pytest.mark.parametrize("triangles", [False, True], ids=["CQUADR", "CTRIAR"])

@@ -23,7 +23,14 @@ from eigenupdate.solve.jacobian import solve_configurations
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
-from plates import FIELDS, INIT, NU, RHO, E  # noqa: E402
+from plates import (  # noqa: E402
+    FIELDS,
+    INIT,
+    NU,
+    RHO,
+    E,
+    two_region_deck,  # noqa: E402
+)
 from plates import card_specs as _spec  # noqa: E402
 from plates import read_deck as _read  # noqa: E402
 
@@ -32,23 +39,9 @@ from eigenupdate.io.nastran_write import write_updated_bdf  # noqa: E402
 
 
 def plate(path, v=INIT, nx=8, a=1.0, triangles=False, nsm=0.5):
-    """An a x a plate, simply supported (w on the edges, in-plane and drilling held),
-    PSHELL 1 (thickness t1) on x < a/2 and PSHELL 2 (t2) beyond, both MAT1 1, NSM on 2;
-    written with the values ``v`` in the cards' text (repr: every digit)."""
-    xyz, el = square_mesh(nx, a, triangles)
-    lines = [f"GRID,{i + 1},,{x!r},{y!r},0." for i, (x, y, _) in enumerate(xyz)]
-    card = "CTRIA3" if triangles else "CQUAD4"
-    for k, e in enumerate(el):
-        pid = 1 if xyz[e, 0].mean() < a / 2 else 2
-        lines.append(f"{card},{k + 1},{pid}," + ",".join(str(n + 1) for n in e))
-    edge = [i + 1 for i, (x, y, _) in enumerate(xyz)
-            if min(x, y) < 1e-12 * a or max(x, y) > a * (1 - 1e-12)]
-    lines += [f"SPC1,1,126,1,THRU,{len(xyz)}"] + [f"SPC1,1,3,{n}" for n in edge]
-    path.write_text(
-        "BEGIN BULK\nPARAM,COUPMASS,1\n"
-        f"PSHELL,1,1,{v['t1']!r},1,,1\nPSHELL,2,1,{v['t2']!r},1,,1,,{nsm!r}\n"
-        f"MAT1,1,{v['E']!r},,{NU!r},{v['rho']!r}\n" + "\n".join(lines) + "\nENDDATA\n")
-    return path
+    """The two-region plate (tests/plates.py), simply supported, in-plane and drilling
+    held."""
+    return two_region_deck(path, v, nx, a, "CTRIA3" if triangles else "CQUAD4", nsm, "126")
 
 
 @pytest.mark.parametrize("triangles", [False, True], ids=["CQUAD4", "CTRIA3"])

@@ -160,22 +160,6 @@ def test_one_ply_pcomp_is_its_pshell(tmp_path):
         assert abs(x - y).max() <= 1e-12 * abs(x).max()
 
 
-def test_blank_mid_side_grid_is_refused(tmp_path):
-    """Source: NASTRAN allows G5-G8 blank (the element's equations then change). Here an
-    absent node moving as the mean of its edge's corners (a straight, linear edge: the
-    variable-node serendipity element) locks the shear, of CQUAD8 (MITC8-type) and
-    CTRIA6 (stabilised) alike (measured, against Mindlin's simply supported plate: the
-    x-edges' mid-sides absent, a/h = 100, 4 x 4 CQUAD8, 500 % high, the same by a global
-    MPC; CTRIA6 40 % at 4 to 16 per side), so refused with the element named."""
-    path = plate(tmp_path / "a.bdf", nx=2)
-    text = path.read_text().splitlines()
-    i = next(k for k, line in enumerate(text) if line.startswith("CQUAD8,1,"))
-    text[i + 1] = ",," + text[i + 1].split(",", 2)[2]  # G7 blank
-    path.write_text("\n".join(text) + "\n")
-    with pytest.raises(InputError, match="CQUAD8 1: blank mid-side grids"):
-        _read(path)
-
-
 @pytest.mark.parametrize("card", ["CQUAD8", "CTRIA6"])
 def test_ply_angle_follows_the_element_axes(tmp_path, card):
     """Source: THETA is measured from the element's xi line (CQUAD8 remark 3; CTRIA6:

@@ -16,6 +16,7 @@ import scipy.sparse.linalg as spla
 from bounds import BACKWARD, EPS, assert_thickness_derivatives, solve_floor
 from plates import NU, RHO, E, constant_strain_state, navier, plate_fixed
 from quadratic_meshes import plate_mesh
+from quadratic_meshes import transition_plate_frequency as _plate
 from test_shells_quadratic import PATCH_QUADS, PATCH_TRIAS, _quadratic_patch, _rotation
 
 from eigenupdate.model import shells
@@ -166,36 +167,6 @@ def test_tying_reproduces_its_polynomial_spaces():
         present = np.array([[1, 1, 1, 1, *pattern]], bool)
         assert np.allclose(st.tying_weights(present, 0.3, -0.7).sum(axis=2), 1.0,
                            atol=1e-14)
-
-
-def _drop(xyz, el, which: str, seed: int = 0):
-    """Element nodes (n, k, 3) with the mid-side nodes of ``which`` blank (NaN), shared
-    by the neighbours: "half" those with x > 1/2 (a full region, a linear one and a
-    column of transition elements between), "random" each with probability 1/2, "all",
-    "none"; and the blank nodes' indices."""
-    k = el.shape[1]
-    mids = np.unique(el[:, k - len(st.EDGES[k]):])
-    gone = {"half": mids[xyz[mids, 0] > 0.5 + 1e-9], "all": mids, "none": mids[:0],
-            "random": mids[np.random.default_rng(seed).random(mids.size) < 0.5]}[which]
-    x = xyz[el].copy()
-    x[np.isin(el, gone)] = np.nan
-    return x, gone
-
-
-def _plate(nx, h, triangles, which, seed=0):
-    """Lowest angular frequency of a simply supported unit plate (as
-    quadratic_meshes.plate_frequency) with the mid-side nodes ``which`` blank."""
-    xyz, el = plate_mesh(nx, 1.0, 1.0, triangles)
-    x, gone = _drop(xyz, el, which, seed)
-    m = sq.pshell_matrices(x, h, *MODULI, rho=RHO)
-    d, n = node_dofs(el, 6), 6 * xyz.shape[0]
-    K, M = scatter(d, m["K"], n), scatter(d, m["M"], n)
-    fixed = plate_fixed(xyz, 1.0, "ss")
-    fixed[gone] = True  # no grid there
-    free = np.flatnonzero(~fixed.ravel())
-    mu = spla.eigsh(M[free][:, free], 1, K[free][:, free], which="LA",
-                    return_eigenvectors=False)
-    return float(np.sqrt(1 / mu[0]))
 
 
 def _cquad4_plate(nx, h):

@@ -1,7 +1,8 @@
 """CQUAD8 and CTRIA6 decks read through read_nastran: the model-level elements on the
 same mesh (a second path: tests/quadratic_meshes.py), a mixed CQUAD8/CQUAD4 plate
 against Navier, PSHELL T as a parameter (hand-edited deck, central differences, the
-updated BDF read back), a one-ply PCOMP against its PSHELL, blank mid-side grids.
+updated BDF read back), a one-ply PCOMP against its PSHELL (blank mid-side grids:
+test_nastran_transition_shells.py).
 Runs in .venv-nastran (pyNastran)."""
 
 from __future__ import annotations

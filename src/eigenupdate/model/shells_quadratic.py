@@ -68,6 +68,9 @@ mesh two elements' offset nodes at a shared grid may differ by the angle between
 normals there times z (zero on a flat mesh; 0.028 rad between neighbours on a cylinder
 of eight CQUAD8 round, 45 degrees each, falling as the cube of the element's angle).
 
+Blank mid-side nodes (NaN coordinates): the transition elements of
+:mod:`~eigenupdate.model.shells_transition`, whose shear tying replaces the above.
+
 Mass: translational (no rotary inertia, as :mod:`~eigenupdate.model.shells`),
 consistent ``sum w N_i N_j`` or lumped by the HRZ diagonal scaling (Hinton, Rock &
 Zienkiewicz, Earthq. Eng. Struct. Dyn. 4, 1976: positive nodal masses; the row sums of

@@ -314,6 +314,9 @@ def _tied_shear(xyz, V, k, mean, C=None):
     for row in (0, 1):
         rows = []
         for r, s in transition.POINTS:
+            if C is None and r == 0:  # MITC4's points: only where a mid-side node is blank
+                rows.append(np.zeros_like(mean[:, row]))
+                continue
             N, R, G, _, Vp, dV, J = _point(xyz, V, k, *((r, s) if row == 0 else (s, r)), C)
             # covariant = J Cartesian: a_r . beta + V . u,r with the tangent a_r
             rows.append((J @ _b_matrices(N, R, G, Vp, dV, V)["shear"])[:, row])
@@ -399,9 +402,11 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
         tied = _tied_shear(xyz, V, k, mean, C)
         for names, p, q, _, b, J in points:
             if "shear" in names:
-                w = np.broadcast_to(transition.tying_weights(present, p, q), (n, 2, 7))
-                cov = np.stack([np.einsum("nt,ntj->nj", w[:, 0], tied[0]),
-                                np.einsum("nt,ntj->nj", w[:, 1], tied[1])], axis=1)
+                w = transition.tying_weights(present, p, q)
+                sub = "t,ntj->nj" if present is None else "nt,ntj->nj"
+                w = w[0] if present is None else w
+                cov = np.stack([np.einsum(sub, w[..., 0, :], tied[0]),
+                                np.einsum(sub, w[..., 1, :], tied[1])], axis=1)
                 b["shear"] = np.linalg.solve(J, cov)
     if k == 6 and present is not None:  # transition CTRIA6: tied shear, MITC3-like
         tr = ~present.all(axis=1)[:, None, None]

@@ -10,9 +10,9 @@ NASTRAN's own frequencies: none of the decks with CQUADR/CTRIAR we have is usabl
 the pyNastran mirror, models/elements/modes_elements (MSC) prints three eigenvalues, all
 near zero (1e-9..2e-8 Hz: mechanisms of a free test assembly); models/other/trncomp12
 (NX, SOL 112, modes 0.77, 1.25, 2.04 ... Hz; CQUAD8/CTRIA6 with blank mid-side grids
-beside the CQUADR/CTRIAR, read since model/shells_transition.py: +9.5, +1.3, +24 %,
-the third mode 76 % in the CQUADR/CTRIAR) constrains the CQUADR's rz (PS = 6), which
-NASTRAN's remark 5 says gives inaccurate results;
+beside the CQUADR/CTRIAR, read since model/shells_transition.py; six elements, its
+frequencies 10 % to twice off the refined deck's, ours -8 to +30 % off its) constrains
+the CQUADR's rz (PS = 6), which NASTRAN's remark 5 says gives inaccurate results;
 dbxdra2 (complex modes) holds CTRIAX6, RBE1 and others not supported."""
 
 from __future__ import annotations

@@ -99,3 +99,18 @@ def transition_plate_frequency(nx, h, triangles, which, seed=0):
     mu = spla.eigsh(M[free][:, free], 1, K[free][:, free], which="LA",
                     return_eigenvectors=False)
     return float(np.sqrt(1 / mu[0]))
+
+
+def skewed_plate():
+    """The bending patch tests' parallelograms: a 3 x 3 CQUAD8 grid of unequal columns and
+    rows (piecewise linear, so mid-side nodes stay in the middle), then one skew. Returns
+    the mesh's unit-square nodes (N, 3), its elements, the skewed in-plane coordinates
+    (N, 2) and which nodes lie on the boundary."""
+    xyz, el = plate_mesh(3, 1.0, 1.0, False)
+    xy = xyz[:, :2].copy()
+    xy[:, 0] = np.interp(xy[:, 0], [0, 1 / 3, 2 / 3, 1], [0, 0.2, 0.65, 1.0])
+    xy[:, 1] = np.interp(xy[:, 1], [0, 1 / 3, 2 / 3, 1], [0, 0.4, 0.55, 0.7])
+    xy[:, 0] += 0.3 * xy[:, 1]
+    on = (np.isclose(xyz[:, 0], 0) | np.isclose(xyz[:, 0], 1) | np.isclose(xyz[:, 1], 0)
+          | np.isclose(xyz[:, 1], 1))
+    return xyz, el, xy, on

@@ -15,7 +15,7 @@ import pytest
 import scipy.sparse.linalg as spla
 from bounds import BACKWARD, EPS, assert_thickness_derivatives, solve_floor
 from plates import NU, RHO, E, constant_strain_state, navier, plate_fixed
-from quadratic_meshes import plate_mesh
+from quadratic_meshes import plate_mesh, skewed_plate
 from quadratic_meshes import transition_plate_frequency as _plate
 from test_shells_quadratic import PATCH_QUADS, PATCH_TRIAS, _quadratic_patch, _rotation
 
@@ -264,17 +264,7 @@ def test_patch_test_with_transition_elements(corners, which):
     x = xyz[el].copy()
     x[np.isin(el, gone)] = np.nan
     assert 0 < np.isnan(x[:, :, 0]).any(axis=1).sum() < len(el)
-    d, n = node_dofs(el, 6), 6 * len(xyz)
-    K = scatter(d, sq.pshell_matrices(x, 0.01, *MODULI, rho=RHO)["K"], n).toarray()
-    local = constant_strain_state(xy, which)
-    u = np.column_stack([local[:, :3] @ Q.T, local[:, 3:] @ Q.T]).ravel()
-    keep = np.setdiff1d(np.arange(len(xy)), gone)
-    inner = node_dofs(np.intersect1d(np.flatnonzero(~on), keep)[:, None], 6).ravel()
-    outer = node_dofs(np.intersect1d(np.flatnonzero(on), keep)[:, None], 6).ravel()
-    Kii = K[np.ix_(inner, inner)]
-    got = np.linalg.solve(Kii, -K[np.ix_(inner, outer)] @ u[outer])
-    err = np.linalg.norm(got - u[inner]) / np.linalg.norm(u[inner])
-    assert err <= solve_floor(Kii) * 10, err
+    _assert_patch(x, el, xyz, xy, Q, on, gone, which)
 
 
 def test_parallelogram_patch_with_transition_quads_bends_exactly():
@@ -284,30 +274,14 @@ def test_parallelogram_patch_with_transition_quads_bends_exactly():
     quadratic: exact along edges with their mid-side node, and along a straight linear
     edge its chord slope is the tangent at the middle, the tying point. Within the
     solve's rounding floor."""
-    xyz, el = plate_mesh(3, 1.0, 1.0, False)
-    xy = xyz[:, :2].copy()
-    xy[:, 0] = np.interp(xy[:, 0], [0, 1 / 3, 2 / 3, 1], [0, 0.2, 0.65, 1.0])
-    xy[:, 1] = np.interp(xy[:, 1], [0, 1 / 3, 2 / 3, 1], [0, 0.4, 0.55, 0.7])
-    xy[:, 0] += 0.3 * xy[:, 1]
-    on = (np.isclose(xyz[:, 0], 0) | np.isclose(xyz[:, 0], 1) | np.isclose(xyz[:, 1], 0)
-          | np.isclose(xyz[:, 1], 1))
+    xyz, el, xy, on = skewed_plate()
     mids = np.unique(el[:, 4:])
     gone = mids[(np.abs(xyz[mids, 0] - 0.5) < 1 / 6) | (np.abs(xyz[mids, 1] - 0.5) < 1 / 6)]
     Q = _rotation(5)
     xyz = np.column_stack([xy, np.zeros(len(xy))]) @ Q.T
     x = xyz[el].copy()
     x[np.isin(el, gone)] = np.nan
-    d, n = node_dofs(el, 6), 6 * len(xyz)
-    K = scatter(d, sq.pshell_matrices(x, 0.01, *MODULI, rho=RHO)["K"], n).toarray()
-    local = constant_strain_state(xy, "bending")
-    u = np.column_stack([local[:, :3] @ Q.T, local[:, 3:] @ Q.T]).ravel()
-    keep = np.setdiff1d(np.arange(len(xy)), gone)
-    inner = node_dofs(np.intersect1d(np.flatnonzero(~on), keep)[:, None], 6).ravel()
-    outer = node_dofs(np.intersect1d(np.flatnonzero(on), keep)[:, None], 6).ravel()
-    Kii = K[np.ix_(inner, inner)]
-    got = np.linalg.solve(Kii, -K[np.ix_(inner, outer)] @ u[outer])
-    err = np.linalg.norm(got - u[inner]) / np.linalg.norm(u[inner])
-    assert err <= solve_floor(Kii) * 10, err
+    _assert_patch(x, el, xyz, xy, Q, on, gone, "bending")
 
 
 @pytest.mark.parametrize("k", [8, 6])
@@ -324,3 +298,20 @@ def test_transition_thickness_derivatives_match_finite_differences(k, lumped):
         return sq.pshell_matrices(xyz, t, *moduli, rho=RHO, nsm=1.5, lumped=lumped)
 
     assert_thickness_derivatives(mats, T)
+
+
+def _assert_patch(x, el, xyz, xy, Q, on, gone, which: str) -> None:
+    """The patch's inner nodes solved from the constant-strain state ``which`` on its
+    boundary (elements' nodes x, blank ones NaN; turned by Q) reproduce that state within
+    the solve's rounding floor."""
+    d, n = node_dofs(el, 6), 6 * len(xyz)
+    K = scatter(d, sq.pshell_matrices(x, 0.01, *MODULI, rho=RHO)["K"], n).toarray()
+    local = constant_strain_state(xy, which)
+    u = np.column_stack([local[:, :3] @ Q.T, local[:, 3:] @ Q.T]).ravel()
+    keep = np.setdiff1d(np.arange(len(xy)), gone)
+    inner = node_dofs(np.intersect1d(np.flatnonzero(~on), keep)[:, None], 6).ravel()
+    outer = node_dofs(np.intersect1d(np.flatnonzero(on), keep)[:, None], 6).ravel()
+    Kii = K[np.ix_(inner, inner)]
+    got = np.linalg.solve(Kii, -K[np.ix_(inner, outer)] @ u[outer])
+    err = np.linalg.norm(got - u[inner]) / np.linalg.norm(u[inner])
+    assert err <= solve_floor(Kii) * 10, err

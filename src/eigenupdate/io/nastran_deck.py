@@ -269,7 +269,7 @@ def load_deck(path: str | Path) -> Deck:
     lines, origin = _one_per_card(lines, origin)
     start = bulk + 1 if bulk < len(lines) else (len(lines) if cend >= 0 else 0)
     _free_field_overflow(lines[start:], origin[start:], path)
-    _blank_grid_ids(lines[start:], origin[start:], path.name)
+    _blank_ids(lines[start:], origin[start:], path.name)
     bdf = _quiet_bdf()
     bdf.disable_cards(SKIPPED - {"EPOINT"})  # extra points: kept apart from scalar points
     sink = io.StringIO()
@@ -327,12 +327,33 @@ def _one_per_card(lines: list[str], origin: list) -> tuple[list[str], list]:
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD]?[-+]?\d+)?$")
 
 
-def _blank_grid_ids(lines: list[str], origin: list, main: str) -> None:
-    """A GRID whose id is blank, named by its line: pyNastran's "nid = None (field #1)"
-    quotes no card, so its message named neither the line nor the card."""
+def _kinds(kind: str, cards: str) -> dict[str, str]:
+    return dict.fromkeys(cards.split(), kind)
+
+
+# cards whose field 1 is their own id, which NASTRAN requires (QRG), and what it numbers;
+# pyNastran's "eid = None (field #1)" named neither the card nor the line (nor the
+# INCLUDEd file: the main deck was blamed)
+_ID_FIELD = {
+    "GRID": "grid",
+    **_kinds("element (EID)", "CBAR CBEAM CROD CONROD CTUBE CELAS1 CELAS2 CELAS3 CELAS4 "
+                              "CMASS1 CMASS2 CMASS3 CMASS4 CONM1 CONM2 CBUSH CQUAD4 CTRIA3 "
+                              "CQUAD8 CTRIA6 CHEXA CPENTA CTETRA CPYRAM CSHEAR RBE2 RBAR RBE3 "
+                              "CRIGD1 CRIGD2 CRIGD3 CRIGDR"),
+    **_kinds("property (PID)", "PBAR PBARL PBEAM PBEAML PROD PTUBE PELAS PMASS PBUSH PSHELL "
+                               "PCOMP PCOMPG PSOLID PSHEAR"),
+    **_kinds("material (MID)", "MAT1 MAT8 MAT9"),
+    **_kinds("set (SID)", "SPC SPC1 SPCADD MPC MPCADD EIGRL EIGR"),
+    **_kinds("coordinate system (CID)", "CORD1R CORD1C CORD1S CORD2R CORD2C CORD2S"),
+}
+
+
+def _blank_ids(lines: list[str], origin: list, main: str) -> None:
+    """A card of _ID_FIELD whose id is blank, named by its file and line."""
     for text, (name, number) in zip(lines, origin, strict=True):
         m = _FIRST.match(text)
-        if m is None or m.group(1).upper() != "GRID":
+        kind = _ID_FIELD.get(m.group(1).upper()) if m else None
+        if kind is None:
             continue
         body = text.split("$")[0]
         if "," in body[:10]:
@@ -340,8 +361,9 @@ def _blank_grid_ids(lines: list[str], origin: list, main: str) -> None:
         else:
             ident = body[8:24] if m.group(2) else body[8:16]
         if not ident.strip():
-            raise InputError(f"{place(f'{name}:{number}', main)}: GRID: the id (field 1) is "
-                             f"blank; every grid needs an id")
+            raise InputError(f"{place(f'{name}:{number}', main)}: {m.group(1).upper()}: the "
+                             f"id (field 1) is blank; every {kind.split(' (')[0]} needs an id"
+                             + (f" ({kind.split(' (')[1]}" if " (" in kind else ""))
 
 
 def _free_field_overflow(lines: list[str], origin: list, path: Path) -> None:

@@ -176,7 +176,15 @@ def _param(bdf, name: str, default):
     if p is None:
         return default
     v = p.values[0]
-    return v if isinstance(default, str) else float(v)
+    if isinstance(default, str):
+        return v
+    v = float(v)
+    if not math.isfinite(v):  # pyNastran reads "nan"; every test below let it through
+        raise InputError(f"PARAM {name}: {v} is not a finite number")
+    if name == "SNORM" and v > 180:  # cos(radians(380)) is cos(20 degrees)
+        raise InputError(f"PARAM {name}: {v:g} degrees is more than 180, the largest angle "
+                         f"between two normals")
+    return v
 
 
 class _Triplets:

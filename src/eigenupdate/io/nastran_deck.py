@@ -23,6 +23,7 @@ from __future__ import annotations
 import contextlib
 import io
 import re
+import traceback
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -149,6 +150,11 @@ class _Blanks:
             what = f"{type(exc).__name__}: {lines[0] if lines else ''}"
             if isinstance(exc, TypeError | AttributeError | IndexError):  # None in a sum
                 what = f"pyNastran fails on the card ({what}); a blank or invalid field?"
+            elif isinstance(exc, AssertionError) and not lines:  # PSHEAR T = 0: nothing said
+                tb = traceback.extract_tb(exc.__traceback__)
+                check = (tb[-1].line or "").removeprefix("assert ").split(", ")[0] if tb else ""
+                what = (f"a field is out of range: pyNastran's check {check.replace('self.', '')!r}"
+                        f" fails" if check else "a field is out of range (pyNastran's check)")
             if isinstance(exc, ZeroDivisionError) and self.cls.type == "MAT1":
                 what = ("a division by zero in G = E / (2 (1 + NU)) (NU = -1, or G = 0 with "
                         "NU blank; NASTRAN needs -1 < NU <= 0.5)")

@@ -71,3 +71,11 @@ def test_pshear_zero_thickness_names_the_check(tmp_path, run_cli):
     code, _, err = run_cli("frequencies", d / "study.toml")
     _one_line(code, err, "panel.bdf: line 9: PSHEAR 9: a field is out of range: pyNastran's "
                          "check 't > 0.0' fails")
+
+
+def test_a_param_pynastran_cannot_read_is_named_by_its_line(tmp_path, run_cli):
+    """PARAM SNORM YES: pyNastran's "value = 'YES' (field #2) on card must be a float"
+    quoted a PARAM by its name, not a number, so no line was found for it."""
+    d = _panel(tmp_path, "PARAM,COUPMASS,1", "PARAM,COUPMASS,1\nPARAM,SNORM,YES")
+    code, _, err = run_cli("frequencies", d / "study.toml")
+    _one_line(code, err, "panel.bdf: line 7: PARAM SNORM: value = 'YES' (field #2)")

@@ -452,6 +452,9 @@ def _blamed_card(text: str, lines: list[str], origin, main: str) -> str:
     """``line N: CARD id`` (``file:N`` in an included file) of the card pyNastran's message
     quotes (``card=['GRID', '2', ...]``), or "" when it quotes none."""
     m = re.search(r"card=\[\s*'([A-Za-z0-9]+)\*?'\s*,\s*'\s*(\d+)\s*'", text)
+    named = re.search(r"card=\[\s*'(PARAM)\*?'\s*,\s*'\s*([A-Za-z][A-Za-z0-9_]*)\s*'", text)
+    if named is not None:  # a PARAM is known by its name (SNORM = 'YES')
+        return _located("PARAM", named.group(2).upper(), lines, origin, main)
     if m is None:  # validate()'s messages name the card (PSHELL pid=1) or print it
         m = re.match(r"([A-Z][A-Z0-9]*) [a-z]+=(-?\d+)\b", text) or (re.search(
             r"^([A-Z][A-Z0-9]*)\*?(?: +|\s*,\s*)(-?\d+)\b", text.split("\n", 1)[-1],

@@ -79,3 +79,18 @@ def test_a_param_pynastran_cannot_read_is_named_by_its_line(tmp_path, run_cli):
     d = _panel(tmp_path, "PARAM,COUPMASS,1", "PARAM,COUPMASS,1\nPARAM,SNORM,YES")
     code, _, err = run_cli("frequencies", d / "study.toml")
     _one_line(code, err, "panel.bdf: line 7: PARAM SNORM: value = 'YES' (field #2)")
+
+
+def test_an_offset_of_more_than_1000_thicknesses_is_refused(tmp_path, run_cli):
+    """ZOFFS = 1e10 m on a 2 mm skin quad made K indefinite (D + z^2 A: 12 (z/T)^2 = 3e26
+    times D, beyond double precision) and was reported as a coordinate "with stiffness
+    and no mass"; between, say 1e6 T, D kept 3 digits without a word. Now refused above
+    1000 T (D then to 3e-9), naming the card; 500 T is still a model."""
+    q1 = "CQUAD4,1,1,1,2,1002,1001"
+    d = _panel(tmp_path / "a", q1, q1 + ",,1e10", "mesh.bdf")
+    code, _, err = run_cli("frequencies", d / "study.toml")
+    _one_line(code, err, "mesh.bdf:527: CQUAD4 1: ZOFFS = 1e+10 is more than 1000 times the "
+                         "thickness 0.002")
+    d = _panel(tmp_path / "b", q1, q1 + ",,1.0", "mesh.bdf")
+    code, _, err = run_cli("frequencies", d / "study.toml")
+    assert code == 0, err

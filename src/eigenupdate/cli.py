@@ -35,6 +35,7 @@ from eigenupdate.io.outputs import (
     check_files_in,
     check_no_replaced,
     check_outputs,
+    check_replaceable,
     schema_marker,
 )
 from eigenupdate.report import text
@@ -173,6 +174,11 @@ def cmd_extract(args) -> int:
     for flag, path in files.items():
         check_file(path, flag)
     check_dir(args.plots, "--plots")
+    if args.plots and Path(args.plots).is_dir():  # any fit plot extract may write there
+        from eigenupdate.plot.plots import FIGURE_CREATOR
+
+        for fig in sorted(Path(args.plots).glob("extract_*.png")):
+            check_replaceable(fig, "--plots", FIGURE_CREATOR.encode(), args.force)
     if len(args.inputs) == 1 and Path(args.inputs[0]).suffix.lower() == ".toml":
         if args.kind:
             raise InputError("goes with FRF files; a study says kind in "

@@ -107,3 +107,25 @@ def test_simulated_csv_reads_back_with_its_signature(tmp_path, run_cli):
     assert code == 0, err
     got = json.loads(out)["parameters"]
     assert got["m1"] == pytest.approx(10.0, rel=1e-6) and got["k1"] == pytest.approx(1e6, rel=1e-6)
+
+
+def test_extract_plots_do_not_replace_foreign_figures(tmp_path, run_cli):
+    """`extract --plots DIR` replaced any extract_*.png there; now only its own earlier
+    plots (Creator 'eigenupdate figure') without --force. The bare beam's two FRFs only."""
+    text = (FRF_EXAMPLE / "study.toml").read_text()
+    i = text.index("[[perturbation]]")
+    (tmp_path / "study.toml").write_text(
+        text[:i] + '[measurement]\nmodes = [1, 2]\n[measurement.frf]\n'
+                   f'"base" = "{FRF_EXAMPLE / "frf" / "base.uff"}"\n')
+    plots = tmp_path / "plots"
+    plots.mkdir()
+    foreign = plots / "extract_base_1.png"
+    foreign.write_bytes(b"\x89PNG\r\n\x1a\n a photograph of the test rig")
+    cmd = ["extract", tmp_path / "study.toml", "-o", tmp_path / "x.csv", "--plots", plots]
+    code, _, err = run_cli(*cmd)
+    _one_line(code, err, "extract_base_1.png: --plots: exists and is not an earlier output",
+              "--force")
+    assert not (tmp_path / "x.csv").exists()
+    assert run_cli(*cmd, "--force")[0] == 0
+    assert b"eigenupdate figure" in foreign.read_bytes()
+    assert run_cli(*cmd)[0] == 0  # x.csv and the plots: its own earlier outputs

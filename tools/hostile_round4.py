@@ -13,6 +13,7 @@ cards other than GRID). Same harness and output as tools/hostile.py:
 from __future__ import annotations
 
 import json
+import struct
 import sys
 from pathlib import Path
 
@@ -104,6 +105,23 @@ sp("ctria6 zoffs without MID2", ["frequencies", S], quadratic_plate(True, "0.001
 sp("ctria6 zoffs -inf", ["frequencies", S], quadratic_plate(True, "-inf"))
 sp("ctria6 THETA -inf (MAT1: no material axes)", ["frequencies", S], quadratic_plate(True, theta="-inf"))
 
+
+
+def pcomp_theta(theta):
+    """The panel's skin a [0/90] PCOMP (its t_skin parameter dropped), quad 1 at THETA."""
+    def mutate(w):
+        sub(w / "panel.bdf", "PSHELL,1,1,0.002,1,,1", "PCOMP,1\n,1,0.001,0.\n,1,0.001,90.")
+        sub(w / "mesh.bdf", Q1, Q1 + f",{theta}")
+        text = (w / "study.toml").read_text()
+        start = text.index('[[model.parameter]]\nname = "t_skin"')
+        (w / "study.toml").write_text(text[:start] + text[text.index("[[model.parameter]]", start + 1):])
+    return mutate
+
+
+sp("pcomp skin quad THETA inf", ["frequencies", S], pcomp_theta("inf"))
+sp("pcomp skin quad THETA nan", ["frequencies", S], pcomp_theta("nan"))
+sp("pcomp skin quad THETA 1e300", ["frequencies", S], pcomp_theta("1e300"))
+
 # ------------------------------------------------------------------ PARAM SNORM (the panel: flat, so normals change nothing)
 for label, value in [("negative", "-5."), ("text", "YES"), ("huge", "1e300"), ("nan", "nan"), ("integer 20", "20")]:
     sp("param snorm " + label, ["frequencies", S], lambda w, v=value: sub(w / "panel.bdf", "PARAM,COUPMASS,1", f"PARAM,COUPMASS,1\nPARAM,SNORM,{v}"))
@@ -168,6 +186,24 @@ for label, axis in [("start nan", "          nan  5.00000e-01"), ("increment nan
     case("frf4 uff abscissa " + label, BF, ["extract", S, "-o", "@x.csv"],
          lambda w, a=axis: (w / "frf" / "base.uff").write_bytes((w / "frf" / "base.uff").read_bytes().replace(UFF_AXIS.encode(), a.encode(), 1)))
 
+
+
+def uff_value(value):
+    """One ordinate of the last FRF of base.uff (binary 58b, 25600 data bytes before the
+    closing '    -1' line) replaced by a little-endian double ``value``."""
+    def mutate(w):
+        f = w / "frf" / "base.uff"
+        b = bytearray(f.read_bytes())
+        at = len(b) - 7 - 25600 + 800
+        b[at:at + 8] = struct.pack("<d", value)
+        f.write_bytes(bytes(b))
+    return mutate
+
+
+case("frf4 uff ordinate nan", BF, ["extract", S, "-o", "@x.csv"], uff_value(float("nan")))
+case("frf4 uff ordinate inf", BF, ["extract", S, "-o", "@x.csv"], uff_value(float("inf")))
+case("frf4 uff ordinate 1e300", BF, ["extract", S, "-o", "@x.csv"], uff_value(1e300))
+
 # ------------------------------------------------------------------ EIGRL asking for nothing
 EIGRL = "EIGRL         10                      12"
 nf("eigrl ND = 0", ["frequencies", S], frame(EIGRL, "EIGRL         10                       0"))
@@ -175,12 +211,13 @@ nf("eigrl negative range", ["frequencies", S], frame(EIGRL, "EIGRL         10   
 nf("eigrl ND = -5", ["frequencies", S], frame(EIGRL, "EIGRL         10                      -5"))
 
 # ------------------------------------------------------------------ leftovers: outputs, blank ids
-case("fig2 simulate -o over the hand-made measured.csv", F2, ["simulate", "@truth.toml", "-o", "@measured.csv"])
 case("fig2 simulate -o over it --force", F2, ["simulate", "@truth.toml", "-o", "@measured.csv", "--force"])
 case("fig2 sweep -o over truth.toml", F2, ["sweep", S, "--coordinate", "1", "--max-mass", "1", "-o", "@truth.png"],
      lambda w: (w / "truth.toml").rename(w / "truth.png"))
 case("frf4 extract -o over the study's own measurement file written by hand", BF, ["extract", S, "-o", "@extracted.csv"],
      lambda w: (w / "extracted.csv").write_text("configuration,mode,frequency_hz,std_hz\nbase,1,200.0,0.1\n"))
+case("frf4 extract --plots over a foreign extract_base_1.png", BF, ["extract", S, "-o", "@x.csv", "--plots", "@plots"],
+     lambda w: ((w / "plots").mkdir(), (w / "plots" / "extract_base_1.png").write_bytes(b"\x89PNG\r\n\x1a\n photo")))
 nf("cbar blank EID", ["check", S], frame("CBAR         101       1    1001", "CBAR                 1    1001"))
 nf("mat1 blank MID", ["check", S], frame("MAT1           1  2.1+11", "MAT1              2.1+11"))
 sp("cquad4 blank EID in the INCLUDEd mesh", ["check", S], lambda w: sub(w / "mesh.bdf", Q1, "CQUAD4,,1,1,2,1002,1001"))

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import math
 import re
 import traceback
 import warnings
@@ -331,6 +332,24 @@ def _one_per_card(lines: list[str], origin: list) -> tuple[list[str], list]:
 
 
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD]?[-+]?\d+)?$")
+
+
+def param(bdf, name: str, default):
+    """PARAM ``name``'s value (``default`` where the deck sets none): a finite number
+    unless ``default`` is text; SNORM an angle of at most 180 degrees."""
+    p = bdf.params.get(name)
+    if p is None:
+        return default
+    v = p.values[0]
+    if isinstance(default, str):
+        return v
+    v = float(v)
+    if not math.isfinite(v):  # pyNastran reads "nan", which no "> 0" test stops
+        raise InputError(f"PARAM {name}: {v} is not a finite number")
+    if name == "SNORM" and v > 180:  # cos(radians(380)) is cos(20 degrees)
+        raise InputError(f"PARAM {name}: {v:g} degrees is more than 180, the largest angle "
+                         f"between two normals")
+    return v
 
 
 def _kinds(kind: str, cards: str) -> dict[str, str]:

@@ -53,8 +53,18 @@ def element_offsets(elems, labels: list[str], rows: list[dict]) -> np.ndarray:
         if p["laminate"] is None and not p["mid2"]:
             raise InputError(f"{lab}: ZOFFS = {value:g} needs MID2 (bending) on PSHELL "
                              f"{e.pid} (NASTRAN requires MID1 and MID2 with ZOFFS)")
+        if abs(value) > MAX_OFFSET * p["T"]:
+            raise InputError(f"{lab}: ZOFFS = {value:g} is more than {MAX_OFFSET:g} times the "
+                             f"thickness {p['T']:g}: the offset's z^2 A would swamp the bending "
+                             f"stiffness D (12 (z/T)^2 > 1e7) and rounding its digits away")
         z[i] = value
     return z
+
+
+MAX_OFFSET = 1000.0
+"""Largest |ZOFFS| / T: in grid-plane strains D becomes D + z^2 A, 12 (z/T)^2 times D,
+so 1000 T (1.2e7 D) leaves D to 3e-9 relative; 1e6 T would leave 3e-3, silently, and
+ZOFFS = 1e10 m made K indefinite, reported as a coordinate "with stiffness and no mass"."""
 
 
 def heights(rows: list[dict], zo: np.ndarray) -> list[dict]:

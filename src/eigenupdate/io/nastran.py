@@ -122,8 +122,8 @@ class NastranModel:
         return c
 
 
-def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardField]] = ()
-                 ) -> NastranModel:
+def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardField]] = (),
+                 subcase: int | None = None) -> NastranModel:
     """Read a BDF and assemble K = K0 + sum s_j K_j, M = M0 + sum s_j M_j.
 
     Parameters
@@ -131,6 +131,8 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
     path : the bulk data file.
     parameters : (parameter, card field) pairs; each parameter's value is taken from its
         card field (``Parameter.value`` is ignored), its name, std and update flag are kept.
+    subcase : the case control subcase whose SPC, MPC, K2GG and M2GG make the model
+        (default: those of the modes subcases, which must agree).
 
     Returns
     -------
@@ -141,6 +143,7 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
     deck = None
     try:
         deck = load_deck(path)
+        deck.bdf.eigenupdate_subcase = subcase
         nm = _assemble(path, deck.bdf, parameters)
         deck.skipped = ", ".join(x for x in (deck.skipped, idle_note(deck.bdf)) if x)
     except InputError as exc:
@@ -543,7 +546,8 @@ def _spc(bdf, where) -> tuple[np.ndarray, int | None]:
               if (v := case_value(sub, "SPC")) is not None}  # else it restrains nothing
     if len(wanted) > 1:
         raise InputError(f"case control selects several SPC sets {sorted(wanted)}; "
-                         f"one is needed for one model")
+                         f"one is needed for one model (name its subcase: [model] "
+                         f"subcase = N in the study)")
     chosen = wanted.pop() if wanted else None
     if chosen is None:
         inner = {int(s) for add in bdf.spcadds.values() for a in add for s in a.sets}

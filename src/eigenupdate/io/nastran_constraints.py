@@ -152,7 +152,8 @@ def _mpc_cards(bdf) -> list:
         return []
     wanted = {int(v) for sub in modal_subcases(bdf) if (v := case_value(sub, "MPC")) is not None}
     if len(wanted) > 1:
-        raise InputError(f"case control selects several MPC sets {sorted(wanted)}")
+        raise InputError(f"case control selects several MPC sets {sorted(wanted)} (name "
+                         f"its subcase: [model] subcase = N in the study)")
     if not wanted:
         inner = {int(s) for add in bdf.mpcadds.values() for a in add for s in a.sets}
         top = sorted(ids - inner)

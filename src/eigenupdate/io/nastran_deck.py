@@ -554,10 +554,18 @@ def modal_subcases(bdf) -> list:
     those with ANALYSIS = MODES where a multi-analysis deck has any (NX's SOL 111 with a
     modes subcase and a base-excitation one holding another SPC set), else all of them;
     the global subcase 0 only where there is no other (pyNastran copies its selections
-    into the others, which may replace them)."""
+    into the others, which may replace them); only the one the study names where it
+    names one (``bdf.eigenupdate_subcase``, set by read_nastran)."""
     cc = bdf.case_control_deck
     if cc is None:
         return []
+    chosen = getattr(bdf, "eigenupdate_subcase", None)  # the study's [model] subcase
+    if chosen is not None:
+        if chosen not in cc.subcases or chosen < 1:
+            raise InputError(f"subcase {chosen} is not in the case control (its subcases: "
+                             f"{sorted(i for i in cc.subcases if i > 0) or 'none'})",
+                             field="model.subcase")
+        return [cc.subcases[chosen]]
     subs = [s for i, s in cc.subcases.items() if i > 0] or list(cc.subcases.values())
     modes = [s for s in subs if str(case_value(s, "ANALYSIS") or "").upper() == "MODES"]
     return modes or subs

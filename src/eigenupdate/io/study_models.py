@@ -184,6 +184,7 @@ def _nastran(m: TableReader, base: Path):
     from eigenupdate.io.nastran import CardField, read_nastran
 
     bdf = base / m.get("bdf", "str")
+    subcase = m.get("subcase", "int", None)
     params, seen = [], {}
     for i, t in enumerate(m.get("parameter", "tables", [])):
         r = TableReader(t, f"model.parameter[{i + 1}]", m.source)
@@ -194,4 +195,4 @@ def _nastran(m: TableReader, base: Path):
                           r.get("field", "str").upper())
         r.finish()
         params.append((p, where))
-    return read_nastran(bdf, params)
+    return read_nastran(bdf, params, subcase)

@@ -56,12 +56,13 @@ def _pshear(bdf, prop) -> tuple:
     return mat.mid, t, nsm, g, nu, rho, tied_shear_modulus(mat), *f12, e
 
 
-def assemble_shear(bdf, grid, xyz, frames, n_nodes, wtmass, pindex, values,
-                   k0, m0, kj, mj, extra) -> None:
+def assemble_shear(bdf, grid, xyz, frames, wtmass, pindex, values, k0, m0, kj, mj,
+                   extra) -> None:
     """Add the CSHEAR panels' K and M (and each parameter's K_j, M_j; PSHEAR T's
     T^2 part of effective-width rods to ``extra``) to the triplets of
-    :mod:`eigenupdate.io.nastran`. NASTRAN's panel mass is lumped whatever COUPMASS
-    says (NASTRAN-95 emadtq.f; MSC/NX list no coupled mass for CSHEAR)."""
+    :mod:`eigenupdate.io.nastran` (one node a row of ``xyz``). NASTRAN's panel mass is
+    lumped whatever COUPMASS says (NASTRAN-95 emadtq.f; MSC/NX list no coupled mass for
+    CSHEAR)."""
     elems = [e for _, e in sorted(bdf.elements.items()) if e.type == "CSHEAR"]
     if not elems:
         return
@@ -130,7 +131,7 @@ def assemble_shear(bdf, grid, xyz, frames, n_nodes, wtmass, pindex, values,
         return [None if b is None else _to_cd(b, frames, nodes[s], 3)
                 if i < 1 + n or i >= 2 + n + len(mj) else b for i, b in enumerate(out)]
 
-    mats = assemble_many(nodes, blocks, 2 + n + len(mj) + len(width_terms), n_nodes, 3)
+    mats = assemble_many(nodes, blocks, 2 + n + len(mj) + len(width_terms), len(xyz), 3)
     for i, (_, term) in enumerate(width_terms):
         trip = type(k0)()
         _add(trip, mats[2 + n + len(mj) + i], 3)

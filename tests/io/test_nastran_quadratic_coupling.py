@@ -83,15 +83,17 @@ def test_antisymmetric_cross_ply_converges_to_navier_with_coupling(tmp_path, tri
         assert abs(richardson - fine) <= abs(q16 - q8) / 3, (q8, q16, fine)
 
 
+@pytest.mark.parametrize("ply", [f",3,{H!r},0.\n" + STEEL, CROSS_PLY.split("\n", 1)[1]],
+                         ids=["steel", "[0/90]"])
 @pytest.mark.parametrize("triangles", [False, True], ids=["CQUAD8", "CTRIA6"])
-def test_stack_on_its_grids_is_the_zoffs_plate(tmp_path, triangles):
+def test_stack_on_its_grids_is_the_zoffs_plate(tmp_path, triangles, ply):
     """Source: NASTRAN's Z0 (the stack's bottom at Z0 above the reference plane) and
-    ZOFFS describe the same plate: one steel ply with Z0 = 0 is the ply with Z0 blank
-    and ZOFFS = T/2 (K and M to 1e-12 of the largest entry: two paths, the stack's
-    shift and the element's offset, the mass's moments against the offset surface's
-    mass), and free it keeps the frequencies of the plate without offset (exact
-    invariance under the rigid link; 1e-9 for the eigen-solver) and six rigid modes."""
-    ply = f",3,{H!r},0.\n" + STEEL
+    ZOFFS describe the same plate: a stack with Z0 = 0 is the stack with Z0 blank and
+    ZOFFS = T/2 (K and M to 1e-12 of the largest entry: two paths, the stack's shift
+    and the element's offset, the mass's moments against the offset surface's mass; the
+    [0/90] stack with its coupling too), and free it keeps the frequencies of the plate
+    without offset (exact invariance under the rigid link; 1e-9 for the eigen-solver)
+    and six rigid modes."""
     shifted = _read(deck(tmp_path / "a.bdf", 3, "PCOMP,1,0.\n" + ply, triangles)).model
     zoffs = _read(deck(tmp_path / "b.bdf", 3, "PCOMP,1\n" + ply, triangles, z=H / 2)).model
     for a, b in ((shifted.stiffness(), zoffs.stiffness()), (shifted.mass(), zoffs.mass())):

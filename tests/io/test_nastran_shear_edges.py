@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 from bounds import assert_matrix_derivatives
 from nastran_frames import need
-from test_nastran_shear import NU, RHO, A, E, G, T, _compliance, _read, framed
+from test_nastran_shear import NU, RHO, A, E, G, T, _compliance, _read, _web, framed
 
 from eigenupdate.errors import InputError
+from eigenupdate.solve.eigen import solve_elastic
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
@@ -110,3 +111,25 @@ def test_edge_rods_without_a_young_modulus_are_refused(tmp_path):
     path.write_text(path.read_text().replace(f"MAT1,1,{E!r},,{NU!r}", f"MAT1,1,0.,{G!r},{NU!r}"))
     with pytest.raises(InputError, match=r"PSHEAR 1: F1 = 1, F2 = 0 \(extensional rods"):
         _read(path)
+
+
+def test_displacement_axes_do_not_change_the_edge_rods(tmp_path):
+    """Source: invariance. test_nastran_shear's web with F1 = 0.5 (factor) and F2 = 20
+    (width) and PSHEAR T a parameter (its E T^2 part a separate term), every grid's
+    displacements in a CORD2R turned 0.4 rad about y: the same frequencies as in basic
+    axes (1e-9 with room for the eigen-solver's rounding); the rods stiffen the web."""
+    plain = _web(tmp_path / "a.bdf")
+    text = plain.read_text().replace(f"PSHEAR,1,1,{T!r},0.3", f"PSHEAR,1,1,{T!r},0.3,0.5,20.")
+    plain.write_text(text)
+    c, s = np.cos(0.4), np.sin(0.4)
+    turned = tmp_path / "b.bdf"
+    turned.write_text(text.replace(",,2456", ",5,2456").replace(
+        "BEGIN BULK\n", f"BEGIN BULK\nCORD2R,5,,0.,0.,0.,{s!r},0.,{c!r}\n,{c!r},0.,{-s!r}\n"))
+    a, b = (_read(p, [("PSHEAR", 1, "T")]).model for p in (plain, turned))
+    fa = solve_elastic(a.stiffness(), a.mass(), 8)
+    fb = solve_elastic(b.stiffness(), b.mass(), 8)
+    assert fa.n_rigid == fb.n_rigid == 3
+    assert np.max(np.abs(fb.frequencies_hz[3:] / fa.frequencies_hz[3:] - 1)) <= 1e-9
+    bare = _read(_web(tmp_path / "c.bdf")).model
+    f0 = solve_elastic(bare.stiffness(), bare.mass(), 8).frequencies_hz
+    assert fa.frequencies_hz[4] > 1.01 * f0[4]  # the second elastic mode (+2.2 %)

@@ -328,8 +328,8 @@ BAD = [
     ("PSHELL,1,1,.01,1,,1\n,,,4\n" + STEEL + "MAT1,4,1.,,.3\n", "", "PSHELL 1: MID4"),
     ("PSHELL,1,2,.01,2,,2\nMAT2,2,1.,0.,0.,1.,0.,1.\n", "", "not supported: MAT2 x1"),
     (_pcomp_props(",1,.01,0.\n", "MEM") + STEEL, "", "PCOMP 1: LAM = MEM"),
-    ("PSHELL,1,1,.01,1,,1\n" + STEEL, "GRID,9999,,.5,.5,.2\nCQUAD4,99,1,1,4,9999,2",
-     "CQUAD4 99: warped"),
+    ("PSHELL,1,1,.01,1,,1\n" + STEEL,
+     "GRID,9998,,.5,0.,.3\nGRID,9999,,0.,.5,.3\nCQUAD4,99,1,1,9998,5,9999", "CQUAD4 99: warped"),
 ]
 
 

@@ -144,7 +144,7 @@ def test_bad_shell_geometry_is_named():
     cases = {
         "zero area": np.array([[0.0, 0, 0], [1, 0, 0], [2, 0, 0]]),
         "not convex": np.array([[0.0, 0, 0], [1, 0, 0], [0.3, 0.3, 0], [0, 1, 0]]),
-        "warped": sq + np.array([[0, 0, 0], [0, 0, 0.2], [0, 0, 0], [0, 0, 0.2]]),
+        "warped": sq + np.array([[0, 0, 0], [0, 0, 0.5], [0, 0, 0], [0, 0, 0.5]]),
     }
     for what, xyz in cases.items():
         with pytest.raises(InputError, match=f"CQUAD4 7: {what}|CTRIA3 7: {what}"):

@@ -1,5 +1,5 @@
-"""Rigid elements (RBE2, RBAR, RBE3, NASTRAN-95's CRIGD1/2/3/R) and MPCs of a deck as
-constraint equations for :mod:`eigenupdate.model.constraints`."""
+"""Rigid elements (RBE1, RBE2, RBAR, RROD, RBE3, NASTRAN-95's CRIGD1/2/3/R) and MPCs of a
+deck as constraint equations for :mod:`eigenupdate.model.constraints`."""
 
 from __future__ import annotations
 
@@ -40,17 +40,51 @@ def constraint_equations(bdf, grid, point, xyz, frames) -> list:
     def rigid(label, indep, dep):
         gi = [(grid(n, label), int(c)) for n, c in indep]
         gd = [(grid(n, label), int(c)) for n, c in dep]
+        both = sorted(set(indep) & set(dep))
+        if both:
+            raise InputError(f"{label}: GRID {both[0][0]} component {both[0][1]} is both "
+                             f"independent and dependent")
         for (g, c), terms in constraints.rigid_equations(xyz, frames, gi, gd, label):
             eqs.append((6 * g + c - 1, [(6 * a + b - 1, v) for (a, b), v in terms], label))
 
     def comps(text):
         return [int(x) for x in str(text or "") if x != "0"]
 
+    def rod(label, gi, gd, cd):
+        # a rigid rod (CRIGDR, RROD): GD's translation CD keeps the length along the rod
+        a, b = grid(gi, label), grid(gd, label)
+        axis = xyz[b] - xyz[a]
+        if not np.linalg.norm(axis) > 0:
+            raise InputError(f"{label}: GRID {gi} and GRID {gd} coincide (the rod has no "
+                             f"direction)")
+        axis = axis / np.linalg.norm(axis)
+        ea, eb = frames[a] @ axis, frames[b] @ axis  # axis in each grid's CD
+        if abs(eb[cd - 1]) < 1e-8:
+            raise InputError(f"{label}: component {cd} of GRID {gd} is normal to the rod")
+        terms = [(6 * a + k, float(ea[k] / eb[cd - 1])) for k in range(3)]
+        terms += [(6 * b + k, float(-eb[k] / eb[cd - 1])) for k in range(3) if k != cd - 1]
+        eqs.append((6 * b + cd - 1, terms, label))
+
     for eid, e in sorted(bdf.rigid_elements.items()):
         label = f"{e.type} {eid}"
         if e.type == "RBE2":
             indep = [(e.gn, c) for c in range(1, 7)]
             rigid(label, indep, [(m, c) for m in e.Gmi for c in comps(e.cm)])
+        elif e.type == "RBE1":  # MSC's CRIGD3: six independent components on any grids
+            rigid(label, [(g, c) for g, cs in zip(e.Gni, e.Cni, strict=True) for c in comps(cs)],
+                  [(g, c) for g, cs in zip(e.Gmi, e.Cmi, strict=True) for c in comps(cs)])
+        elif e.type == "RROD":  # the one dependent translation at GA (CMA) or GB (CMB)
+            ga, gb = e.nodes
+            cma, cmb = comps(e.cma), comps(e.cmb)
+            if len(cma) + len(cmb) != 1 or max(cma + cmb) > 3:
+                raise InputError(f"{label}: CMA, CMB must name one translational component "
+                                 f"(1, 2 or 3) at one end, got CMA {e.cma or 'blank'}, CMB "
+                                 f"{e.cmb or 'blank'} (the Lagrange-multiplier form with "
+                                 f"both blank is not supported)")
+            if cma:
+                rod(label, gb, ga, cma[0])
+            else:
+                rod(label, ga, gb, cmb[0])
         elif e.type == "RBAR":
             indep = [(e.ga, c) for c in comps(e.cna)] + [(e.gb, c) for c in comps(e.cnb)]
             dep = [(e.ga, c) for c in comps(e.cma)] + [(e.gb, c) for c in comps(e.cmb)]
@@ -97,15 +131,9 @@ def constraint_equations(bdf, grid, point, xyz, frames) -> list:
                    for c in comps(cd)])
         elif name == "CRIGDR":  # rigid rod: GD's translation CD keeps the length
             gi, gd, cd = _ints(f[:3], label)
-            a, b = grid(gi, label), grid(gd, label)
-            axis = xyz[b] - xyz[a]
-            axis = axis / np.linalg.norm(axis)
-            ea, eb = frames[a] @ axis, frames[b] @ axis  # axis in each grid's CD
-            if abs(eb[cd - 1]) < 1e-8:
-                raise InputError(f"{label}: component {cd} of GRID {gd} is normal to the rod")
-            terms = [(6 * a + k, float(ea[k] / eb[cd - 1])) for k in range(3)]
-            terms += [(6 * b + k, float(-eb[k] / eb[cd - 1])) for k in range(3) if k != cd - 1]
-            eqs.append((6 * b + cd - 1, terms, label))
+            if cd not in (1, 2, 3):
+                raise InputError(f"{label}: CD must be 1, 2 or 3, got {cd}")
+            rod(label, gi, gd, cd)
     for card in _mpc_cards(bdf):
         label = f"MPC {card.conid}"
         (n0, *nodes), (c0, *cs), (a0, *coefs) = card.nodes, card.components, card.coefficients

@@ -37,7 +37,8 @@ SUPPORTED = frozenset({
     "CTUBE", "PTUBE",
     "CELAS1", "CELAS2", "PELAS", "CONM2", "CMASS1", "CMASS2", "PMASS", "MAT1",
     "SPC", "SPC1", "SPCADD", "ASET", "ASET1", "OMIT", "OMIT1", "SUPORT", "PARAM", "ENDDATA",
-    "RBE2", "RBAR", "RBE3", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR",
+    "RBE1", "RBE2", "RBAR", "RROD", "RBE3", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3",
+    "CRIGDR",
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
     "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "CHEXA",
     "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG", "CSHEAR", "PSHEAR", "CQUADR",
@@ -285,6 +286,9 @@ def load_deck(path: str | Path) -> Deck:
         first = msg[0] if msg else type(exc).__name__
         if re.match(r"nodes=\[", first):  # pyNastran's validate(): a grid given twice
             first = f"a grid appears twice among its nodes {first[6:].split(';')[0]}"
+        elif first == "Invalid Dependent DOFs":  # pyNastran's RROD validate()
+            first = ("CMA, CMB must name one translational component (1, 2 or 3) at one end "
+                     "(the Lagrange-multiplier form with both blank is not supported)")
         elif re.match(r"CORD1[RCS]\*?\s", first):  # its assert only echoes the card
             first = "G1, G2 and G3 must be three different grids (QRG CORD1R/C/S)"
         elif isinstance(exc, TypeError | AttributeError | IndexError):  # its own failure

@@ -16,11 +16,19 @@ stays where the card puts it, as in NASTRAN), so T stays one too.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_fields import in_range
-from eigenupdate.model import shell_normals, shell_offsets, shells, shells_quadratic_mass
+from eigenupdate.model import (
+    rigid_links,
+    shell_normals,
+    shell_offsets,
+    shells,
+    shells_quadratic_mass,
+)
 from eigenupdate.model import shells_quadratic as quadratic
 
 
@@ -96,7 +104,25 @@ def stiffness_parts(elem, xyz: np.ndarray, cm, cb, cs, k6rot: float, labels: lis
                                      offset=zk if np.any(zk) else None,
                                      coupling=kw.get("coupling"))
     R, parts = elem.local_parts(xyz, cm, cb, cs, k6rot, labels, **kw)
-    return R, shell_offsets.offset_parts(parts, zk) if np.any(zk) else parts
+    if xyz.shape[1] == 4:
+        _warn_warp(xyz, R, labels)
+    return R, rigid_links.offset_parts(parts, zk) if np.any(zk) else parts
+
+
+def _warn_warp(xyz: np.ndarray, R: np.ndarray, labels: list[str]) -> None:
+    """Warn, as NASTRAN's GEOMCHECK does, of quadrilaterals warped beyond
+    :data:`eigenupdate.model.shells.WARN_WARP` (accepted up to ``MAX_WARP``)."""
+    h = np.max(np.abs(rigid_links.warp_heights(xyz, R[:, 2])), axis=1)
+    warp = h / np.sqrt(np.linalg.norm(np.cross(xyz[:, 2] - xyz[:, 0], xyz[:, 3] - xyz[:, 1]),
+                                      axis=1) / 2)
+    bad = np.flatnonzero(warp > shells.WARN_WARP)
+    if bad.size:
+        worst = bad[np.argmax(warp[bad])]
+        more = f" and {bad.size - 1} more" if bad.size > 1 else ""
+        warnings.warn(f"{labels[worst]}{more}: warped by up to {warp[worst]:.3g} (nodes' "
+                      f"distance from the mean plane / sqrt(area); NASTRAN warns from "
+                      f"{shells.WARN_WARP}): computed on the mean plane, rigidly linked to "
+                      f"the grids", EigenupdateWarning, stacklevel=2)
 
 
 def unit_masses(elem, xyz: np.ndarray, lumped: bool, labels: list[str], zo: np.ndarray,
@@ -132,11 +158,15 @@ modes are -0.36/-0.56 % off with plain facets, +0.17/+1.02 % with normals
 def curvature(bdf, grid, xyz: np.ndarray, n_nodes: int, snorm: float):
     """``nodes (n, k) -> curvature (n,)`` of CQUAD4 (k = 4) or CTRIA3 (k = 3) elements
     from the normals of their grids (model/shell_normals.py) under PARAM SNORM ``snorm``
-    (degrees); None when it is <= 0 or the deck has no such shells. Normals from every
+    (degrees); when it is <= 0, a warped CQUAD4's own twist
+    (:func:`~eigenupdate.model.shell_normals.warped_curvature`); None when the deck has
+    no such shells. Normals from every
     CQUAD4, CTRIA3 and a CTRIA6's four facets (quadratic.FACETS, as a curved one is
     modelled) at a grid."""
     if not snorm > 0:
-        return None
+        # a warped CQUAD4's own corner normals (flat facets: none, NASTRAN-95's and
+        # MSC 70.7's plain facets)
+        return lambda nodes: shell_normals.warped_curvature(xyz[nodes])
     facets = []
     for card, corners in (("CQUAD4", [(0, 1, 2, 3)]), ("CTRIA3", [(0, 1, 2)]),
                           ("CTRIA6", quadratic.FACETS)):

@@ -16,9 +16,9 @@ shear flow on inclined edges needs a direct stress sigma = 2 d tau, the direct s
 E = 2 G (1 + nu) term; a trapezoid and a general quadrilateral take Garvey's forms (the
 flows vary as the sides converge). A rectangle a x b is G t a / b in shear: the hand
 formula. Geometry as NASTRAN: the mean plane normal to G1-G3 x G2-G4, x along G1-G2
-projected; a warped panel is projected (:data:`eigenupdate.model.shells.MAX_WARP`, as
-CQUAD4: beyond, refused), a concave one or one numbered out of order is refused. The
-rotations of the grids carry nothing.
+projected; a warped panel is projected (beyond :data:`eigenupdate.model.shells.WARN_WARP`
+refused: it has no rotations to link its grids to the plane), a concave one or one
+numbered out of order is refused. The rotations of the grids carry nothing.
 
 Mass: NASTRAN-95's (mis/emadtq.f, type 6, used whatever COUPMASS says): each grid gets
 translational mass (rho t + NSM) (S_i + S) / 6, S_i the area of the triangle of the grid
@@ -29,7 +29,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from eigenupdate.model import shells
+from eigenupdate.errors import InputError
+from eigenupdate.model import rigid_links, shells
 
 BRANCH = 0.01
 """NASTRAN-95's EMG threshold (sheard.f, EP): two opposite sides whose directions differ
@@ -42,7 +43,17 @@ def panel_geometry(xyz: np.ndarray, labels: list[str] | None = None):
     X4, Y4 (each (n,); G1 at the origin, G2 on x), the area (n,) of the projected
     panel (half |G1G3 x G2G4|). Zero area, warp and non-convex panels: InputError."""
     xyz = np.asarray(xyz, float)
-    shells.shell_axes(xyz, labels)  # zero area, warp, convex and in order
+    Rs, _ = shells.shell_axes(xyz, labels)  # zero area, convex and in order
+    # no rotations to link a warped panel's grids to its mean plane: refused beyond
+    # NASTRAN's warning level
+    h = rigid_links.warp_heights(xyz, Rs[:, 2])
+    warp = np.max(np.abs(h), axis=1) / np.sqrt(np.linalg.norm(
+        np.cross(xyz[:, 2] - xyz[:, 0], xyz[:, 3] - xyz[:, 1]), axis=1) / 2)
+    bad = np.flatnonzero(warp > shells.WARN_WARP)
+    if bad.size:
+        raise InputError(f"{labels[bad[0]] if labels else f'panel {bad[0]}'}: warped by "
+                         f"{warp[bad[0]]:.3g} (nodes' distance from the mean plane / "
+                         f"sqrt(area); at most {shells.WARN_WARP} for a shear panel)")
     d1, d2 = xyz[:, 2] - xyz[:, 0], xyz[:, 3] - xyz[:, 1]
     k = np.cross(d1, d2)
     area = np.linalg.norm(k, axis=1) / 2

@@ -11,7 +11,8 @@ kinematics of :mod:`eigenupdate.model.shells`), with CQUAD4's incompatible modes
 on the reference plane's strains, so a plate whose grid plane is free bends exactly as
 the same plate without offset (its neutral plane is its reference plane). Each part of
 :func:`eigenupdate.model.shells.local_parts` is transformed alone (T is linear), so the
-parts keep their factors and parameters: :func:`offset_parts`. A PCOMP whose stack is
+parts keep their factors and parameters:
+:func:`eigenupdate.model.rigid_links.offset_parts`. A PCOMP whose stack is
 shifted off its reference plane (Z0 != -T/2) is the same stack about its mid-plane
 offset by the shift (its B + s A, D + 2 s B + s^2 A): read so, a free plate keeps its
 frequencies with CQUAD4 too (B about the grids with the incompatible modes condensed by
@@ -39,41 +40,6 @@ from __future__ import annotations
 import numpy as np
 
 from eigenupdate.model import shells
-
-
-def offset_parts(parts: dict, z: np.ndarray) -> dict:
-    """The compact element-axes parts of :func:`eigenupdate.model.shells.local_parts`
-    seen from grids whose reference plane is ``z`` (n,) along the normal: T^T k T per
-    part (a part with u (v) gains the node's ry (rx) column).
-
-    Examples
-    --------
-    A membrane block on u of one node: u_ref = u + z ry couples u with ry.
-
-    >>> b = offset_parts({"m": (np.array([0]), np.ones((1, 1, 1)))}, np.array([2.0]))["m"]
-    >>> b[0].tolist(), b[1][0].tolist()
-    ([0, 4], [[1.0, 2.0], [2.0, 4.0]])
-    """
-    z = np.asarray(z, float)
-    n = z.shape[0]
-    out = {}
-    for name, (cols, block) in parts.items():
-        # u brings the node's ry, v its rx
-        new = np.union1d(cols, np.concatenate([cols[cols % 6 == 0] + 4,
-                                               cols[cols % 6 == 1] + 2]))
-        if not np.any(cols % 6 < 2):  # no u, v: unchanged (a coupling part has ry too)
-            out[name] = (cols, block)
-            continue
-        T = np.zeros((n, cols.size, new.size))
-        at = {c: i for i, c in enumerate(new)}
-        for i, c in enumerate(cols):
-            T[:, i, at[c]] = 1.0
-            if c % 6 == 0:  # u_ref = u + z ry
-                T[:, i, at[c + 4]] += z
-            elif c % 6 == 1:  # v_ref = v - z rx
-                T[:, i, at[c + 2]] -= z
-        out[name] = (new, np.swapaxes(T, 1, 2) @ block @ T)
-    return out
 
 
 def offset_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None

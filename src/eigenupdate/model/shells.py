@@ -62,6 +62,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from eigenupdate.errors import InputError
+from eigenupdate.model import rigid_links
 from eigenupdate.model.shell_normals import CURVED_DRILLING
 
 STIFFNESS_PARTS = ("membrane", "drilling", "bending", "shear")
@@ -87,11 +88,13 @@ _PART_COLUMNS = {"membrane": [0, 1], "drilling": [0, 1, 5], "bending": [3, 4],
                  "shear": [2, 3, 4], COUPLING: [0, 1, 3, 4]}  # a part's columns of a node
 K6ROT = 100.0
 """MSC/NX NASTRAN's default PARAM K6ROT."""
-MAX_WARP = 0.05
-"""Largest warp (distance of a CQUAD4 node from the mean plane over sqrt(area)) that the
-flat projection accepts; beyond it the projection (no rigid-link warp correction) would
-change the answer unnoticed. NASTRAN only warns (GEOMCHECK Q4_WARP, default 0.05 in its
-own measure)."""
+MAX_WARP = 0.2
+"""Largest warp (distance of a CQUAD4 node from the mean plane over sqrt(area)) accepted:
+the element is computed on its mean plane and rigidly linked to its grids
+(:func:`eigenupdate.model.rigid_links.warp_links`), which keeps rigid motions exact, but
+a flat element cannot follow a surface twisted further. NASTRAN warns from 0.05
+(GEOMCHECK Q4_WARP): :data:`WARN_WARP`."""
+WARN_WARP = 0.05
 
 MIN_AREA = 1e-6
 """Smallest twice-area over the squared largest centre-to-node distance: a strip L x w
@@ -395,7 +398,7 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
         im, ib = np.arange(4 * k).reshape(k, 2, 2).transpose(1, 0, 2).reshape(2, 2 * k)
         block[:, im[:, None], ib[None, :]] = kc
         out[COUPLING] = (cols[COUPLING], block + np.swapaxes(block, 1, 2))
-    return R, out
+    return R, rigid_links.warp_links(out, xyz, R) if k == 4 else out
 
 
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,

@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.model import shells
+from eigenupdate.model import rigid_links, shells
 
 stabilisation_size = shells.stabilisation_size
 shell_mass = shells.shell_mass
@@ -121,5 +121,6 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     _, xy = shells.shell_axes(xyz, labels)
     km, kd = membrane_drilling(xy, membrane)
     cols = (6 * np.arange(k)[:, None] + np.array(_COLUMNS)).ravel()
-    parts["membrane"], parts["drilling"] = (cols, km), (cols, kd)
+    mine = {"membrane": (cols, km), "drilling": (cols, kd)}
+    parts.update(rigid_links.warp_links(mine, xyz, R) if k == 4 else mine)
     return R, parts

@@ -113,6 +113,9 @@ class _Parser(argparse.ArgumentParser):
                      f"(see {self.prog} --help)\n")
 
 
+_FORCE = "replace an existing output file that this command did not write (never an input)"
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _Parser(
         prog="eigenupdate",
@@ -137,6 +140,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--std-hz", type=positive,
                    help="std_hz column (default: each frequency's noise level)")
     s.add_argument("--seed", type=seed)
+    s.add_argument("--force", action="store_true", help=_FORCE)
 
     s = sub.add_parser("check", help="identifiability of the test plan (condition, rank of J)")
     s.add_argument("study")
@@ -186,6 +190,8 @@ def build_parser() -> argparse.ArgumentParser:
                         f"cluster, one worker process per core")
     s.add_argument("--workers", type=workers, help="worker processes of the local cluster")
     s.add_argument("--in-process", action="store_true", help="no Dask: run here, one by one")
+    s.add_argument("--force", action="store_true",
+                   help="replace files in DIR that montecarlo did not write (never an input)")
     s.add_argument("--json", action="store_true")
 
     s = sub.add_parser("extract", help="natural frequencies from the study's measured FRFs "
@@ -199,6 +205,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--plots", metavar="DIR", help="save a plot of every fit in DIR")
     s.add_argument("--save", metavar="EXTRACTION.json",
                    help="also write the whole extraction as JSON (for 'report --extraction')")
+    s.add_argument("--force", action="store_true", help=_FORCE)
 
     s = sub.add_parser("simulate-frf", help="synthetic noisy FRFs of every configuration (UFF 58)")
     s.add_argument("study")
@@ -230,6 +237,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "take its value)")
     s.add_argument("--fmax", type=positive, help="highest frequency without --measured (Hz)")
     s.add_argument("-o", required=True, metavar="FIG", help="figure file (.png, .svg, .pdf)")
+    s.add_argument("--force", action="store_true", help=_FORCE)
 
     s = sub.add_parser("sweep", help="frequencies against added mass at a coordinate, Fig. 4")
     s.add_argument("study")
@@ -238,6 +246,7 @@ def build_parser() -> argparse.ArgumentParser:
     s.add_argument("--modes", type=int, help="number of elastic modes")
     s.add_argument("--configuration", help="configuration to add the mass to (default: base)")
     s.add_argument("-o", required=True, metavar="FIG")
+    s.add_argument("--force", action="store_true", help=_FORCE)
 
     s = sub.add_parser("report", help="self-contained HTML report of the study (print to PDF)")
     s.add_argument("study")
@@ -254,4 +263,5 @@ def build_parser() -> argparse.ArgumentParser:
                    help="solve nothing: show the saved results given, without the plan's "
                         "check at the initial model and the predictions of Fig. 4 and 7")
     s.add_argument("-o", required=True, metavar="REPORT.html")
+    s.add_argument("--force", action="store_true", help=_FORCE)
     return p

@@ -34,9 +34,9 @@ from eigenupdate.io.outputs import (
     check_file,
     check_files_in,
     check_no_replaced,
-    check_not_inputs,
     check_outputs,
     check_replaceable,
+    schema_marker,
 )
 from eigenupdate.report import text
 from eigenupdate.solve import parallel
@@ -52,14 +52,17 @@ def cmd_frequencies(args) -> int:
 
 
 def cmd_simulate(args) -> int:
-    from eigenupdate.io.measurements import write_measurements
+    from eigenupdate.io.measurements import SIMULATED, write_measurements
 
     check_file(args.output, "-o")
     study = eu.load_study(args.study)
-    # the study's measurement file is where simulated data may go: not read by this run
-    check_not_inputs({"-o": args.output}, study.inputs(frf=True))
+    # the study's measurement file is where simulated data may go (not read by this run),
+    # if simulate wrote it or with --force: measured data look the same
+    check_outputs({"-o": args.output}, study.inputs(frf=True), {"-o": SIMULATED}, args.force)
     rows = eu.simulate_study(study, args.noise_hz, args.std_hz, args.seed, args.noise_relative)
-    write_measurements(args.output, rows)
+    name = Path(study.path).name
+    write_measurements(args.output, rows, f"{SIMULATED[2:]} frequencies of "
+                                          f"{name if name.isprintable() else ascii(name)}")
     text.progress(f"wrote {len(rows)} frequencies of {len(study.configurations)} "
                   f"configurations to {args.output}")
     return 0
@@ -73,6 +76,7 @@ def cmd_check(args) -> int:
 
 
 def cmd_update(args) -> int:
+    from eigenupdate.identify.result import UpdateResult
     from eigenupdate.io.nastran_write import SIGNATURE as BDF_SIGNATURE
     from eigenupdate.io.nastran_write import save_updated_bdf
     from eigenupdate.io.results import may_replace
@@ -81,8 +85,9 @@ def cmd_update(args) -> int:
     if args.save_bdf and study.nastran is None:
         raise InputError("needs a study whose [model] type is \"nastran\"", field="--save-bdf")
     check_outputs({"--save": args.save, "--save-bdf": args.save_bdf},
-                  study.inputs(measurements=True, frf=True))
-    check_replaceable(args.save_bdf, "--save-bdf", "$ " + BDF_SIGNATURE, args.force)
+                  study.inputs(measurements=True, frf=True),
+                  {"--save": schema_marker(UpdateResult.SCHEMA),
+                   "--save-bdf": "$ " + BDF_SIGNATURE}, args.force)
     res = eu.update_study(study, args.method, args.optimizer,
                           progress=lambda line: print(line, file=sys.stderr))
     kept = args.save and not (res.success or args.force or may_replace(args.save))
@@ -107,8 +112,8 @@ def cmd_design(args) -> int:
     if not args.scheduler:  # the environment's scheduler, as montecarlo's
         check_scheduler(os.environ.get(SCHEDULER_ENV), SCHEDULER_ENV)
     study = eu.load_study(args.study)
-    check_outputs({"-o": args.output}, study.inputs(measurements=True, frf=True))
-    check_replaceable(args.output, "-o", SIGNATURE, args.force)  # another study's file
+    check_outputs({"-o": args.output}, study.inputs(measurements=True, frf=True),
+                  {"-o": SIGNATURE}, args.force)  # not another study's file
     done = eu.design(study, validate=args.validate, seed=args.seed, scheduler=args.scheduler,
                      workers=args.workers)
     res, val = done.plan, done.validation
@@ -126,7 +131,9 @@ def cmd_design(args) -> int:
 
 
 def cmd_montecarlo(args) -> int:
-    from eigenupdate.io.montecarlo import FILES, write_montecarlo
+    from eigenupdate.design.montecarlo import MonteCarloResult
+    from eigenupdate.io.montecarlo import FILES, TRIALS_HEADER, write_montecarlo
+    from eigenupdate.plot.plots import FIGURE_CREATOR
 
     check_dir(args.output, "-o")
     if not (args.scheduler or args.in_process):
@@ -134,8 +141,11 @@ def cmd_montecarlo(args) -> int:
     study = eu.load_study(args.study)
     if args.output:
         truth = eu.load_study(args.truth).inputs() if args.truth else []
+        figure = FIGURE_CREATOR.encode()
         check_files_in(args.output, FILES, "-o",
-                       [*study.inputs(measurements=True, frf=True), *truth])
+                       [*study.inputs(measurements=True, frf=True), *truth],
+                       dict(zip(FILES, (TRIALS_HEADER, schema_marker(MonteCarloResult.SCHEMA),
+                                        figure, figure), strict=True)), args.force)
     res = eu.montecarlo(study, args.trials, truth=args.truth, seed=args.seed,
                         scheduler=args.scheduler, workers=args.workers,
                         in_process=args.in_process,
@@ -154,21 +164,31 @@ def cmd_montecarlo(args) -> int:
 
 def cmd_extract(args) -> int:
     from eigenupdate.io.extraction import write_extraction
+    from eigenupdate.io.uff.dataset55 import MODE_ID
+    from eigenupdate.measure.extraction import EXTRACTION_COLUMNS
+    from eigenupdate.measure.survey import TestExtraction
 
     files = {"-o": args.output, "--uff55": args.uff55, "--save": args.save}
+    own = {"-o": ",".join(EXTRACTION_COLUMNS), "--uff55": MODE_ID.encode(),
+           "--save": schema_marker(TestExtraction.SCHEMA)}
     for flag, path in files.items():
         check_file(path, flag)
     check_dir(args.plots, "--plots")
+    if args.plots and Path(args.plots).is_dir():  # any fit plot extract may write there
+        from eigenupdate.plot.plots import FIGURE_CREATOR
+
+        for fig in sorted(Path(args.plots).glob("extract_*.png")):
+            check_replaceable(fig, "--plots", FIGURE_CREATOR.encode(), args.force)
     if len(args.inputs) == 1 and Path(args.inputs[0]).suffix.lower() == ".toml":
         if args.kind:
             raise InputError("goes with FRF files; a study says kind in "
                              "[measurement.frf_options]", field="--kind")
         study = eu.load_study(args.inputs[0], require_model=False)
         # the study's measurement file is where the extracted frequencies go
-        check_not_inputs(files, study.inputs(frf=True))
+        check_outputs(files, study.inputs(frf=True), own, args.force)
         done = eu.extract_study(study, progress=text.progress)
     else:  # FRF files on the command line: one configuration per file, named by its stem
-        check_not_inputs(files, [Path(p) for p in args.inputs])
+        check_outputs(files, [Path(p) for p in args.inputs], own, args.force)
         done = eu.extract_files(args.inputs, args.kind, progress=text.progress)
     res = done.result
     print(text.dumps(res.to_dict()) if args.json else text.extraction_text(res))
@@ -196,12 +216,13 @@ def cmd_simulate_frf(args) -> int:
 
 
 def cmd_frf(args) -> int:
-    from eigenupdate.plot.plots import plot_frf_comparison
+    from eigenupdate.plot.plots import FIGURE_CREATOR, plot_frf_comparison
 
     check_file(args.o, "-o")
     study = eu.load_study(args.study)
-    check_not_inputs({"-o": args.o}, [*study.inputs(measurements=True, frf=True), *(
-        Path(p) for p in (args.measured, args.updated, args.damping) if p)])
+    check_outputs({"-o": args.o}, [*study.inputs(measurements=True, frf=True), *(
+        Path(p) for p in (args.measured, args.updated, args.damping) if p)],
+        {"-o": FIGURE_CREATOR.encode()}, args.force)
     c = eu.compare_frf(study, args.input, args.output, configuration=args.configuration,
                        measured=args.measured, updated=args.updated,
                        loss_factor=args.loss_factor, damping=args.damping, fmax_hz=args.fmax)
@@ -213,11 +234,12 @@ def cmd_frf(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    from eigenupdate.plot.plots import plot_mass_sweep
+    from eigenupdate.plot.plots import FIGURE_CREATOR, plot_mass_sweep
 
     check_file(args.o, "-o")
     study = eu.load_study(args.study)
-    check_outputs({"-o": args.o}, study.inputs(measurements=True, frf=True))
+    check_outputs({"-o": args.o}, study.inputs(measurements=True, frf=True),
+                  {"-o": FIGURE_CREATOR.encode()}, args.force)
     sweep = eu.sweep(study, args.coordinate, args.max_mass, args.modes, args.configuration)
     plot_mass_sweep(args.o, sweep, title=study.title)
     text.progress(f"wrote {args.o}")
@@ -225,12 +247,14 @@ def cmd_sweep(args) -> int:
 
 
 def cmd_report(args) -> int:
+    from eigenupdate.report.html import GENERATOR
 
     check_file(args.o, "-o")
     saved = [args.result, args.extraction, args.extracted, args.design, args.montecarlo]
     study = eu.load_study(args.study)
-    check_not_inputs({"-o": args.o}, [Path(args.study), *(Path(v) for v in saved if v),
-                                      *study.inputs(measurements=True, frf=True)])
+    check_outputs({"-o": args.o}, [Path(args.study), *(Path(v) for v in saved if v),
+                                   *study.inputs(measurements=True, frf=True)],
+                  {"-o": GENERATOR.encode()}, args.force)
     page = eu.report(study, result=args.result, extraction=args.extraction,
                      extracted=args.extracted, design=args.design, montecarlo=args.montecarlo,
                      solve=not args.saved_only, command=shlex.join(["eigenupdate", *args.argv]))

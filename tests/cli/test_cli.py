@@ -198,7 +198,8 @@ def test_simulate_with_noise_is_reproducible(fig2_dir, run_cli):
     run_cli("simulate", t, "-o", fig2_dir / "measured.csv", "--noise-hz", "0.001", "--seed", "4")
     a = (fig2_dir / "a.csv").read_text()
     assert a == (fig2_dir / "measured.csv").read_text()
-    assert a.splitlines()[1].endswith(",0.001")
+    assert a.startswith("# eigenupdate simulate: frequencies of truth.toml\n")
+    assert a.splitlines()[2].endswith(",0.001")
     code, _, err = run_cli("update", fig2_dir / "study.toml", "--method",
                            "weighted-least-squares")
     assert code == 0, err
@@ -210,7 +211,7 @@ def test_simulate_relative_noise(fig2_dir, run_cli):
     code, _, err = run_cli("simulate", fig2_dir / "truth.toml", "-o", fig2_dir / "r.csv",
                            "--noise-relative", "0.001", "--seed", "3")
     assert code == 0, err
-    rows = [line.split(",") for line in (fig2_dir / "r.csv").read_text().splitlines()[1:]]
+    rows = [line.split(",") for line in (fig2_dir / "r.csv").read_text().splitlines()[2:]]
     ratio = np.array([float(r[-1]) / float(r[-2]) for r in rows])
     assert np.all(np.abs(ratio / 1e-3 - 1) <= 6e-3)
 

@@ -179,7 +179,7 @@ def test_failed_extract_leaves_existing_outputs(tmp_path, run_cli, monkeypatch):
 
     monkeypatch.setattr("eigenupdate.io.uff.write_modes", broken)
     code, _, err = run_cli("extract", tmp_path / "study.toml", "-o", tmp_path / "x.csv",
-                           "--uff55", tmp_path / "m.uff")
+                           "--uff55", tmp_path / "m.uff", "--force")
     assert code == 2 and "No space left" in err
     assert (tmp_path / "x.csv").read_text() == "good\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["study.toml", "x.csv"]

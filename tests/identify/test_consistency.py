@@ -93,7 +93,7 @@ def test_noisy_data_at_their_stated_std_are_accepted(fig2, run_cli):
     (fig2 / "study.toml").write_text(text)
     for seed in range(5):
         assert run_cli("simulate", fig2 / "truth.toml", "-o", fig2 / "measured.csv",
-                       "--noise-hz", "0.01", "--seed", seed)[0] == 0
+                       "--noise-hz", "0.01", "--seed", seed, "--force")[0] == 0
         code, _, err = run_cli("update", fig2 / "study.toml")
         assert code == 0, (seed, err)
 
@@ -131,7 +131,8 @@ def test_added_stiffness_cannot_lower_a_grounded_structure(fig2, run_cli):
     (fig2 / "truth.toml").write_text((FIG2 / "truth.toml").read_text().replace(
         "[measurement]", SPRING + "[measurement]"))
     assert run_cli("simulate", fig2 / "truth.toml", "-o", fig2 / "sim.csv")[0] == 0
-    rows = list(csv.DictReader(open(fig2 / "sim.csv", newline="")))
+    rows = list(csv.DictReader(ln for ln in open(fig2 / "sim.csv", newline="")
+                               if not ln.startswith("#")))
     base = {r["mode"]: float(r["frequency_hz"]) for r in rows if r["configuration"] == "base"}
     for r in rows:
         if r["configuration"] == "spring at 2" and r["mode"] == "2":

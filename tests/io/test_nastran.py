@@ -189,7 +189,7 @@ BAD = [
      "RSPLINE,7,,1,2\nCTRIAX,8,1,1,2,3",
      "not supported: CQUADX x2, CTRIAX x1, RSPLINE x1"),
     ("CBAR,1,1,1,2,0.,1.,0.\nGRID,4,,0.,1.,0.\nCQUAD8,5,1,1,2,3,4",
-     "CQUAD8 5: blank mid-side grids are not supported"),
+     "CQUAD8 5: property PSHELL, PCOMP or PCOMPG 1 is not defined"),  # G5-G8 blank: read
     ("CBAR,1,1,1,2,0.,1.,0.\nGRID,4,,0.,1.,0.\nCQUAD4,5,1,1,2,3,4",
      "CQUAD4 5: property PSHELL, PCOMP or PCOMPG 1 is not defined"),
 ]

@@ -8,10 +8,11 @@ same in-plane cantilever mesh, and ASDShellQ4.
 
 NASTRAN's own frequencies: none of the decks with CQUADR/CTRIAR we have is usable. In
 the pyNastran mirror, models/elements/modes_elements (MSC) prints three eigenvalues, all
-near zero (1e-9..2e-8 Hz: mechanisms of a free test assembly), and its CTRIA6 61 has
-blank mid-side grids (refused here); models/other/trncomp12 (NX, SOL 112, modes 0.77,
-1.25, 2.04 ... Hz) holds CTRIA6 with blank mid-side grids too, and constrains the
-CQUADR's rz (PS = 6), which NASTRAN's remark 5 says gives inaccurate results;
+near zero (1e-9..2e-8 Hz: mechanisms of a free test assembly); models/other/trncomp12
+(NX, SOL 112, modes 0.77, 1.25, 2.04 ... Hz; CQUAD8/CTRIA6 with blank mid-side grids
+beside the CQUADR/CTRIAR, read since model/shells_transition.py; six elements, its
+frequencies 10 % to twice off the refined deck's, ours -8 to +30 % off its) constrains
+the CQUADR's rz (PS = 6), which NASTRAN's remark 5 says gives inaccurate results;
 dbxdra2 (complex modes) holds CTRIAX6, RBE1 and others not supported."""
 
 from __future__ import annotations

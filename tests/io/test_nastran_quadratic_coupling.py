@@ -16,6 +16,7 @@ from laminate_plates import E1, E2, G12, G13, G23, NU12, RHO, fe_plate, navier_c
 from nastran_frames import need
 from quadratic_meshes import plate_mesh
 
+from eigenupdate.errors import InputError
 from eigenupdate.solve.eigen import solve_elastic
 
 pytestmark = pytest.mark.nastran
@@ -157,3 +158,33 @@ def test_parameters_of_coupled_stacks(tmp_path, triangles, prop, field):
     ref = _read(tmp_path / "b.bdf").model
     for a, b in ((nm.model.stiffness(new), ref.stiffness()), (nm.model.mass(new), ref.mass())):
         assert abs(a - b).max() <= 1e-12 * abs(b).max()
+
+
+def _one_cquad8(path, prop, g5=""):
+    """One unit CQUAD8 (G5 as given: blank makes it a transition element), free."""
+    grids = [(0., 0.), (1., 0.), (1., 1.), (0., 1.), (.5, 0.), (1., .5), (.5, 1.), (0., .5)]
+    lines = [f"GRID,{i + 1},,{x!r},{y!r},0." for i, (x, y) in enumerate(grids)]
+    path.write_text("BEGIN BULK\n" + prop + "\n".join(lines)
+                    + f"\nCQUAD8,1,1,1,2,3,4,{g5},6\n,7,8,,,,,0\nENDDATA\n")
+    return path
+
+
+def test_coupling_on_a_transition_cquad8_and_its_refused_offset_mass(tmp_path):
+    """Source: equilibrium and positive energy. A CQUAD8 with G5 blank (the transition
+    element of model/shells_transition.py) takes the [0/90] coupling on the same membrane
+    and bending strains: K annihilates the rigid motions of its seven grids (1e-10 of
+    |K|) and has no negative eigenvalue (below -1e-12 |K|). An unsymmetric two-material
+    stack's mass (a first moment) on it is refused in one line naming the element (its
+    moments are built for all nodes present)."""
+    m = _read(_one_cquad8(tmp_path / "a.bdf", CROSS_PLY)).model
+    K = m.stiffness().toarray()
+    xyz = np.array([(0., 0., 0.), (1., 0., 0.), (1., 1., 0.), (0., 1., 0.), (.5, 0., 0.),
+                    (1., .5, 0.), (.5, 1., 0.), (0., .5, 0.)])
+    r = _rigid(xyz)[_rows(m)]
+    assert np.abs(K @ r).max() <= 1e-10 * np.abs(K).max()
+    w = np.linalg.eigvalsh(K)
+    assert w.min() >= -1e-12 * w.max()
+    prop = "PCOMP,1\n,3,.004,0.,,4,.006,0.\n" + STEEL + ALUMINIUM
+    with pytest.raises(InputError, match=r"CQUAD8 1: blank mid-side grids with its "
+                                         r"property's mass off its reference plane"):
+        _read(_one_cquad8(tmp_path / "b.bdf", prop))

@@ -1,7 +1,8 @@
 """CQUAD8 and CTRIA6 decks read through read_nastran: the model-level elements on the
 same mesh (a second path: tests/quadratic_meshes.py), a mixed CQUAD8/CQUAD4 plate
 against Navier, PSHELL T as a parameter (hand-edited deck, central differences, the
-updated BDF read back), a one-ply PCOMP against its PSHELL, blank mid-side grids.
+updated BDF read back), a one-ply PCOMP against its PSHELL (blank mid-side grids:
+test_nastran_transition_shells.py).
 Runs in .venv-nastran (pyNastran)."""
 
 from __future__ import annotations
@@ -158,22 +159,6 @@ def test_one_ply_pcomp_is_its_pshell(tmp_path):
     b = _read(plate(tmp_path / "c.bdf", prop="PCOMP")).model
     for x, y in ((a.stiffness(), b.stiffness()), (a.mass(), b.mass())):
         assert abs(x - y).max() <= 1e-12 * abs(x).max()
-
-
-def test_blank_mid_side_grid_is_refused(tmp_path):
-    """Source: NASTRAN allows G5-G8 blank (the element's equations then change). Here an
-    absent node moving as the mean of its edge's corners (a straight, linear edge: the
-    variable-node serendipity element) locks the shear, of CQUAD8 (MITC8-type) and
-    CTRIA6 (stabilised) alike (measured, against Mindlin's simply supported plate: the
-    x-edges' mid-sides absent, a/h = 100, 4 x 4 CQUAD8, 500 % high, the same by a global
-    MPC; CTRIA6 40 % at 4 to 16 per side), so refused with the element named."""
-    path = plate(tmp_path / "a.bdf", nx=2)
-    text = path.read_text().splitlines()
-    i = next(k for k, line in enumerate(text) if line.startswith("CQUAD8,1,"))
-    text[i + 1] = ",," + text[i + 1].split(",", 2)[2]  # G7 blank
-    path.write_text("\n".join(text) + "\n")
-    with pytest.raises(InputError, match="CQUAD8 1: blank mid-side grids"):
-        _read(path)
 
 
 @pytest.mark.parametrize("card", ["CQUAD8", "CTRIA6"])

@@ -10,7 +10,7 @@ import pytest
 import scipy.sparse.linalg as spla
 from bounds import BACKWARD, EPS, assert_thickness_derivatives, solve_floor
 from plates import NU, RHO, E, constant_strain_state, navier, plate_fixed
-from quadratic_meshes import cylinder_mesh, plate_frequency, plate_mesh
+from quadratic_meshes import cylinder_mesh, plate_frequency, plate_mesh, skewed_plate
 
 from eigenupdate.errors import InputError
 from eigenupdate.model import shells
@@ -140,15 +140,7 @@ def test_parallelogram_quad8_patch_bends_exactly():
     """Source: the bending patch test on CQUAD8 parallelograms (a skewed 3 x 3 grid of
     unequal cells, its inner nodes solved), where the Kirchhoff state is in the element's
     space; within the solve's rounding floor."""
-    xyz, el = plate_mesh(3, 1.0, 1.0, False)
-    xy = xyz[:, :2].copy()
-    # unequal columns and rows (piecewise linear: mid-side nodes stay in the middle),
-    # then one skew: parallelograms of three shapes
-    xy[:, 0] = np.interp(xy[:, 0], [0, 1 / 3, 2 / 3, 1], [0, 0.2, 0.65, 1.0])
-    xy[:, 1] = np.interp(xy[:, 1], [0, 1 / 3, 2 / 3, 1], [0, 0.4, 0.55, 0.7])
-    xy[:, 0] += 0.3 * xy[:, 1]
-    on = (np.isclose(xyz[:, 0], 0) | np.isclose(xyz[:, 0], 1) | np.isclose(xyz[:, 1], 0)
-          | np.isclose(xyz[:, 1], 1))
+    xyz, el, xy, on = skewed_plate()  # parallelograms of three shapes
     Q = _rotation(5)
     xyz = np.column_stack([xy, np.zeros(len(xy))]) @ Q.T
     K = _global(xyz, el, 0.01)[0].toarray()

@@ -16,6 +16,7 @@ from conftest import EXAMPLES
 
 from eigenupdate.identify.updating import update
 from eigenupdate.io.study import load_study
+from eigenupdate.report.html import GENERATOR
 from eigenupdate.workflow import report as workflow_report
 
 FIG2 = EXAMPLES / "paper_fig2" / "study.toml"
@@ -267,7 +268,8 @@ def test_bad_inputs_write_nothing(tmp_path, run_cli):
     _one_line_error(run_cli, "report", FIG2, "--result", other, "-o", out,
                     fragments=("other.json", "parameters", "not in the study's model"))
     assert not out.exists()
-    out.write_text("previous report")
+    previous = f"<!DOCTYPE html>\n{GENERATOR}\nprevious report"  # an earlier report
+    out.write_text(previous)
     bad = tmp_path / "plan.json"
     bad.write_text("[1, 2]")
     _one_line_error(run_cli, "report", FIG2, "--design", bad, "-o", out,
@@ -280,7 +282,7 @@ def test_bad_inputs_write_nothing(tmp_path, run_cli):
                     fragments=("missing.json", "cannot read"))
     _one_line_error(run_cli, "report", FIG2, "-o", tmp_path / "no" / "r.html",
                     fragments=("does not exist",))
-    assert out.read_text() == "previous report"
+    assert out.read_text() == previous
 
 
 # ------------------------------------------------------- the shipped FRF example

@@ -112,9 +112,17 @@ def _number(text: str, kind, src: str, where: str, name: str):
                          source=src) from None
 
 
-def write_measurements(path: str | Path, rows: Iterable[Measurement]) -> None:
-    """Write a measurement CSV at full precision, atomically (temporary file + rename)."""
+SIMULATED = "# eigenupdate simulate:"
+"""The first line of ``simulate -o``: its own earlier output, which it may replace."""
+
+
+def write_measurements(path: str | Path, rows: Iterable[Measurement],
+                       comment: str | None = None) -> None:
+    """Write a measurement CSV at full precision, atomically (temporary file + rename),
+    after ``comment`` (one line, without its '# ') if given."""
     buf = io.StringIO()
+    if comment is not None:
+        buf.write(f"# {comment}\n")
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(COLUMNS)
     for m in rows:

@@ -12,13 +12,15 @@ from eigenupdate.plot.montecarlo import plot_std_comparison, plot_zscores
 from eigenupdate.report.text import dumps
 
 FILES = ("trials.csv", "summary.json", "std.png", "zscores.png")
+TRIALS_HEADER = "trial,converged,refused,iterations,"
+"""The start of trials.csv: an earlier output of ``montecarlo -o``."""
 
 
 def trials_csv(r: MonteCarloResult) -> str:
     """One row per trial: status, then truth, estimate and reported std of each parameter."""
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
-    w.writerow(["trial", "converged", "refused", "iterations",
+    w.writerow([*TRIALS_HEADER.split(",")[:-1],
                 *[f"{k}_{n}" for n in r.names for k in ("true", "estimate", "std")], "message"])
     for i, t in enumerate(r.trials):
         vals = [repr(float(t[k][j])) for j in range(len(r.names))

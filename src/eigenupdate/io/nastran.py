@@ -32,6 +32,7 @@ from eigenupdate.io import nastran_offsets as offsets
 from eigenupdate.io.nastran_constraints import constraint_equations
 from eigenupdate.io.nastran_continuum import assemble_continuum
 from eigenupdate.io.nastran_deck import Deck, case_value, load_deck, modal_subcases, place
+from eigenupdate.io.nastran_deck import param as _param
 from eigenupdate.io.nastran_dmig import assemble_dmig, idle_note
 from eigenupdate.io.nastran_fields import (
     FIELDS,
@@ -169,14 +170,6 @@ def _located(message: str, deck: Deck | None) -> str:
     key = m.group(2)
     hit = deck.lines.get((m.group(1), int(key) if key.isdigit() else key))
     return f"{place(hit, deck.path.name)}: {message}" if hit else message
-
-
-def _param(bdf, name: str, default):
-    p = bdf.params.get(name)
-    if p is None:
-        return default
-    v = p.values[0]
-    return v if isinstance(default, str) else float(v)
 
 
 class _Triplets:

@@ -28,6 +28,7 @@ from eigenupdate.io.nastran_fields import in_range, mat9, tied_shear_modulus
 from eigenupdate.io.nastran_plies import ply_terms, thickness_terms
 from eigenupdate.model import laminate, shells, shells_drilling, solids
 from eigenupdate.model import shells_quadratic as quadratic
+from eigenupdate.model import shells_transition as transition
 from eigenupdate.model.assembly import assemble_many
 
 SHELLS = {"CQUAD4": 4, "CTRIA3": 3, "CQUAD8": 8, "CTRIA6": 6}
@@ -73,10 +74,10 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
                                  f"CPYRAM 5 or 13 are supported")
             groups.setdefault(("solid", kind), []).append(e)
     tria6 = groups.get(("shell", 6), [])
-    if tria6 and all(all(e.node_ids) for e in tria6):  # blank grids: refused in _shells
+    if tria6:  # a transition CTRIA6 (blank grids) is projected flat, never facetted
         labels = [f"CTRIA6 {e.eid}" for e in tria6]
-        nodes = [[grid(g, lab) for g in e.node_ids] for e, lab in zip(tria6, labels, strict=True)]
-        curved = quadratic.curved_tria6(xyz[np.array(nodes)], labels)
+        curved = quadratic.curved_tria6(_element_xyz(tria6, labels, grid, xyz)[1], labels)
+        curved &= np.array([all(e.node_ids) for e in tria6])
         if curved.any():
             groups[("shell", 6)] = [e for e, c in zip(tria6, curved, strict=True) if not c]
             groups.setdefault(("shell", 3), []).extend(
@@ -91,6 +92,22 @@ def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6ro
         else:
             _solids(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, pindex,
                     values, k0, m0, kj, mj)
+
+
+def _element_xyz(elems, labels, grid, xyz) -> tuple[np.ndarray, np.ndarray]:
+    """The elements' grid indices (n, k) and nodes (n, k, 3); a blank mid-side grid of a
+    CQUAD8/CTRIA6 (a transition element, model/shells_transition.py) is NaN there and
+    indexed as its element's first grid (its blocks are zero)."""
+    nodes = np.array([[grid(g, lab) if g else -1 for g in e.node_ids]
+                      for e, lab in zip(elems, labels, strict=True)])
+    blank = nodes < 0
+    k = nodes.shape[1]
+    if blank[:, :k - len(SHELL_EDGES.get(k, ()))].any():
+        i = int(np.argwhere(blank)[0, 0])
+        raise InputError(f"{labels[i]}: a corner grid is blank")
+    out = xyz[np.where(blank, nodes[:, :1], nodes)]
+    out[blank] = np.nan
+    return np.where(blank, nodes[:, :1], nodes), out
 
 
 class _Facet:
@@ -294,15 +311,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     props: dict = {}
     labels = [f"{e.type} {e.eid}" for e in elems]
     elem = quadratic if k in (6, 8) else shells_drilling if drilling else shells
-    for e, lab in zip(elems, labels, strict=True):
-        if any(not g for g in e.node_ids):
-            # tied to their corners (straight, linear edges) they lock the shear
-            raise InputError(f"{lab}: blank mid-side grids are not supported (give all "
-                             f"{k}: a straight linear edge locks this element's shear)")
-    nodes = np.array([[grid(g, lab) for g in e.node_ids] for e, lab in zip(elems, labels,
-                                                                          strict=True)])
+    nodes, xyz_e = _element_xyz(elems, labels, grid, xyz)
     if k in SHELL_EDGES:
-        solids.check_mid_edges(xyz[nodes], SHELL_EDGES[k], labels)
+        solids.check_mid_edges(transition.fill(xyz_e)[0], SHELL_EDGES[k], labels)
     rows = []
     for e, lab in zip(elems, labels, strict=True):
         prop = bdf.properties.get(e.pid)
@@ -317,7 +328,6 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                              f"from the property's T are not supported")
         rows.append(p)
     n = len(elems)
-    xyz_e = xyz[nodes]
     zo = offsets.element_offsets(elems, labels, rows)
     zk = zo.copy()  # the stiffness's offset: ZOFFS and a PCOMP stack's shift (Z0)
     T = np.array([p["T"] for p in rows])
@@ -361,7 +371,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
              "shear": G3 * shells.shear_thickness(T, size),
              shells.COUPLING: np.where(np.abs(cc).max(axis=(1, 2)) > 0, E1 * T**2, 0.0)}
     mass = offsets.mass_moments(rows, zo, wtmass)  # (3, n): m0, m1, m2
-    off = offsets.off_surface(rows)
+    off = offsets.off_surface(rows, labels, xyz_e)
     deriv_k: list[dict] = [{} for _ in kj]
     deriv_m: list = [None for _ in mj]
     mids = {q: np.array([p[q] for p in rows]) for q in ("mid1", "mid2", "mid3")}

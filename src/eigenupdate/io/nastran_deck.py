@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import contextlib
 import io
+import math
 import re
+import traceback
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -151,6 +153,11 @@ class _Blanks:
             what = f"{type(exc).__name__}: {lines[0] if lines else ''}"
             if isinstance(exc, TypeError | AttributeError | IndexError):  # None in a sum
                 what = f"pyNastran fails on the card ({what}); a blank or invalid field?"
+            elif isinstance(exc, AssertionError) and not lines:  # PSHEAR T = 0: nothing said
+                tb = traceback.extract_tb(exc.__traceback__)
+                check = (tb[-1].line or "").removeprefix("assert ").split(", ")[0] if tb else ""
+                what = (f"a field is out of range: pyNastran's check {check.replace('self.', '')!r}"
+                        f" fails" if check else "a field is out of range (pyNastran's check)")
             if isinstance(exc, ZeroDivisionError) and self.cls.type == "MAT1":
                 what = ("a division by zero in G = E / (2 (1 + NU)) (NU = -1, or G = 0 with "
                         "NU blank; NASTRAN needs -1 < NU <= 0.5)")
@@ -271,7 +278,7 @@ def load_deck(path: str | Path) -> Deck:
     lines, origin = _one_per_card(lines, origin)
     start = bulk + 1 if bulk < len(lines) else (len(lines) if cend >= 0 else 0)
     _free_field_overflow(lines[start:], origin[start:], path)
-    _blank_grid_ids(lines[start:], origin[start:], path.name)
+    _blank_ids(lines[start:], origin[start:], path.name)
     bdf = _quiet_bdf()
     bdf.disable_cards(SKIPPED - {"EPOINT"})  # extra points: kept apart from scalar points
     sink = io.StringIO()
@@ -332,12 +339,51 @@ def _one_per_card(lines: list[str], origin: list) -> tuple[list[str], list]:
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD]?[-+]?\d+)?$")
 
 
-def _blank_grid_ids(lines: list[str], origin: list, main: str) -> None:
-    """A GRID whose id is blank, named by its line: pyNastran's "nid = None (field #1)"
-    quotes no card, so its message named neither the line nor the card."""
+def param(bdf, name: str, default):
+    """PARAM ``name``'s value (``default`` where the deck sets none): a finite number
+    unless ``default`` is text; SNORM an angle of at most 180 degrees."""
+    p = bdf.params.get(name)
+    if p is None:
+        return default
+    v = p.values[0]
+    if isinstance(default, str):
+        return v
+    v = float(v)
+    if not math.isfinite(v):  # pyNastran reads "nan", which no "> 0" test stops
+        raise InputError(f"PARAM {name}: {v} is not a finite number")
+    if name == "SNORM" and v > 180:  # cos(radians(380)) is cos(20 degrees)
+        raise InputError(f"PARAM {name}: {v:g} degrees is more than 180, the largest angle "
+                         f"between two normals")
+    return v
+
+
+def _kinds(kind: str, cards: str) -> dict[str, str]:
+    return dict.fromkeys(cards.split(), kind)
+
+
+# cards whose field 1 is their own id, which NASTRAN requires (QRG), and what it numbers;
+# pyNastran's "eid = None (field #1)" named neither the card nor the line (nor the
+# INCLUDEd file: the main deck was blamed)
+_ID_FIELD = {
+    "GRID": "grid",
+    **_kinds("element (EID)", "CBAR CBEAM CROD CONROD CTUBE CELAS1 CELAS2 CELAS3 CELAS4 "
+                              "CMASS1 CMASS2 CMASS3 CMASS4 CONM1 CONM2 CBUSH CQUAD4 CTRIA3 "
+                              "CQUAD8 CTRIA6 CHEXA CPENTA CTETRA CPYRAM CSHEAR RBE2 RBAR RBE3 "
+                              "CRIGD1 CRIGD2 CRIGD3 CRIGDR"),
+    **_kinds("property (PID)", "PBAR PBARL PBEAM PBEAML PROD PTUBE PELAS PMASS PBUSH PSHELL "
+                               "PCOMP PCOMPG PSOLID PSHEAR"),
+    **_kinds("material (MID)", "MAT1 MAT8 MAT9"),
+    **_kinds("set (SID)", "SPC SPC1 SPCADD MPC MPCADD EIGRL EIGR"),
+    **_kinds("coordinate system (CID)", "CORD1R CORD1C CORD1S CORD2R CORD2C CORD2S"),
+}
+
+
+def _blank_ids(lines: list[str], origin: list, main: str) -> None:
+    """A card of _ID_FIELD whose id is blank, named by its file and line."""
     for text, (name, number) in zip(lines, origin, strict=True):
         m = _FIRST.match(text)
-        if m is None or m.group(1).upper() != "GRID":
+        kind = _ID_FIELD.get(m.group(1).upper()) if m else None
+        if kind is None:
             continue
         body = text.split("$")[0]
         if "," in body[:10]:
@@ -345,8 +391,9 @@ def _blank_grid_ids(lines: list[str], origin: list, main: str) -> None:
         else:
             ident = body[8:24] if m.group(2) else body[8:16]
         if not ident.strip():
-            raise InputError(f"{place(f'{name}:{number}', main)}: GRID: the id (field 1) is "
-                             f"blank; every grid needs an id")
+            raise InputError(f"{place(f'{name}:{number}', main)}: {m.group(1).upper()}: the "
+                             f"id (field 1) is blank; every {kind.split(' (')[0]} needs an id"
+                             + (f" ({kind.split(' (')[1]}" if " (" in kind else ""))
 
 
 def _free_field_overflow(lines: list[str], origin: list, path: Path) -> None:
@@ -429,6 +476,9 @@ def _blamed_card(text: str, lines: list[str], origin, main: str) -> str:
     """``line N: CARD id`` (``file:N`` in an included file) of the card pyNastran's message
     quotes (``card=['GRID', '2', ...]``), or "" when it quotes none."""
     m = re.search(r"card=\[\s*'([A-Za-z0-9]+)\*?'\s*,\s*'\s*(\d+)\s*'", text)
+    named = re.search(r"card=\[\s*'(PARAM)\*?'\s*,\s*'\s*([A-Za-z][A-Za-z0-9_]*)\s*'", text)
+    if named is not None:  # a PARAM is known by its name (SNORM = 'YES')
+        return _located("PARAM", named.group(2).upper(), lines, origin, main)
     if m is None:  # validate()'s messages name the card (PSHELL pid=1) or print it
         m = re.match(r"([A-Z][A-Z0-9]*) [a-z]+=(-?\d+)\b", text) or (re.search(
             r"^([A-Z][A-Z0-9]*)\*?(?: +|\s*,\s*)(-?\d+)\b", text.split("\n", 1)[-1],

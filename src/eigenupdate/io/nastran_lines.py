@@ -55,6 +55,7 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
         return sections[key]
 
     label, rod, ga, gb, g0, xv, wa, wb, sec = [], [], [], [], [], [], [], [], []
+    basic_v = []
     pins = []
     zero = np.zeros(3)
     for eid, e in sorted(bdf.elements.items()):
@@ -65,8 +66,9 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             if prop is None or prop.type not in {"PBAR": ("PBAR", "PBARL"),
                                                  "PBEAM": ("PBEAM", "PBEAML")}[ptype]:
                 raise InputError(f"{lab}: property {ptype} {e.pid} is not defined")
-            if str(e.offt) not in ("GGG", "1"):  # NASTRAN-95's F = 1: X is a vector, as GGG
-                raise InputError(f"{lab}: OFFT {e.offt} is not supported (only GGG)")
+            if str(e.offt) not in ("GGG", "BGG", "1"):  # NASTRAN-95's F = 1: as GGG
+                raise InputError(f"{lab}: OFFT {e.offt} is not supported (only GGG, BGG: "
+                                 f"offsets in the element system are not)")
             pin = np.zeros(12, bool)
             for end, flags in ((0, e.pa), (6, e.pb)):
                 pin[[end + int(c) - 1 for c in str(flags or "") if c != "0"]] = True
@@ -77,6 +79,7 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
             g0.append(-1 if e.g0 is None else grid(e.g0, lab))
             xv.append(zero if e.g0 is not None else e.x)
+            basic_v.append(str(e.offt) == "BGG")  # X in basic, not in GA's system
             # lumped mass too: the end masses sit at the offset ends, carried rigidly to
             # the grids (NASTRAN-95 mis/bard.f; tests/io/test_nastran_bar_offset_mass.py)
             wa.append(e.wa)
@@ -102,6 +105,7 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
             g0.append(-1)
             xv.append(zero)
+            basic_v.append(False)
             wa.append(zero)
             wb.append(zero)
         else:
@@ -120,6 +124,8 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     wb = np.einsum("nij,nj->ni", to_basic[gb], np.array(wb, float))
     xa, xb = xyz[ga] + wa, xyz[gb] + wb
     v = np.einsum("nij,nj->ni", to_basic[ga], np.array(xv, float))
+    basic_v = np.array(basic_v, bool)
+    v[basic_v] = np.array(xv, float)[basic_v]
     by_g0 = g0 >= 0
     v[by_g0] = xyz[g0[by_g0]] - xyz[ga[by_g0]]
     v[rod] = frame3d.any_normal((xb - xa)[rod])

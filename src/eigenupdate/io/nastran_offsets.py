@@ -60,8 +60,18 @@ def element_offsets(elems, labels: list[str], rows: list[dict]) -> np.ndarray:
         if p["laminate"] is None and not p["mid2"]:
             raise InputError(f"{lab}: ZOFFS = {value:g} needs MID2 (bending) on PSHELL "
                              f"{e.pid} (NASTRAN requires MID1 and MID2 with ZOFFS)")
+        if abs(value) > MAX_OFFSET * p["T"]:
+            raise InputError(f"{lab}: ZOFFS = {value:g} is more than {MAX_OFFSET:g} times the "
+                             f"thickness {p['T']:g}: the offset's z^2 A would swamp the bending "
+                             f"stiffness D (12 (z/T)^2 > 1e7) and rounding its digits away")
         z[i] = value
     return z
+
+
+MAX_OFFSET = 1000.0
+"""Largest |ZOFFS| / T: in grid-plane strains D becomes D + z^2 A, 12 (z/T)^2 times D,
+so 1000 T (1.2e7 D) leaves D to 3e-9 relative; 1e6 T would leave 3e-3, silently, and
+ZOFFS = 1e10 m made K indefinite, reported as a coordinate "with stiffness and no mass"."""
 
 
 def heights(rows: list[dict], zo: np.ndarray) -> list[dict]:
@@ -141,10 +151,18 @@ def unit_masses(elem, xyz: np.ndarray, lumped: bool, labels: list[str], zo: np.n
     return out
 
 
-def off_surface(rows: list[dict]) -> np.ndarray:
+def off_surface(rows: list[dict], labels: list[str], xyz: np.ndarray) -> np.ndarray:
     """(n,) whether an element's property has mass off its reference plane (a PCOMP's
-    plies of one material not centred on it: an unsymmetric stack, Z0 != -T/2)."""
-    return np.array([any(p["heights"].values()) for p in rows], dtype=bool)
+    plies of one material not centred on it: an unsymmetric stack, Z0 != -T/2); on a
+    CQUAD8/CTRIA6 with blank mid-side grids (NaN in ``xyz``) refused: the mass's moments
+    (:mod:`eigenupdate.model.shells_quadratic_mass`) are built for all nodes present."""
+    out = np.array([any(p["heights"].values()) for p in rows], dtype=bool)
+    holes = np.flatnonzero(out & np.isnan(xyz).any(axis=(1, 2)))
+    if holes.size:
+        raise InputError(f"{labels[holes[0]]}: blank mid-side grids with its property's mass "
+                         f"off its reference plane (an unsymmetric PCOMP or Z0 != -T/2) are "
+                         f"not supported")
+    return out
 
 
 SNORM = 0.0

@@ -132,13 +132,17 @@ def check_not_inputs(outputs: Mapping[str, PathLike | None],
 
 
 def check_files_in(directory: PathLike, names: Iterable[str], flag: str,
-                   inputs: Iterable[PathLike]) -> None:
-    """The files a run writes into an output directory: regular files, none an input."""
+                   inputs: Iterable[PathLike], own: Mapping[str, str | bytes] | None = None,
+                   force: bool = False) -> None:
+    """The files a run writes into an output directory: regular files, none an input,
+    and, if ``own`` (by name) is given, each replaced only as :func:`check_outputs` says."""
     paths = {f"{flag} {n}": Path(directory) / n for n in names}
     if Path(directory).is_dir():
         for f, p in paths.items():
             check_file(p, f)
     check_not_inputs(paths, inputs)
+    for n in names if own is not None else ():
+        check_replaceable(Path(directory) / n, f"{flag} {n}", own[n], force)
 
 
 def check_no_replaced(directory: PathLike, names: Iterable[str], flag: str) -> None:
@@ -151,21 +155,38 @@ def check_no_replaced(directory: PathLike, names: Iterable[str], flag: str) -> N
                                       f"directory, or --force to replace them")
 
 
-def check_replaceable(path: PathLike | None, flag: str, signature: str, force: bool) -> None:
-    """Refuse an existing ``path`` whose first line does not start with ``signature`` (the
-    first line this option writes) unless ``force``: an earlier output of the option is
-    replaced, another study's deck or plan is not."""
-    if path is None or force or not os.path.lexists(path):
-        return
+def schema_marker(schema: str) -> bytes:
+    """What a JSON document of ``schema`` (e.g. ``eigenupdate.update/2``) holds whatever
+    its version: the marker of its writer's earlier output (:func:`check_replaceable`)."""
+    return f'"schema": "{schema.rsplit("/", 1)[0]}/'.encode()
+
+
+def _is_own(path: PathLike, own: str | bytes) -> bool:
     try:
-        with open(path, encoding="utf-8", errors="replace") as f:
-            first = f.readline(len(signature) + 1)
+        with open(path, "rb") as f:
+            head = f.read(_SEEN)
+            if isinstance(own, str):
+                return head.decode("utf-8", "replace").startswith(own)
+            f.seek(max(0, os.fstat(f.fileno()).st_size - _SEEN))
+            return own in head or own in f.read(_SEEN)
     except OSError:
-        first = ""
-    if not first.startswith(signature):
-        raise _error(path, flag, f"exists and is not an earlier output of {flag} (its first "
-                                 f"line is not {signature!r}...): give a new name, or --force "
-                                 f"to replace it")
+        return False
+
+
+_SEEN = 8192  # bytes read at each end: a PDF's Creator is in its trailer
+
+
+def check_replaceable(path: PathLike | None, flag: str, own: str | bytes, force: bool) -> None:
+    """Refuse an existing ``path`` that is not an earlier output of ``flag`` unless
+    ``force``: its first line starts with ``own`` (a str: a signature line) or its first or
+    last 8 KiB hold ``own`` (bytes: a JSON schema, a figure's Creator). An earlier output
+    of the option is replaced; another study's deck, plan or measurements are not."""
+    if path is None or force or not os.path.lexists(path) or _is_own(path, own):
+        return
+    what = (f"its first line is not {own!r}..." if isinstance(own, str)
+            else f"it holds no {own.decode()!r}")
+    raise _error(path, flag, f"exists and is not an earlier output of {flag} ({what}): give "
+                             f"a new name, or --force to replace it")
 
 
 def write_stdout(text: str, out) -> str | None:
@@ -186,9 +207,14 @@ def write_stdout(text: str, out) -> str | None:
     return None
 
 
-def check_outputs(outputs: Mapping[str, PathLike | None], inputs: Iterable[PathLike]) -> None:
-    """Refuse, before any work, output files (by flag) that cannot be written or are
-    among the run's ``inputs``."""
+def check_outputs(outputs: Mapping[str, PathLike | None], inputs: Iterable[PathLike],
+                  own: Mapping[str, str | bytes], force: bool = False) -> None:
+    """The rule of every command's output files, checked before any work: each (by flag)
+    is a regular file that can be written, none is among the run's ``inputs`` (--force
+    or not), and one that exists is replaced only if it is the flag's own earlier output
+    (``own[flag]``, see :func:`check_replaceable`) or with ``force``."""
     for flag, path in outputs.items():
         check_file(path, flag)
     check_not_inputs(outputs, inputs)
+    for flag, path in outputs.items():
+        check_replaceable(path, flag, own[flag], force)

@@ -68,6 +68,9 @@ mesh two elements' offset nodes at a shared grid may differ by the angle between
 normals there times z (zero on a flat mesh; 0.028 rad between neighbours on a cylinder
 of eight CQUAD8 round, 45 degrees each, falling as the cube of the element's angle).
 
+Blank mid-side nodes (NaN coordinates): the transition elements of
+:mod:`~eigenupdate.model.shells_transition`, whose shear tying replaces the above.
+
 Laminates: the membrane-bending coupling (N = A eps + B kappa, M = B eps + D kappa) is
 integrated on the membrane's points (CQUAD8 2 x 2, CTRIA6 3), so a membrane strain state
 of no energy there (a flat CQUAD8's spurious mode) does no coupling work, and the bending
@@ -90,6 +93,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.model import shells
+from eigenupdate.model import shells_transition as transition
 
 STIFFNESS_PARTS = shells.STIFFNESS_PARTS
 K6ROT = shells.K6ROT
@@ -125,21 +129,6 @@ _RULES = {8: {"full": _gauss(3), "shear": _gauss(2)},
 # CQUAD8's shear is tied (MITC, below) and integrated on the full rule
 RULE_PARTS = {8: (("full", ("bending", "drilling", "shear")), ("shear", ("membrane",))),
               6: (("full", ("bending", "drilling")), ("shear", ("shear", "membrane")))}
-
-TYING_A = 1 / np.sqrt(3.0)
-_TYING = [(-TYING_A, -1.0), (TYING_A, -1.0), (-TYING_A, 1.0), (TYING_A, 1.0)]
-_TYING_POWERS = [(0, 0), (1, 0), (0, 1), (1, 1), (0, 2)]  # e_rt in 1, r, s, rs, s^2
-# rows: the values at the edge points, then the mean over the square
-_TYING_INV = np.linalg.inv(np.array([[r**i * s**j for i, j in _TYING_POWERS]
-                                     for r, s in _TYING]
-                                    + [[1.0, 0.0, 0.0, 0.0, 1 / 3]]))
-
-
-def _lagrange(p: float, q: float) -> np.ndarray:
-    """Weights of e_rt's four edge values and its mean giving it at (r, s) = (p, q)
-    (e_st's: ``_lagrange(s, r)``)."""
-    return np.array([p**i * q**j for i, j in _TYING_POWERS]) @ _TYING_INV
-
 
 def shape(k: int, p: float, q: float) -> tuple[np.ndarray, np.ndarray]:
     """Shape functions N (k,) and natural gradients (2, k) of CQUAD8 (k = 8, at xi, eta
@@ -200,7 +189,7 @@ def geometry(xyz: np.ndarray, labels: list[str] | None = None
     (n, k, 3): CQUAD8's own nodes and its surface's normals at them; CTRIA6's nodes
     projected on the plane of its corners and that plane's normal (a mid-side node
     further than :data:`MAX_OFFSET` from it is an :class:`InputError`)."""
-    xyz = np.asarray(xyz, float)
+    xyz = transition.fill(xyz)[0]
     if xyz.shape[1] != 6:
         return xyz, directors(xyz, labels)
     off, z, rel = _plane_offsets(xyz, labels)
@@ -218,6 +207,7 @@ def _plane_offsets(xyz: np.ndarray, labels: list[str] | None = None
                    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """CTRIA6 nodes' distances (n, 6) from their corners' plane, its unit normal (n, 3)
     and the largest distance over sqrt(area) (n,); a zero area is an InputError."""
+    xyz = transition.fill(xyz)[0]
     c = xyz[:, :3]
     z = np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0])
     area2 = np.linalg.norm(z, axis=1)
@@ -280,7 +270,7 @@ def directors(xyz: np.ndarray, labels: list[str] | None = None) -> np.ndarray:
     reversed Jacobian at a node or an integration point (nodes out of order, a
     mid-side node outside the middle half of its edge, a zero area) is an
     :class:`InputError` naming the element."""
-    xyz = np.asarray(xyz, float)
+    xyz = transition.fill(xyz)[0]
     n, k = xyz.shape[:2]
     if k == 8:
         nat = list(zip(_QXI, _QETA, strict=True))
@@ -308,27 +298,36 @@ def directors(xyz: np.ndarray, labels: list[str] | None = None) -> np.ndarray:
     return out
 
 
-def _point(xyz, V, k, p, q):
-    """At one natural point: N (k,), the local axes (n, 3, 3), the local gradients
-    G (n, 2, k), det J (n,), the interpolated director and its gradients."""
+def _point(xyz, V, k, p, q, C=None):
+    """At one natural point: N (n, k), the local axes (n, 3, 3), the local gradients
+    G (n, 2, k), det J (n,), the interpolated director and its gradients; with ``C``
+    (:func:`~eigenupdate.model.shells_transition.tie`), the transition element's."""
     N, dn = shape(k, p, q)
-    a = np.einsum("ak,nkb->nab", dn, xyz)
+    n = xyz.shape[0]
+    if C is None:
+        N, dn = np.broadcast_to(N, (n, k)), np.broadcast_to(dn, (n, 2, k))
+    else:
+        N, dn = N @ C, np.einsum("ak,nkj->naj", dn, C)
+    a = np.einsum("nak,nkb->nab", dn, xyz)
     R = _frame(a, k)
     J = np.einsum("nab,ncb->nac", a, R[:, :2])  # J[a, b] = a_a . e_b
     det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
-    G = np.linalg.solve(J, np.broadcast_to(dn, (xyz.shape[0],) + dn.shape))
-    return N, R, G, det, np.einsum("k,nkb->nb", N, V), np.einsum("nak,nkb->nab", G, V), J
+    G = np.linalg.solve(J, dn)
+    return N, R, G, det, np.einsum("nk,nkb->nb", N, V), np.einsum("nak,nkb->nab", G, V), J
 
 
-def _tied_shear(xyz, V, k, mean):
-    """CQUAD8's covariant transverse shear strains (n, 5, 6k): e_rt at the four edge
-    points of :data:`_TYING` and its ``mean`` (n, 2, 6k: e_rt, e_st) over the natural
-    square, then e_st's (r, s swapped)."""
+def _tied_shear(xyz, V, k, mean, C=None):
+    """CQUAD8's covariant transverse shear strains (n, 7, 6k): e_rt at the edge points
+    of :data:`~eigenupdate.model.shells_transition.POINTS` and its ``mean`` (n, 2, 6k:
+    e_rt, e_st) over the natural square, then e_st's (r, s swapped)."""
     out = []
     for row in (0, 1):
         rows = []
-        for r, s in _TYING:
-            N, R, G, _, Vp, dV, J = _point(xyz, V, k, *((r, s) if row == 0 else (s, r)))
+        for r, s in transition.POINTS:
+            if C is None and r == 0:  # MITC4's points: only where a mid-side node is blank
+                rows.append(np.zeros_like(mean[:, row]))
+                continue
+            N, R, G, _, Vp, dV, J = _point(xyz, V, k, *((r, s) if row == 0 else (s, r)), C)
             # covariant = J Cartesian: a_r . beta + V . u,r with the tangent a_r
             rows.append((J @ _b_matrices(N, R, G, Vp, dV, V)["shear"])[:, row])
         out.append(np.stack(rows + [mean[:, row]], axis=1))
@@ -350,9 +349,9 @@ def _b_matrices(N, R, G, Vp, dV, V):
     bb[:, 1, :, 3:], bb[:, 1, :, :3] = gy * vy, gy * dV[:, None, 1]
     bb[:, 2, :, 3:] = gy * vx + gx * vy
     bb[:, 2, :, :3] = gy * dV[:, None, 0] + gx * dV[:, None, 1]
-    bs[:, 0, :, 3:], bs[:, 0, :, :3] = N[:, None] * vx, gx * Vp[:, None]
-    bs[:, 1, :, 3:], bs[:, 1, :, :3] = N[:, None] * vy, gy * Vp[:, None]
-    bd[:, 0, :, 3:] = N[:, None] * ez[:, None]
+    bs[:, 0, :, 3:], bs[:, 0, :, :3] = N[:, :, None] * vx, gx * Vp[:, None]
+    bs[:, 1, :, 3:], bs[:, 1, :, :3] = N[:, :, None] * vy, gy * Vp[:, None]
+    bd[:, 0, :, 3:] = N[:, :, None] * ez[:, None]
     bd[:, 0, :, :3] = -0.5 * (gx * ey[:, None] - gy * ex[:, None])
     return {name: b.reshape(n, b.shape[1], 6 * k) for name, b in
             (("membrane", bm), ("bending", bb), ("shear", bs), ("drilling", bd))}
@@ -366,10 +365,12 @@ def offset_geometry(xyz: np.ndarray, offset: np.ndarray | None = None,
     corners' normal) and the directors, unchanged (the fibres through the grids).
     A reference surface folded over (an offset beyond a curved element's radius) is
     an :class:`InputError`, as a zero or reversed Jacobian on it."""
+    present = transition.fill(xyz)[1]
     xyz, V = geometry(xyz, labels)
     if offset is None or not np.any(offset):
         return xyz, V
-    xyz = xyz + np.asarray(offset, float)[:, None, None] * V
+    # a blank mid-side node stays at its (moved) edge's middle: a straight edge
+    xyz = transition.refill(xyz + np.asarray(offset, float)[:, None, None] * V, present)
     turned = np.flatnonzero(np.min(np.sum(directors(xyz, labels) * V, axis=2), axis=1) <= 0)
     if turned.size:
         raise InputError(f"{_name(labels, turned[0])}: ZOFFS = {offset[turned[0]]:g} turns "
@@ -393,8 +394,9 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     part ``coupling`` (T^2) on the membrane's points, and the bending split (module
     docstring, "Laminates"), B A^-1 B from ``membrane`` and ``coupling``: per unit of
     the bending's factor when that equals the membrane's, as a PCOMP's (E1 = E2)."""
-    real = np.asarray(xyz, float)
+    real, present = transition.fill(xyz)
     n, k = real.shape[:2]
+    C = None if present is None else transition.tie(present)
     xyz, V = offset_geometry(real, offset, labels)
     T = _offset_links(real, xyz)
     cm, cb, cs = (np.broadcast_to(np.asarray(c, float), (n,) + np.shape(c)[-2:])
@@ -405,18 +407,34 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     points = []
     for rule, names in RULE_PARTS[k]:
         for p, q, weight in _RULES[k][rule]:
-            N, R, G, det, Vp, dV, J = _point(xyz, V, k, p, q)
+            N, R, G, det, Vp, dV, J = _point(xyz, V, k, p, q, C)
             points.append((names, p, q, weight * det, _b_matrices(N, R, G, Vp, dV, V), J))
     if k == 8:  # MITC: the tied covariant strains, turned to the element axes
         full = _RULES[8]["full"]  # the first points: their mean over the square (area 4)
         mean = sum(w * (J @ b["shear"]) for (*_, b, J), (_, _, w)
                    in zip(points[:len(full)], full, strict=True)) / 4.0
-        tied = _tied_shear(xyz, V, k, mean)
+        tied = _tied_shear(xyz, V, k, mean, C)
         for names, p, q, _, b, J in points:
             if "shear" in names:
-                cov = np.stack([np.einsum("t,ntj->nj", _lagrange(p, q), tied[0]),
-                                np.einsum("t,ntj->nj", _lagrange(q, p), tied[1])], axis=1)
+                w = transition.tying_weights(present, p, q)
+                sub = "t,ntj->nj" if present is None else "nt,ntj->nj"
+                w = w[0] if present is None else w
+                cov = np.stack([np.einsum(sub, w[..., 0, :], tied[0]),
+                                np.einsum(sub, w[..., 1, :], tied[1])], axis=1)
                 b["shear"] = np.linalg.solve(J, cov)
+    if k == 6 and present is not None:  # transition CTRIA6: tied shear, MITC3-like
+        tr = ~present.all(axis=1)[:, None, None]
+        t = transition.tangents()
+        tied = []
+        for i, (_, (r, s)) in enumerate(transition.TRIA_POINTS):
+            N, R, G, _, Vp, dV, J = _point(xyz, V, k, r, s, C)
+            tied.append(t[i] @ (J @ _b_matrices(N, R, G, Vp, dV, V)["shear"]))
+        tied = np.stack(tied, axis=1)  # (n, 9, 6k)
+        for names, p, q, _, b, J in points:
+            if "shear" in names:
+                cov = np.einsum("nat,ntj->naj", transition.tria_tying_weights(present, p, q),
+                                tied)
+                b["shear"] = np.where(tr, np.linalg.solve(J, cov), b["shear"])
     if coupling is not None:
         cc = np.broadcast_to(np.asarray(coupling, float), (n, 3, 3))
         split = cc @ np.linalg.solve(cm, cc)  # B A^-1 B per unit T^3, as cb
@@ -472,13 +490,14 @@ def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None,
     >>> round(float(shell_mass(x, True)[0, 0, 0] * 76 / 2), 12)
     3.0
     """
-    real = np.asarray(xyz, float)
+    real, present = transition.fill(xyz)
     n, k = real.shape[:2]
+    C = None if present is None else transition.tie(present)
     xyz, V = offset_geometry(real, offset, labels)
     m = np.zeros((n, k, k))
     for p, q, weight in _RULES[k]["full"]:
-        N, _, _, det, _, _, _ = _point(xyz, V, k, p, q)
-        m += (weight * det)[:, None, None] * np.outer(N, N)
+        N, _, _, det, _, _, _ = _point(xyz, V, k, p, q, C)
+        m += (weight * det)[:, None, None] * N[:, :, None] * N[:, None, :]
     if lumped:
         d = np.einsum("nii->ni", m)
         d = d * (m.sum(axis=(1, 2)) / d.sum(axis=1))[:, None]
@@ -494,11 +513,10 @@ def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None,
 def stabilisation_size(xyz: np.ndarray) -> np.ndarray:
     """h_e (n,) of :func:`eigenupdate.model.shells.shear_thickness`: half a CTRIA6's
     longest corner-to-corner edge, 0 for a CQUAD8 (MITC8 shear needs none)."""
-    xyz = np.asarray(xyz, float)
+    xyz, present = transition.fill(xyz)
     if xyz.shape[1] == 8:
         return np.zeros(xyz.shape[0])
-    c = xyz[:, :3]
-    return np.max(np.linalg.norm(c - np.roll(c, 1, axis=1), axis=2), axis=1) / 2
+    return transition.edge_spacing(xyz, present)
 
 
 def pshell_matrices(xyz: np.ndarray, T: np.ndarray, membrane: np.ndarray,

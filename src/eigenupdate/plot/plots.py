@@ -89,11 +89,17 @@ def fit_title(text: str, fig: Figure, size_pt: float) -> str:
     return "\n".join(textwrap.fill(line, chars) for line in text.splitlines())
 
 
+FIGURE_CREATOR = "eigenupdate figure"
+"""The Creator of every figure file (PNG text chunk, SVG dc:creator, PDF Info): what
+makes it an earlier output that a command may replace without --force."""
+
+
 def _save(fig: Figure, path: str | os.PathLike[str]) -> Path:
     fmt = _format(path)
     if not Path(path).parent.is_dir():
         raise InputError("directory does not exist", source=str(path))
-    atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=_DPI))
+    atomic_write(path, lambda tmp: fig.savefig(tmp, format=fmt, dpi=_DPI,
+                                               metadata={"Creator": FIGURE_CREATOR}))
     return Path(path)
 
 

@@ -49,6 +49,10 @@ from eigenupdate.report import figures
 from eigenupdate.report.data import ReportData
 from eigenupdate.report.page import Section, figure_image, plot_image, table
 
+GENERATOR = '<meta name="generator" content="eigenupdate report">'
+"""A line of the template's head: what makes a page an earlier output of ``report -o``."""
+
+
 PathLike = str | os.PathLike
 TEMPLATES = Path(__file__).with_name("templates")
 

@@ -18,6 +18,10 @@ from eigenupdate.measure.modes import Mode
 __all__ = ["read_modes", "write_modes"]
 
 
+MODE_ID = "eigenupdate normal mode"
+"""ID line 1 of every mode written: what makes a file an earlier ``extract --uff55``."""
+
+
 def write_modes(path: PathLike, modes: Sequence[Mode]) -> None:
     """Write normal modes as datasets 55 (analysis type 2) to a universal file.
 
@@ -42,7 +46,7 @@ def write_modes(path: PathLike, modes: Sequence[Mode]) -> None:
         cols = {f"r{j + 1}": shape[:, j].copy() for j in range(shape.shape[1])}
         dsets.append(
             pyuff.prepare_55(
-                id1="eigenupdate normal mode",
+                id1=MODE_ID,
                 id2=f"mode {mode.mode_number or k}",
                 id3=mode.label[:80] or "NONE",
                 id4="NONE",

@@ -1,6 +1,7 @@
-"""MSC's RBE1 (a rigid body whose six independent components lie on several grids) and
+"""MSC's RBE1 (a rigid body whose six independent components lie on several grids),
 RROD (a rod rigid in extension) against other cards that state the same constraint:
-an RBE2 on the same grids, an MPC written by hand, and a closed form.
+an RBE2 on the same grids, an MPC written by hand, and a closed form; and CBAR's OFFT
+BGG (its orientation vector in basic) against GGG.
 
 Run for real in .venv-nastran (``make test``); skipped in the core environment."""
 
@@ -92,3 +93,19 @@ def test_bad_rbe1_and_rrod_refused(tmp_path, card, message):
     """Bad input: one line naming the card and the problem."""
     with pytest.raises(InputError, match=message):
         read_nastran(_deck(tmp_path, BODY + card, "bad.bdf"))
+
+
+def test_cbar_orientation_in_basic_bgg(tmp_path):
+    """Source: MSC QRG CBAR, OFFT's first letter: X in GA's displacement system (G) or in
+    basic (B). GA's CD turns basic by 90 degrees about z (x_cd = y_basic): a bar whose X is
+    (0, 1, 1) in basic under BGG is the bar whose X is (1, 0, 1) in that CD under GGG, and
+    not the one with (0, 1, 1) under GGG."""
+    common = ("CORD2R,5,,0.,0.,0.,0.,0.,1.\n,0.,1.,0.\n"  # x_cd = (0,1,0), y_cd = (-1,0,0)
+              "GRID,1,,0.,0.,0.,5\nGRID,2,,2.,0.3,0.1\nPBAR,1,1,1.e-4,2.e-9,5.e-9,3.e-9\n"
+              "MAT1,1,2.e11,,0.3,7850.\n")
+    bgg = read_nastran(_deck(tmp_path, common + "CBAR,9,1,1,2,0.,1.,1.,BGG\n", "a.bdf")).model
+    ggg = read_nastran(_deck(tmp_path, common + "CBAR,9,1,1,2,1.,0.,1.,GGG\n", "b.bdf")).model
+    wrong = read_nastran(_deck(tmp_path, common + "CBAR,9,1,1,2,0.,1.,1.\n", "c.bdf")).model
+    a, b, c = (m.stiffness().toarray() for m in (bgg, ggg, wrong))
+    assert np.abs(a - b).max() <= 1e-12 * np.abs(a).max()
+    assert np.abs(a - c).max() > 1e-6 * np.abs(a).max()  # the bending terms (EI << EA L^2)

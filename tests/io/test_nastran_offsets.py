@@ -335,16 +335,3 @@ def test_written_bdf_keeps_zoffs(tmp_path, triangles):
     for a, b in ((nm.model.stiffness([1.1 * H]), again.stiffness()),
                  (nm.model.mass([1.1 * H]), again.mass())):
         assert abs(a - b).max() <= 1e-12 * abs(b).max()
-
-
-def test_shifted_pcomp_on_cquad8_is_refused(tmp_path):
-    """A stack off its reference plane (Z0 != -T/2) is an offset: refused on CQUAD8,
-    naming the property."""
-    grids = [f"GRID,{i + 1},,{x!r},{y!r},0." for i, (x, y) in enumerate(
-        [(0., 0.), (1., 0.), (1., 1.), (0., 1.), (.5, 0.), (1., .5), (.5, 1.), (0., .5)])]
-    path = tmp_path / "q.bdf"
-    path.write_text("BEGIN BULK\nPCOMP,1,0.\n,1,.01,0.\n" + STEEL + "\n".join(grids)
-                    + "\nCQUAD8,1,1,1,2,3,4,5,6\n,7,8\nENDDATA\n")
-    with pytest.raises(InputError, match=r"PCOMP 1: Z0 = 0 != -T/2 .* not supported on "
-                                         r"CQUAD8/CTRIA6"):
-        _read(path)

@@ -1,8 +1,9 @@
 """Unsymmetric PCOMP (membrane-bending coupling B) read from a deck: the antisymmetric
 cross-ply plate against the same elements built directly and against the Navier
 solution of laminate theory with coupling, MAT1 E of an offset one-material laminate as
-a parameter (finite differences of re-read decks), and the refusals (ply thickness
-parameters, CQUAD8/CTRIA6). Runs in .venv-nastran (pyNastran)."""
+a parameter (finite differences of re-read decks), and the refusal of ply thickness
+parameters (CQUAD8/CTRIA6: test_nastran_quadratic_coupling.py). Runs in .venv-nastran
+(pyNastran)."""
 
 from __future__ import annotations
 
@@ -113,14 +114,3 @@ def test_ply_thickness_of_an_unsymmetric_pcomp_is_refused(tmp_path):
     with pytest.raises(InputError, match="PCOMP 1: membrane-bending coupling .* with a ply "
                                          "thickness parameter"):
         _read(path, [(Parameter("t", 0.0), CardField("PCOMP", 1, "T1"))])
-
-
-def test_unsymmetric_pcomp_on_cquad8_is_refused(tmp_path):
-    """CQUAD8/CTRIA6 have no coupling part: refused, naming the card."""
-    lines = ["GRID,1,,0.,0.,0.", "GRID,2,,1.,0.,0.", "GRID,3,,1.,1.,0.", "GRID,4,,0.,1.,0.",
-             "GRID,5,,.5,0.,0.", "GRID,6,,1.,.5,0.", "GRID,7,,.5,1.,0.", "GRID,8,,0.,.5,0.",
-             "CQUAD8,1,1,1,2,3,4,5,6\n,7,8"]
-    path = tmp_path / "q8.bdf"
-    path.write_text("BEGIN BULK\n" + CROSS_PLY + "\n".join(lines) + "\nENDDATA\n")
-    with pytest.raises(InputError, match="PCOMP 1: membrane-bending coupling .* CQUAD8/CTRIA6"):
-        _read(path)

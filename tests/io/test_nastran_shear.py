@@ -182,14 +182,14 @@ def test_written_bdf_keeps_the_new_thickness(tmp_path):
 
 
 @pytest.mark.parametrize(("pshear", "fields", "words"), [
-    (f"PSHEAR,1,1,{T!r},,0.5\n", (), r"PSHEAR 1: F1 = 0.5 \(extensional effectiveness"),
+    (f"PSHEAR,1,1,{T!r},,-0.5\n", (), r"PSHEAR 1: F1 = -0.5 \(extensional effectiveness"),
     (f"PSHEAR,1,1,{T!r}\n", [("PSHEAR", 1, "T"), ("MAT1", 1, "RHO")],
      r"PSHEAR 1 field T and MAT1 1 field RHO: both parameters of one shear panel"),
     ("PSHEAR,1,7,0.002\nMAT8,7,1.e11,1.e10,.3,5.e9\n", (),
      r"PSHEAR 1: material 7 is MAT8 \(MAT1 only\)"),
 ])
 def test_unsupported_pshear_is_refused(tmp_path, pshear, fields, words):
-    """One line naming the card and field: F1/F2 (MSC's effective edge rods, not built),
+    """One line naming the card and field: a negative F1 (MSC: F1 >= 0),
     PSHEAR T with its MAT1 RHO or E (their product), a MAT8."""
     path = framed(tmp_path / "p.bdf", 1e4 * G * T * A, pshear=pshear)
     with pytest.raises(InputError, match=words):

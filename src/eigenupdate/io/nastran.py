@@ -283,7 +283,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
                        _param(bdf, "K6ROT", shells.K6ROT), pindex, values, k0, m0, kj, mj,
                        extra, offsets.curvature(bdf, grid, xyz, nids.size,
                                                   _param(bdf, "SNORM", offsets.SNORM)))
-    assemble_shear(bdf, grid, xyz, frames, nids.size, wtmass, pindex, values, k0, m0, kj, mj)
+    assemble_shear(bdf, grid, xyz, frames, wtmass, pindex, values, k0, m0, kj, mj, extra)
     assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj)
     assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
     assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj)

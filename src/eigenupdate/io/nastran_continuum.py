@@ -355,13 +355,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                 :, None] + theta[None, :])
             shift, card = z0 + Tp / 2, props[pid]["card"]
             if abs(shift) > 1e-12 * Tp:
-                if k in SHELL_EDGES:
-                    raise InputError(f"{card} {pid}: Z0 = {z0:g} != -T/2 (a stack off the "
-                                     f"reference plane) is not supported on CQUAD8/CTRIA6")
                 zk[sel] += shift
             big = np.abs(B).max(axis=(1, 2)) > 1e-9 * np.abs(A).max(axis=(1, 2)) * Tp
-            why = ("on CQUAD8/CTRIA6" if k in SHELL_EDGES else "on CQUADR/CTRIAR" if
-                   drilling else "with a ply thickness "
+            why = ("on CQUADR/CTRIAR" if drilling else "with a ply thickness "
                    "parameter" if ("PCOMP", pid) in pindex else "")
             if big.any() and why:
                 raise InputError(f"{card} {pid}: membrane-bending coupling (an unsymmetric "
@@ -375,8 +371,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
              "shear": G3 * shells.shear_thickness(T, size),
              shells.COUPLING: np.where(np.abs(cc).max(axis=(1, 2)) > 0, E1 * T**2, 0.0)}
     mass = offsets.mass_moments(rows, zo, wtmass)  # (3, n): m0, m1, m2
-    if k in SHELL_EDGES:
-        offsets.flat_mass(rows, labels)
+    off = offsets.off_surface(rows, labels, xyz_e)
     deriv_k: list[dict] = [{} for _ in kj]
     deriv_m: list = [None for _ in mj]
     mids = {q: np.array([p[q] for p in rows]) for q in ("mid1", "mid2", "mid3")}
@@ -440,7 +435,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         # a node's lumped block m I is the same in any axes, but the coupled mass's
         # blocks between grids with different CD axes (cylindrical) are not
         m = [_to_cd(x, frames, nodes[s], 6) for x in offsets.unit_masses(
-            elem, xyz_e[s], lumped, labels[s], zo[s], mass[:, s])]
+            elem, xyz_e[s], lumped, labels[s], zo[s], mass[:, s], bool(off[s].any()))]
 
         def moved(c):  # sum of c[i] (n,) times the mass of moment i
             return sum(c[i][s, None, None] * m[i] for i in range(len(m)))

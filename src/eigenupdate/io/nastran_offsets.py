@@ -2,7 +2,8 @@
 :mod:`eigenupdate.io.nastran_continuum` (the formulation: :mod:`eigenupdate.model.
 shell_offsets` for CQUAD4/CTRIA3, :func:`eigenupdate.model.shells_quadratic.
 offset_geometry` for CQUAD8/CTRIA6: the element on its reference surface, rigidly linked
-to the grids, stiffness and mass alike).
+to the grids, stiffness and mass alike; a CQUAD8's or CTRIA6's mass off that surface:
+:mod:`eigenupdate.model.shells_quadratic_mass`).
 
 The mass per area is a sum over components (each material of the property, its plies at
 their centroid; NSM on the reference plane) of m_i at height H_i along the normal from
@@ -21,7 +22,13 @@ import numpy as np
 
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_fields import in_range
-from eigenupdate.model import rigid_links, shell_normals, shell_offsets, shells
+from eigenupdate.model import (
+    rigid_links,
+    shell_normals,
+    shell_offsets,
+    shells,
+    shells_quadratic_mass,
+)
 from eigenupdate.model import shells_quadratic as quadratic
 
 
@@ -104,7 +111,8 @@ def stiffness_parts(elem, xyz: np.ndarray, cm, cb, cs, k6rot: float, labels: lis
     module) of elements whose reference plane lies ``zk`` (n,) from their grids."""
     if elem is quadratic:  # its blocks are global: the offset enters its geometry
         return quadratic.local_parts(xyz, cm, cb, cs, k6rot, labels,
-                                     offset=zk if np.any(zk) else None)
+                                     offset=zk if np.any(zk) else None,
+                                     coupling=kw.get("coupling"))
     R, parts = elem.local_parts(xyz, cm, cb, cs, k6rot, labels, **kw)
     if xyz.shape[1] == 4:
         _warn_warp(xyz, R, labels)
@@ -128,10 +136,13 @@ def _warn_warp(xyz: np.ndarray, R: np.ndarray, labels: list[str]) -> None:
 
 
 def unit_masses(elem, xyz: np.ndarray, lumped: bool, labels: list[str], zo: np.ndarray,
-                moments: np.ndarray) -> list:
+                moments: np.ndarray, off_surface: bool = False) -> list:
     """The masses per unit m0, m1, m2 (:func:`mass_moments`; global axes): CQUAD4's and
     CTRIA3's translation, first and second moment; a quadratic element's translation
-    on its reference surface alone (its mass all lies there: :func:`flat_mass`)."""
+    on its reference surface, or with ``off_surface`` (a property's mass off it,
+    :func:`off_surface`) its three of :mod:`eigenupdate.model.shells_quadratic_mass`."""
+    if elem is quadratic and off_surface:
+        return shells_quadratic_mass.unit_masses(xyz, lumped, labels, zo)
     if elem is quadratic:
         return [quadratic.shell_mass(xyz, lumped, labels, zo if np.any(zo) else None)]
     out = [shells.shell_mass(xyz, lumped, labels)]
@@ -140,15 +151,18 @@ def unit_masses(elem, xyz: np.ndarray, lumped: bool, labels: list[str], zo: np.n
     return out
 
 
-def flat_mass(rows: list[dict], labels: list[str]) -> None:
-    """Refuse on CQUAD8/CTRIA6 a property whose materials' mass lies off its reference
-    plane (a PCOMP's plies of one material not symmetric about its mid-plane): these
-    elements carry their mass on the reference surface."""
-    for p, lab in zip(rows, labels, strict=True):
-        if any(p["heights"].values()):
-            raise InputError(f"{lab}: its property's mass is not symmetric about its "
-                             f"mid-plane (a first mass moment), not supported on "
-                             f"CQUAD8/CTRIA6")
+def off_surface(rows: list[dict], labels: list[str], xyz: np.ndarray) -> np.ndarray:
+    """(n,) whether an element's property has mass off its reference plane (a PCOMP's
+    plies of one material not centred on it: an unsymmetric stack, Z0 != -T/2); on a
+    CQUAD8/CTRIA6 with blank mid-side grids (NaN in ``xyz``) refused: the mass's moments
+    (:mod:`eigenupdate.model.shells_quadratic_mass`) are built for all nodes present."""
+    out = np.array([any(p["heights"].values()) for p in rows], dtype=bool)
+    holes = np.flatnonzero(out & np.isnan(xyz).any(axis=(1, 2)))
+    if holes.size:
+        raise InputError(f"{labels[holes[0]]}: blank mid-side grids with its property's mass "
+                         f"off its reference plane (an unsymmetric PCOMP or Z0 != -T/2) are "
+                         f"not supported")
+    return out
 
 
 SNORM = 0.0

@@ -1,4 +1,5 @@
-"""The shear panel (NASTRAN's CSHEAR with PSHEAR F1 = F2 = 0), vectorised.
+"""The shear panel (NASTRAN's CSHEAR with PSHEAR), vectorised; PSHEAR F1/F2's edge rods
+(MSC's and NX's, absent from NASTRAN-95) in :func:`edge_rod_stiffness`.
 
 Formulation: NASTRAN-95's (mis/sheard.f, the EMG stiffness; mis/kpanel.f is the same
 with another branch threshold), after Garvey's theory of tapered shear panels. The panel
@@ -170,3 +171,47 @@ def shear_mass(xyz: np.ndarray) -> np.ndarray:
         for c in range(3):
             m[:, 3 * i + c, 3 * i + c] = (tri + whole) / 6
     return m
+
+
+EFFECTIVE_WIDTH = 1.01
+"""MSC's PSHEAR remark: F <= 1.01 is an effectiveness factor (edge rods of area
+F T PA / (L12 + L34)), F > 1.01 an effective width in thicknesses (area F T^2 / 2)."""
+
+EDGES = ((0, 1), (1, 2), (2, 3), (3, 0))  # 1-2, 2-3, 3-4, 4-1: F1, F2, F1, F2
+
+
+def edge_rod_stiffness(xyz: np.ndarray, f1: np.ndarray, f2: np.ndarray
+                       ) -> tuple[np.ndarray, np.ndarray]:
+    """The extensional stiffness of PSHEAR F1/F2 (MSC's and NX's convention, QRG PSHEAR
+    remark: rods on the panel's edges, Poisson coupling ignored, no mass of their own) on
+    the corners' translations (basic axes): (per unit E T, per unit E T^2), each
+    (n, 12, 12). An edge of effectiveness factor F <= 1.01 on edges 1-2 and 3-4 (F1; F2
+    on 2-3 and 4-1) is a rod of area F T PA / (L12 + L34), PA the panel's area (half
+    |G1G3 x G2G4|): F1 = 1 on a rectangle a x b (a along 1-2) is two rods of T b / 2,
+    the whole section E T b / a in extension along 1-2. F > 1.01 is an effective width:
+    area F T^2 / 2. The rods run between the grids (as CRODs would).
+
+    >>> x = np.array([[[0., 0, 0], [2, 0, 0], [2, 1, 0], [0, 1, 0]]])
+    >>> lin, quad = edge_rod_stiffness(x, np.array([1.0]), np.array([0.0]))
+    >>> u = np.zeros(12); u[3] = u[6] = 0.1  # grids 2 and 3 move 0.1 along x
+    >>> round(float(u @ lin[0] @ u), 12), float(np.abs(quad).max())  # (T b / a) 0.1^2
+    (0.005, 0.0)
+    """
+    xyz = np.asarray(xyz, float)
+    n = xyz.shape[0]
+    pa = np.linalg.norm(np.cross(xyz[:, 2] - xyz[:, 0], xyz[:, 3] - xyz[:, 1]), axis=1) / 2
+    vec = [xyz[:, b] - xyz[:, a] for a, b in EDGES]
+    length = np.stack([np.linalg.norm(v, axis=1) for v in vec], axis=1)
+    lin, quad = np.zeros((n, 12, 12)), np.zeros((n, 12, 12))
+    for k, (a, b) in enumerate(EDGES):
+        f = np.broadcast_to(np.asarray(f1 if k % 2 == 0 else f2, float), (n,))
+        factor = f <= EFFECTIVE_WIDTH
+        per_t = np.where(factor, f * pa / (length[:, k] + length[:, (k + 2) % 4]), 0.0)
+        per_t2 = np.where(factor, 0.0, 0.5 * f)
+        e = vec[k] / length[:, k, None]
+        ee = e[:, :, None] * e[:, None, :] / length[:, k, None, None]
+        for out, area in ((lin, per_t), (quad, per_t2)):
+            block = area[:, None, None] * ee
+            for i, j, sign in ((a, a, 1), (b, b, 1), (a, b, -1), (b, a, -1)):
+                out[:, 3 * i:3 * i + 3, 3 * j:3 * j + 3] += sign * block
+    return lin, quad

@@ -71,6 +71,16 @@ of eight CQUAD8 round, 45 degrees each, falling as the cube of the element's ang
 Blank mid-side nodes (NaN coordinates): the transition elements of
 :mod:`~eigenupdate.model.shells_transition`, whose shear tying replaces the above.
 
+Laminates: the membrane-bending coupling (N = A eps + B kappa, M = B eps + D kappa) is
+integrated on the membrane's points (CQUAD8 2 x 2, CTRIA6 3), so a membrane strain state
+of no energy there (a flat CQUAD8's spurious mode) does no coupling work, and the bending
+is split so that the energy stays positive: D - B A^-1 B on the bending's points and
+B A^-1 B with the coupling on the membrane's, where the laminate's energy is then
+(eps + A^-1 B kappa) A (eps + A^-1 B kappa) + kappa (D - B A^-1 B) kappa. Both rules
+integrate constant strains exactly (the patch test holds); B = 0 is the plain element.
+A mass off the reference surface (a stack's first moment): :mod:`~eigenupdate.model.
+shells_quadratic_mass`.
+
 Mass: translational (no rotary inertia, as :mod:`~eigenupdate.model.shells`),
 consistent ``sum w N_i N_j`` or lumped by the HRZ diagonal scaling (Hinton, Rock &
 Zienkiewicz, Earthq. Eng. Struct. Dyn. 4, 1976: positive nodal masses; the row sums of
@@ -371,7 +381,7 @@ def offset_geometry(xyz: np.ndarray, offset: np.ndarray | None = None,
 
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None,
-                offset: np.ndarray | None = None):
+                offset: np.ndarray | None = None, coupling: np.ndarray | None = None):
     """As :func:`eigenupdate.model.shells.local_parts` for CQUAD8 (xyz (n, 8, 3)) or
     CTRIA6 (n, 6, 3): axes R and ``{part: (columns, (n, 6k, 6k) block)}`` per unit
     thickness power. The blocks are already in global axes (R is the identity: the
@@ -379,7 +389,11 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     applies unchanged. The moduli are in the element axes of :func:`material_axes`.
     ``offset`` (n,): NASTRAN's ZOFFS, the element on :func:`offset_geometry`'s
     reference surface rigidly linked to the grids (u + z theta x V_i, rotations
-    unchanged: on a flat element u + z ry, v - z rx in its axes, as CQUAD4's)."""
+    unchanged: on a flat element u + z ry, v - z rx in its axes, as CQUAD4's).
+    ``coupling`` (n, 3, 3): a laminate's B / T^2 per unit of the membrane's factor: the
+    part ``coupling`` (T^2) on the membrane's points, and the bending split (module
+    docstring, "Laminates"), B A^-1 B from ``membrane`` and ``coupling``: per unit of
+    the bending's factor when that equals the membrane's, as a PCOMP's (E1 = E2)."""
     real, present = transition.fill(xyz)
     n, k = real.shape[:2]
     C = None if present is None else transition.tie(present)
@@ -421,13 +435,25 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 cov = np.einsum("nat,ntj->naj", transition.tria_tying_weights(present, p, q),
                                 tied)
                 b["shear"] = np.where(tr, np.linalg.solve(J, cov), b["shear"])
+    if coupling is not None:
+        cc = np.broadcast_to(np.asarray(coupling, float), (n, 3, 3))
+        split = cc @ np.linalg.solve(cm, cc)  # B A^-1 B per unit T^3, as cb
+        moduli["bending"] = cb - split
+        rows[shells.COUPLING] = ([], [])
     for names, _, _, w, b, _ in points:
         for name in names:
             rows[name][0].append(b[name])
             rows[name][1].append((moduli[name] @ b[name]) * w[:, None, None])
+        if coupling is not None and "membrane" in names:
+            rows["bending"][0].append(b["bending"])
+            rows["bending"][1].append((split @ b["bending"]) * w[:, None, None])
+            rows[shells.COUPLING][0].append(b["membrane"])
+            rows[shells.COUPLING][1].append((cc @ b["bending"]) * w[:, None, None])
     # one batched product per part over all its points (as shells.py)
     out = {name: np.swapaxes(np.concatenate(bs, 1), 1, 2) @ np.concatenate(dbs, 1)
            for name, (bs, dbs) in rows.items()}
+    if coupling is not None:
+        out[shells.COUPLING] = out[shells.COUPLING] + np.swapaxes(out[shells.COUPLING], 1, 2)
     cols = np.arange(6 * k)
     return np.broadcast_to(np.eye(3), (n, 3, 3)), {q: (cols, _linked(out[q], T))
                                                    for q in out}

@@ -176,3 +176,17 @@ def random_frame(rng: np.random.Generator, consistent: bool = True) -> Frame:
     springs = [(tops[-1], int(rng.integers(1, 4)), float(rng.uniform(1e5, 1e6)))]
     return Frame(nodes, bars, sections, fixed=fixed, masses=masses, springs=springs,
                  consistent=consistent)
+
+
+def assert_hand_edited_deck(model, deck: Path, old: str, pattern: str, read) -> None:
+    """Source: the deck with its parameter's value changed in its text (``old`` replaced
+    by ``pattern.format(new)``, the model's one value times 1.3) and read again by
+    ``read``: its K and M equal the model's at the new value (1e-12 of the largest entry)."""
+    new = [1.3 * v for v in model.values]
+    text = deck.read_text()
+    assert old in text
+    edited = deck.with_name("edited_" + deck.name)
+    edited.write_text(text.replace(old, pattern.format(new[0])))
+    ref = read(edited).model
+    for a, b in ((model.stiffness(new), ref.stiffness()), (model.mass(new), ref.mass())):
+        assert abs(a - b).max() <= 1e-12 * abs(b).max()

@@ -25,3 +25,15 @@ def assert_inner_nodes_follow(K: np.ndarray, u: np.ndarray) -> None:
     got = np.linalg.solve(Kii, -K[np.ix_(inner, outer)] @ u[outer])
     err = np.linalg.norm(got - u[inner]) / np.linalg.norm(u[inner])
     assert err <= solve_floor(Kii) * 10, err
+
+
+def rigid_motions(xyz: np.ndarray) -> np.ndarray:
+    """The six rigid motions (6 N, 6) of grids xyz (N, 3), six coordinates each:
+    u = t + theta x r, the rotations theta."""
+    out = np.zeros((6 * len(xyz), 6))
+    for i, p in enumerate(xyz):
+        out[6 * i:6 * i + 3, :3] = np.eye(3)
+        out[6 * i:6 * i + 3, 3:] = -np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]],
+                                              [-p[1], p[0], 0]])
+        out[6 * i + 3:6 * i + 6, 3:] = np.eye(3)
+    return out

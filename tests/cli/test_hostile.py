@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 from conftest import ROOT
+from refusals import one_line as _one_line
 
 sys.path.insert(0, str(ROOT / "tools"))
 import fuzz  # noqa: E402
@@ -60,13 +61,6 @@ def test_table_without_rows():
 FIG2_STUDY = ROOT / "examples" / "paper_fig2" / "study.toml"
 
 
-def _one_line(code, err, *fragments):
-    assert code == 2, err
-    assert "Traceback" not in err
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    for f in fragments:
-        assert f in lines[0], lines[0]
 
 
 def test_sweep_max_mass_beyond_the_number_range(tmp_path, run_cli):

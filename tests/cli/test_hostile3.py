@@ -5,17 +5,11 @@ import json
 import shutil
 
 from conftest import ROOT
+from refusals import one_line as _one_line
 
 FRF_EXAMPLE = ROOT / "examples" / "paper_beam_frf"
 
 
-def _one_line(code, err, *fragments):
-    assert code == 2, err
-    assert "Traceback" not in err
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    for f in fragments:
-        assert f in lines[0], lines[0]
 
 
 def test_saved_extraction_refused_over_swapped_frf_files(tmp_path, run_cli):

@@ -6,18 +6,12 @@ import shutil
 
 import pytest
 from conftest import ROOT
+from refusals import one_line as _one_line
 
 FIG2 = ROOT / "examples" / "paper_fig2"
 FRF_EXAMPLE = ROOT / "examples" / "paper_beam_frf"
 
 
-def _one_line(code, err, *fragments):
-    assert code == 2, err
-    assert "Traceback" not in err
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    for f in fragments:
-        assert f in lines[0], lines[0]
 
 
 def _copy(src, dst):

@@ -16,6 +16,7 @@ import pytest
 from bounds import assert_matrix_derivatives
 from nastran_frames import need
 from quadratic_meshes import cylinder_mesh, plate_mesh
+from shell_patch import rigid_motions as _rigid
 
 from eigenupdate.errors import InputError
 from eigenupdate.solve.eigen import solve_elastic
@@ -70,15 +71,6 @@ def _hz(path, count=1):
     return solve_elastic(m.stiffness(), m.mass(), count).frequencies_hz
 
 
-def _rigid(xyz):
-    """The six rigid motions (6 N, 6) of grids xyz: u = t + theta x r."""
-    out = np.zeros((6 * len(xyz), 6))
-    for i, p in enumerate(xyz):
-        out[6 * i:6 * i + 3, :3] = np.eye(3)
-        out[6 * i:6 * i + 3, 3:] = -np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]],
-                                              [-p[1], p[0], 0]])
-        out[6 * i + 3:6 * i + 6, 3:] = np.eye(3)
-    return out
 
 
 @pytest.mark.parametrize("coupled", [True, False], ids=["coupled", "lumped"])

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from laminate_plates import stack
+from shell_patch import rigid_motions as _rigid
 
 from eigenupdate.model import shells, shells_quadratic_mass
 from eigenupdate.model import shells_quadratic as quadratic
@@ -76,14 +77,6 @@ def test_constant_strain_and_curvature_store_the_laminate_energy(k):
     assert share == pytest.approx(2 * AREAS[k] * z[:3] @ B @ z[3:], rel=1e-9)
 
 
-def _rigid(xyz):
-    out = np.zeros((6 * len(xyz), 6))
-    for i, p in enumerate(xyz):
-        out[6 * i:6 * i + 3, :3] = np.eye(3)
-        out[6 * i:6 * i + 3, 3:] = -np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]],
-                                              [-p[1], p[0], 0]])
-        out[6 * i + 3:6 * i + 6, 3:] = np.eye(3)
-    return out
 
 
 def _curved():

@@ -75,3 +75,29 @@ def test_follows_the_mode_shapes_to_the_truth(frame):
     assert linear_error > 1e-3
     assert rom_error <= linear_error / 50
     assert rom_error <= 1e-5
+
+
+def test_the_linearisation_s_factorisation_is_reused_only_where_it_fits(frame):
+    """The base solve's factorisation (WarmStart.operator, at its own negative shift) builds
+    a reduced model as good as one with its own factorisation: exact at its point
+    (1e-12, as above) and within the bound above (1e-5) of the truth's eigenvalues. A
+    factorisation of other K, M (parameters 1 % away) is not used."""
+    from eigenupdate.solve.eigen import ShiftInvert, WarmStart
+    from eigenupdate.solve.reduced import _factorises
+
+    model, configs, modes, truth, lin, rom = frame
+    warm = WarmStart()
+    lin2 = linearise(model, configs, modes, model.values, warm=warm)
+    K, M = model.stiffness(model.values), model.mass(model.values)
+    assert warm.operator is not None and _factorises(warm.operator, K, M)
+    reused = ReducedModel(model, configs, modes, lin2, model.values, warm.operator)
+    lam0 = reused.evaluate(model.values[model.updated])[0]
+    assert np.max(np.abs(lam0 / lin2.eigenvalues - 1)) <= 1e-12
+    full = linearise(model, configs, modes, truth)
+    lam = reused.evaluate(truth[model.updated])[0]
+    n = len(modes)
+    assert max(np.max(np.abs(np.sort(lam[i:i + n]) / full.eigenvalues[i:i + n] - 1))
+               for i in range(0, lam.size, n)) <= 1e-5
+    other = ShiftInvert(model.stiffness(1.01 * model.values), model.mass(1.01 * model.values),
+                        warm.operator.sigma)
+    assert not _factorises(other, K, M)

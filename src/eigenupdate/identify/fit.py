@@ -168,7 +168,7 @@ class Fit:
         exact at ``point``: ``rom`` anchored there, or a new one."""
         if rom is None:
             return ReducedModel(self.model, self.configurations, self.modes, point.lin,
-                                self.full(point.z))
+                                self.full(point.z), self.warm.operator)
         rom.anchor(point.lin, self.full(point.z))
         return rom
 
@@ -193,6 +193,8 @@ class Fit:
                               np.vstack([Ar, np.diag(prior)]))
             return cache[key]
 
+        # the model is exact at its point: the point's own equations, without an evaluation
+        cache[point.z.tobytes()] = (point.f, point.A)
         # dogbox, as the trust region of the full problem (see its module for why)
         res = least_squares(lambda z: equations(z)[0], point.z, jac=lambda z: equations(z)[1],
                             bounds=(self.lower, np.inf), method="dogbox", xtol=REDUCED_XTOL,

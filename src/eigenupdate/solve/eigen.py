@@ -157,6 +157,11 @@ class ShiftInvert:
             raise SingularMatrixError(f"K - sigma M is singular for sigma = {sigma:g}: "
                                       f"{_singular_cause(K, M, sigma)}") from None
 
+    @property
+    def matrix(self) -> sp.csc_matrix:
+        """The factorised K - sigma M."""
+        return self._A
+
     def solve(self, b: np.ndarray) -> np.ndarray:
         return self._lu.solve(np.asarray(b, dtype=float))
 
@@ -229,10 +234,14 @@ class WarmStart:
     sturm_shift : the missed-mode check's shift, so the next check can factorise
         K - sigma M while Lanczos runs (:func:`usable_shift` decides afterwards whether
         it still fits the new eigenvalues).
+    operator : the last solve's factorisation, for a reduced model built at that point
+        (:mod:`eigenupdate.solve.reduced`); released when the next solve starts, so that
+        two are never held at once.
     """
 
     start: np.ndarray | None = None
     sturm_shift: float | None = None
+    operator: ShiftInvert | None = None
 
 
 def base_operator(K, M, n_modes: int, check: bool = True, warm: WarmStart | None = None
@@ -258,6 +267,8 @@ def base_operator(K, M, n_modes: int, check: bool = True, warm: WarmStart | None
     K, M = sp.csr_array(K), sp.csr_array(M)
     n = K.shape[0]
     start = None
+    if warm is not None:
+        warm.operator = None
     if warm is not None and warm.start is not None and warm.start.shape == (n,):
         start = warm.start
     op = ShiftInvert(K, M, default_shift(K, M))
@@ -271,6 +282,7 @@ def base_operator(K, M, n_modes: int, check: bool = True, warm: WarmStart | None
     if warm is not None:
         lam, phi = sol.computed
         warm.start, warm.sturm_shift = phi.sum(axis=1), sturm_shift(lam, sol)
+        warm.operator = op
     return op, sol
 
 

@@ -109,7 +109,8 @@ def pshell(bdf, prop) -> dict:
         k2, m2 = _material(bdf, prop.mid2, where + " MID2")
         k3, m3 = _material(bdf, prop.mid3, where + " MID3") if prop.mid3 else (None, None)
     ratio = 1.0 if prop.twelveIt3 is None else in_range(prop.twelveIt3, f"{where}: 12I/T^3")
-    tst = 5.0 / 6.0 if prop.tst is None else in_range(prop.tst, f"{where}: TS/T")
+    # blank TS/T is 5/6 (QRG PSHELL); pyNastran fills in 0.833333, 4e-7 below it
+    tst = 5.0 / 6.0 if prop.tst in (None, 0.833333) else in_range(prop.tst, f"{where}: TS/T")
     if m2 is not None and not (ratio > 0 and tst > 0):
         raise InputError(f"{where}: 12I/T^3 = {ratio:g} and TS/T = {tst:g} must be > 0")
     out = {"T": T, "E3": 1.0, "tied3": False, "laminate": None,

@@ -206,5 +206,5 @@ def test_mat8_fields_are_not_parameters(tmp_path):
     """MAT8 fields as parameters are refused (only MAT1's are read), naming the card."""
     path = tmp_path / "p.bdf"
     path.write_text(MESH.replace("{prop}", f"PSHELL,7,8,{T!r},8,,8\n" + MAT8))
-    with pytest.raises(InputError, match="MAT8"):
+    with pytest.raises(InputError, match="MAT8 8 field E1: card MAT8 has no parameter"):
         _read(path, card_specs([("e1", "MAT8", 8, "E1")]))

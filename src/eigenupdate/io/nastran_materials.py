@@ -71,7 +71,13 @@ def mat8(bdf, mid: int) -> tuple[np.ndarray, np.ndarray, float, object]:
 
 def reference_shear(q: np.ndarray) -> float:
     """The shear modulus a rigid transverse shear is a multiple of: an isotropic MAT1's
-    E / (2 (1 + NU)) (Q11 (1 - NU) / 2), for a MAT8 with its stiffer plane modulus."""
+    E / (2 (1 + NU)); for a MAT8 max(E1, E2) / (2 (1 + NU12)) (NU12 < 0 taken as 0).
+
+    >>> round(reference_shear(laminate.orthotropic_plane(2.6, 2.6, 0.3, 1.0)), 12)
+    1.0
+    >>> round(reference_shear(laminate.orthotropic_plane(1.0, 5.2, 0.3, 1.0)), 12)
+    2.0
+    """
     nu = q[0, 1] / q[1, 1]  # NU12 (Q12 = NU12 Q22)
     return float(max(q[0, 0], q[1, 1]) * (1.0 - min(nu * nu * q[1, 1] / q[0, 0], 1.0)
                                           ) / (2.0 * (1.0 + max(nu, 0.0))))

@@ -168,10 +168,11 @@ CARDS = [
     ("PCOMP THETA -1e300", deck("CQUAD4", _nodes(SQUARE), mat=M8,
                                 prop="PCOMP,1\n" + PLIES.replace("90.", "-1.e300")),
      "PCOMP 1: ply angles THETA"),
-    # NASTRAN's blank G1Z is rigid transverse shear; pyNastran puts 1e8 Pa in its place
+    # NASTRAN's blank G1Z is rigid transverse shear (pyNastran puts 1e8 Pa in its place):
+    # read where every ply leaves both blank; G1Z alone blank in turned plies is refused
     ("MAT8 G1Z blank", deck("CQUAD4", _nodes(SQUARE), prop="PCOMP,1\n" + PLIES,
                             mat=M8.replace(",5.e9,5.e9,1600", ",,5.e9,1600")),
-     "line 15: MAT8 8: G1Z"),
+     "line 12: PCOMP 1: ply 1's MAT8 8 leaves G1Z/G2Z blank"),
     ("PSOLID CORDM undefined", deck("CHEXA", _nodes(CUBE), prop="PSOLID,1,1,5\n"),
      "line 22: PSOLID 1: CORDM 5"),
     ("GRID id beyond 2**31 - 1", deck("CQUAD4", _nodes(SQUARE)).replace(

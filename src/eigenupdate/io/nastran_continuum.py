@@ -13,7 +13,7 @@ E1 T K_membrane + E1 T K_drilling + E2 T^3 K_bending + G3 s(T) K_shear (MIDi's m
 linear in each material's E (G3 too when MAT1 leaves G blank) and the mass
 WTMASS (RHO1 T + NSM) M linear in RHO: ``MAT1 E`` and ``RHO`` are parameters.
 THETA/MCID (material axes) do not matter for an isotropic MAT1 and are ignored there;
-they orient the plies of a PCOMP.
+they orient the plies of a PCOMP and a PSHELL's MAT8 (:mod:`eigenupdate.io.nastran_materials`).
 """
 
 from __future__ import annotations
@@ -25,6 +25,8 @@ import numpy as np
 from eigenupdate.errors import InputError
 from eigenupdate.io import nastran_offsets as offsets
 from eigenupdate.io.nastran_fields import in_range, mat9, tied_shear_modulus
+from eigenupdate.io.nastran_materials import mat1 as _mat1
+from eigenupdate.io.nastran_materials import ply, pshell, rigid_plies
 from eigenupdate.io.nastran_plies import ply_terms, thickness_terms
 from eigenupdate.model import laminate, shells, shells_drilling, solids
 from eigenupdate.model import shells_quadratic as quadratic
@@ -43,11 +45,6 @@ MAX_ANGLE = 360.0
 """Largest |THETA| (degrees) of a ply or an element's material axis: one turn either
 way; beyond, an angle is a typing error (and far beyond, cos/sin of it lose all
 digits: 1e300 degrees has no defined direction)."""
-RIGID_SHEAR = 1e3
-"""Transverse shear stiffness of a PSHELL with MID3 blank (shear-rigid in NASTRAN), as a
-multiple of MID2's E / (2 (1 + NU)) T."""
-
-
 def assemble_continuum(bdf, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot, pindex,
                        values, k0, m0, kj, mj, extra, curvature=None) -> None:
     """Add the shells' and solids' K and M (and each parameter's K_j, M_j) to the
@@ -123,27 +120,6 @@ class _Facet:
         self.T1, self.T2, self.T3 = e.T1, e.T2, e.T3
 
 
-def _mat1(bdf, mid, where: str):
-    mat = bdf.materials.get(mid)
-    if mat is None:
-        raise InputError(f"{where}: material {mid} is not defined")
-    if mat.type != "MAT1":
-        raise InputError(f"{where}: material {mat.type} {mid} is not supported here (MAT1 "
-                         f"only)")
-    for name in ("e", "g", "nu", "rho"):
-        if getattr(mat, name) is not None:
-            in_range(getattr(mat, name), f"MAT1 {mid}: {name.upper()}")
-    if not (mat.e and mat.e > 0):
-        raise InputError(f"MAT1 {mid}: E must be > 0 for a shell or solid, got {mat.e}")
-    if mat.nu is None or not -1.0 < mat.nu < 0.5:
-        raise InputError(f"MAT1 {mid}: NU = {mat.nu} must be in (-1, 0.5) for a shell or solid")
-    if (mat.rho or 0.0) < 0:
-        raise InputError(f"MAT1 {mid}: negative density RHO = {mat.rho:g}")
-    if (mat.g or 0.0) < 0:
-        raise InputError(f"MAT1 {mid}: negative shear modulus G = {mat.g:g}")
-    return mat
-
-
 def _linear_in_e(mat, slots) -> None:
     """Refuse E as a parameter of a MAT1 with NU blank and G given: NASTRAN's NU =
     E / (2 G) - 1 then follows E, and a shell's or solid's K is not linear in E."""
@@ -151,87 +127,6 @@ def _linear_in_e(mat, slots) -> None:
         raise InputError(f"MAT1 {mat.mid} field E: not a parameter of a shell or solid "
                          f"material with NU blank (NASTRAN's NU = E / (2 G) - 1 follows E, "
                          f"so K is not linear in E); give NU on the card, or leave G blank")
-
-
-def _pshell(bdf, prop) -> dict:
-    where = f"PSHELL {prop.pid}"
-    if not prop.mid1:
-        raise InputError(f"{where}: MID1 blank (no membrane) is not supported")
-    if prop.mid4:
-        raise InputError(f"{where}: MID4 (membrane-bending coupling) is not supported")
-    if prop.t is None:
-        raise InputError(f"{where}: T blank (thicknesses from the elements' T1-T4) is not "
-                         f"supported")
-    T = in_range(prop.t, f"{where}: T")
-    if not T > 0:
-        raise InputError(f"{where}: T = {T:g} must be > 0")
-    m1 = _mat1(bdf, prop.mid1, where + " MID1")
-    if prop.mid2 in (None, 0):
-        m2 = m3 = None
-        if prop.mid3:
-            raise InputError(f"{where}: MID3 needs MID2 (bending)")
-    else:
-        if prop.mid2 < 0:
-            raise InputError(f"{where}: MID2 = {prop.mid2} (plane strain) is not supported")
-        m2 = _mat1(bdf, prop.mid2, where + " MID2")
-        m3 = _mat1(bdf, prop.mid3, where + " MID3") if prop.mid3 else None
-    ratio = 1.0 if prop.twelveIt3 is None else in_range(prop.twelveIt3, f"{where}: 12I/T^3")
-    tst = 5.0 / 6.0 if prop.tst is None else in_range(prop.tst, f"{where}: TS/T")
-    if m2 is not None and not (ratio > 0 and tst > 0):
-        raise InputError(f"{where}: 12I/T^3 = {ratio:g} and TS/T = {tst:g} must be > 0")
-    cm = shells.plane_stress(1.0, m1.nu)[0]
-    cb = np.zeros((3, 3)) if m2 is None else shells.plane_stress(1.0, m2.nu)[0] * ratio / 12
-    rigid = m2 is not None and m3 is None
-    if rigid:
-        # MID3 blank: NASTRAN's shear-rigid (Kirchhoff) plate, as MID2's G times
-        # RIGID_SHEAR: the frequencies then differ from the rigid limit by 1/RIGID_SHEAR
-        # of the shear deformation's share, itself of order (T / L)^2
-        m3, tst = m2, RIGID_SHEAR
-    if m3 is not None and not rigid and not (m3.g or 0.0) > 0:
-        raise InputError(f"{where}: MID3's MAT1 {m3.mid} has G = {m3.g or 0.0:g} (E alone on "
-                         f"the card: NASTRAN's G and NU are then 0): transverse shear needs "
-                         f"G > 0")
-    nsm = in_range(prop.nsm or 0.0, f"{where}: NSM")
-    if (m1.rho or 0.0) * T + nsm < 0:
-        raise InputError(f"{where}: NSM = {nsm:g} makes the mass per area RHO T + NSM "
-                         f"negative")
-    cs = np.zeros((2, 2)) if m3 is None else np.eye(2) * tst
-    return {"T": T, "cm": cm, "cb": cb, "cs": cs, "E1": m1.e, "E2": 0.0 if m2 is None else m2.e,
-            "G3": 0.0 if m3 is None else m3.e / (2 * (1 + m3.nu)) if rigid else m3.g,
-            "E3": 1.0 if m3 is None else m3.e, "mid1": m1.mid,
-            "mid2": 0 if m2 is None else m2.mid, "mid3": 0 if m3 is None else m3.mid,
-            "tied3": m3 is not None and (rigid or tied_shear_modulus(m3)),
-            "mass": {m1.mid: (m1.rho or 0.0, T)}, "heights": {m1.mid: 0.0},
-            "nsm": nsm, "laminate": None}
-
-
-def _ply(bdf, mid: int, where: str) -> tuple[np.ndarray, np.ndarray, float]:
-    """Plane moduli (3, 3), transverse shear moduli (2, 2) and density of a ply."""
-    mat = bdf.materials.get(mid)
-    if mat is None:
-        raise InputError(f"{where}: material {mid} is not defined")
-    if mat.type == "MAT1":
-        m = _mat1(bdf, mid, where)
-        return shells.plane_stress(m.e, m.nu)[0], np.eye(2) * m.g, m.rho or 0.0
-    if mat.type == "MAT8":
-        vals = {k: getattr(mat, a) for k, a in (("E1", "e11"), ("E2", "e22"), ("NU12", "nu12"),
-                                                 ("G12", "g12"), ("G1Z", "g1z"),
-                                                 ("G2Z", "g2z"))}
-        for k, v in vals.items():
-            if k in getattr(mat, "blank", ()):
-                v = None  # pyNastran's 1e8, where NASTRAN's blank is rigid
-            if k != "NU12" and not (v is not None and in_range(v, f"MAT8 {mid}: {k}") > 0):
-                raise InputError(f"MAT8 {mid}: {k} = {v} must be given and > 0 (a blank G1Z/"
-                                 f"G2Z's default is not modelled)")
-        nu = vals["NU12"] or 0.0
-        if not nu**2 * vals["E2"] / vals["E1"] < 1:
-            raise InputError(f"MAT8 {mid}: NU12 = {nu:g} makes the ply's moduli indefinite")
-        q = laminate.orthotropic_plane(vals["E1"], vals["E2"], nu, vals["G12"])
-        if (mat.rho or 0.0) < 0:
-            raise InputError(f"MAT8 {mid}: negative density RHO = {mat.rho:g}")
-        return q, np.diag([vals["G1Z"], vals["G2Z"]]), mat.rho or 0.0
-    raise InputError(f"{where}: material {mat.type} {mid} is not supported (MAT1 or MAT8 "
-                     f"plies)")
 
 
 def _pcomp(bdf, prop) -> dict:
@@ -249,7 +144,8 @@ def _pcomp(bdf, prop) -> dict:
         raise InputError(f"{where}: ply angles THETA {angles.tolist()} must be within "
                          f"-{MAX_ANGLE:g} to {MAX_ANGLE:g} degrees")
     mids = prop.get_material_ids()
-    plies = [_ply(bdf, int(m), f"{where} ply {i + 1}") for i, m in enumerate(mids)]
+    plies = rigid_plies([ply(bdf, int(m), f"{where} ply {i + 1}") for i, m in enumerate(mids)],
+                        mids, where)
     T = float(t.sum())
     z0 = -T / 2 if prop.z0 is None else in_range(prop.z0, f"{where}: Z0")
     mass: dict = {}
@@ -320,7 +216,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         if prop is None or prop.type not in ("PSHELL", "PCOMP", "PCOMPG"):
             raise InputError(f"{lab}: property PSHELL, PCOMP or PCOMPG {e.pid} is not defined")
         if e.pid not in props:
-            props[e.pid] = _pshell(bdf, prop) if prop.type == "PSHELL" else _pcomp(bdf, prop)
+            props[e.pid] = pshell(bdf, prop) if prop.type == "PSHELL" else _pcomp(bdf, prop)
         p = props[e.pid]
         corner = [x for x in (e.T1, e.T2, e.T3, getattr(e, "T4", None)) if x is not None]
         if e.tflag or any(not math.isclose(x, p["T"], rel_tol=1e-12) for x in corner):
@@ -339,6 +235,12 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
         if flat[i]:
             cm[i], cb[i], cs[i] = p["cm"], p["cb"], p["cs"]
     phi = np.zeros(n)
+    turn = np.flatnonzero([p.get("oriented", False) for p in rows])
+    if turn.size:  # a PSHELL's MAT8 in its material axes (THETA/MCID), as a ply's
+        phi[turn] = _material_angle(bdf, [elems[i] for i in turn], xyz_e[turn],
+                                    [labels[i] for i in turn])
+        cm[turn], cb[turn] = (laminate.rotate_plane(c[turn], phi[turn]) for c in (cm, cb))
+        cs[turn] = laminate.rotate_shear(cs[turn], phi[turn])
     if not flat.all():
         lam = np.flatnonzero(~flat)
         angle = _material_angle(bdf, [elems[i] for i in lam], xyz_e[lam],

@@ -133,7 +133,7 @@ def _singular_cause(K, M, sigma: float) -> str:
 
 
 class ShiftInvert:
-    """LU factorisation of A = K - sigma M, with ``solve(b) = A^-1 b``."""
+    """LU factorisation of A = K - sigma M (``matrix``), with ``solve(b) = A^-1 b``."""
 
     def __init__(self, K: sp.csr_array, M: sp.csr_array, sigma: float):
         self.sigma = float(sigma)
@@ -146,9 +146,9 @@ class ShiftInvert:
             # diagonals (~1e-9 of the largest) and spoil the ordering (a 5,742-coordinate
             # panel: fill 8.3M against 0.63M; benchmarks/README.md). For sigma > 0 (A
             # indefinite) the threshold lets SuperLU pivot off a tiny diagonal.
-            self._A = sp.csc_matrix(K - self.sigma * M)
+            self.matrix = sp.csc_matrix(K - self.sigma * M)
             self._lu = spla.splu(
-                self._A,
+                self.matrix,
                 permc_spec="MMD_AT_PLUS_A",
                 diag_pivot_thresh=0.0 if self.sigma < 0 else 0.1,
                 options={"SymmetricMode": True},
@@ -156,11 +156,6 @@ class ShiftInvert:
         except RuntimeError:  # SuperLU's "Factor is exactly singular": say which part
             raise SingularMatrixError(f"K - sigma M is singular for sigma = {sigma:g}: "
                                       f"{_singular_cause(K, M, sigma)}") from None
-
-    @property
-    def matrix(self) -> sp.csc_matrix:
-        """The factorised K - sigma M."""
-        return self._A
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         return self._lu.solve(np.asarray(b, dtype=float))
@@ -198,7 +193,7 @@ class _Woodbury(ShiftInvert):
         if self._rows.size == 0:
             return self._base.solve(b)
         x = self._once(b)
-        r = b - self._base._A @ x
+        r = b - self._base.matrix @ x
         r[self._rows] -= self._d * x[self._rows] if x.ndim == 1 else (
             self._d[:, None] * x[self._rows])
         return x + self._once(r)
@@ -221,22 +216,18 @@ class WarmStart:
     """What one sparse solve of the bare structure leaves for the next one at nearby
     parameter values (the iterations of an update), filled in by :func:`base_operator`.
 
-    The shift is not carried over: on stiff models the rounding of K - sigma M alone
-    moves the lowest eigenvalues by ~1e-10 relative (2.5e-10 on the 103k benchmark frame
-    between two shifts 2 % apart), and a warm solve should agree with a cold one to the
-    eigen-solver's tolerance (2.2e-13 on the frame).
+    The shift is not carried over: the rounding of K - sigma M alone moves the lowest
+    eigenvalues ~1e-10 relative (2.5e-10 on the 103k frame between shifts 2 % apart), and a
+    warm solve should agree with a cold one to the solver's tolerance (2.2e-13 there).
 
     Attributes
     ----------
-    start : Lanczos start vector, the sum of the computed modes: it lies almost in the
-        wanted invariant subspace, and ARPACK needs ~15-30 % fewer solves (45 instead
-        of 54 at 1 % parameter change on the 103k benchmark frame, 36 at 1e-5).
-    sturm_shift : the missed-mode check's shift, so the next check can factorise
-        K - sigma M while Lanczos runs (:func:`usable_shift` decides afterwards whether
-        it still fits the new eigenvalues).
-    operator : the last solve's factorisation, for a reduced model built at that point
-        (:mod:`eigenupdate.solve.reduced`); released when the next solve starts, so that
-        two are never held at once.
+    start : Lanczos start vector, the sum of the computed modes (almost in the wanted
+        subspace: ARPACK needs 45 solves instead of 54 at a 1 % change on the 103k frame).
+    sturm_shift : the missed-mode check's shift, so the next check can factorise while
+        Lanczos runs (:func:`usable_shift` decides whether it still fits).
+    operator : the last solve's factorisation, for a reduced model built at that point;
+        released when the next solve starts (never two held at once).
     """
 
     start: np.ndarray | None = None
@@ -268,9 +259,8 @@ def base_operator(K, M, n_modes: int, check: bool = True, warm: WarmStart | None
     n = K.shape[0]
     start = None
     if warm is not None:
-        warm.operator = None
-    if warm is not None and warm.start is not None and warm.start.shape == (n,):
-        start = warm.start
+        warm.operator = None  # released before the next factorisation
+        start = warm.start if warm.start is not None and warm.start.shape == (n,) else None
     op = ShiftInvert(K, M, default_shift(K, M))
     sol = _solve_sparse(K, M, n_modes, op, check=False, start=start)
     if sol.eigenvalues.size and (sol.eigenvalues[0] < 10 * abs(op.sigma) or (

@@ -53,3 +53,14 @@ def test_a_given_id_and_a_blank_pid_pass_the_check(tmp_path):
 
     lines = ["CQUAD4,7,,1,2,3,4", "CONM2          7       1      1."]
     nastran_deck._blank_ids(lines, [("m.bdf", 1), ("m.bdf", 2)], "m.bdf")
+
+
+def test_tab_separated_ids_are_given(tmp_path):
+    """A tab moves to the next 8-column field (as pyNastran reads it): ``PCOMP<tab>1`` has
+    PID 1 (pyNastran's models/unit/pcomp deck was refused as blank by the first check)."""
+    from eigenupdate.io import nastran_deck
+
+    lines = ["PCOMP\t1", "GRID\t5\t\t0.\t0.\t0.", "CQUAD4\t7\t1\t1\t2\t3\t4"]
+    nastran_deck._blank_ids(lines, [("m.bdf", i) for i in (1, 2, 3)], "m.bdf")
+    with pytest.raises(InputError, match="line 1: PCOMP: the id"):
+        nastran_deck._blank_ids(["PCOMP\t\t1"], [("m.bdf", 1)], "m.bdf")

@@ -385,7 +385,7 @@ def _blank_ids(lines: list[str], origin: list, main: str) -> None:
         kind = _ID_FIELD.get(m.group(1).upper()) if m else None
         if kind is None:
             continue
-        body = text.split("$")[0]
+        body = text.split("$")[0].expandtabs(8)  # a tab moves to the next field, as pyNastran
         if "," in body[:10]:
             ident = (body.split(",") + [""])[1]
         else:

@@ -367,6 +367,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             cc[sel] = np.where(big[:, None, None], B / (Tp**2 * p["E1"]), 0.0)
             cs[sel] = H / (Tp * p["G3"])
     size = elem.stabilisation_size(xyz_e)
+    if k == 6:  # the stabilisation relative to the section's bending (at the deck's values)
+        size = size * np.sqrt(quadratic.stabilisation_ratio(cb * E2[:, None, None],
+                                                            cs * G3[:, None, None]))
     total = {"membrane": E1 * T, "drilling": E1 * T, "bending": E2 * T**3,
              "shear": G3 * shells.shear_thickness(T, size),
              shells.COUPLING: np.where(np.abs(cc).max(axis=(1, 2)) > 0, E1 * T**2, 0.0)}

@@ -324,3 +324,24 @@ def test_a_graded_mesh_linearises_the_ply_shear_about_the_decks_T(tmp_path):
                                    [Configuration("base")], 6)[0].eigenvalues
     assert 0 < eps < 0.05
     assert np.all(np.abs(lam_lin / lam_exact - 1) <= eps + 1e-9)
+
+
+def test_ctria6_stabilisation_of_a_two_material_stack_is_held_at_the_deck(tmp_path):
+    """CTRIA6's stabilisation ratio (model/shells_quadratic.py stabilisation_ratio) is a
+    property of the ply material alone for a one-material stack (rotation invariants
+    summed over the plies), so the hand-edited deck check above holds exactly; a stack of
+    MAT8 and MAT1 plies moves it with a ply's thickness, so it is held at the deck's
+    section and a note says so. Sources: the warning, the deck read without parameters
+    (equal at the deck's thicknesses, 1e-12), central differences."""
+    two = "PCOMP,1,,,,,,,SYM\n,1,5.e-4,0.,,2,5.e-4,0.\nPCOMP,2\n,2,1.e-3,0.\n" + MATS
+    path = quadratic_plate(tmp_path / "a.bdf", two, triangles=True)
+    with pytest.warns(EigenupdateWarning, match=r"PCOMP 1 field T1: plies of several "
+                      r"materials: CTRIA6's shear stabilisation is held"):
+        nm = read_nastran(path, [(Parameter("t", 0.0), CardField("PCOMP", 1, "T1"))])
+    plain = _read(path).model
+    for x, y in ((nm.model.stiffness(), plain.stiffness()), (nm.model.mass(), plain.mass())):
+        assert abs(x - y).max() <= 1e-12 * abs(y).max()
+    assert_matrix_derivatives(nm.model)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("error", "PCOMP.*stabilisation is held", EigenupdateWarning)
+        _read(quadratic_plate(tmp_path / "b.bdf", laminates(), triangles=True), ["a1", "b2"])

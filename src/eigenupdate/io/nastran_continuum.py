@@ -368,8 +368,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             cs[sel] = H / (Tp * p["G3"])
     size = elem.stabilisation_size(xyz_e)
     if k == 6:  # the stabilisation relative to the section's bending (at the deck's values)
-        size = size * np.sqrt(quadratic.stabilisation_ratio(cb * E2[:, None, None],
-                                                            cs * G3[:, None, None]))
+        e1 = E1[:, None, None]
+        size = size * np.sqrt(quadratic.stabilisation_ratio(
+            cb * E2[:, None, None], cs * G3[:, None, None], cm * e1, cc * e1))
     total = {"membrane": E1 * T, "drilling": E1 * T, "bending": E2 * T**3,
              "shear": G3 * shells.shear_thickness(T, size),
              shells.COUPLING: np.where(np.abs(cc).max(axis=(1, 2)) > 0, E1 * T**2, 0.0)}
@@ -410,7 +411,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     thick = [(*t, None) for t in thickness_terms(elems, rows, pindex, size, wtmass,
                                                    deriv_k, deriv_m, fixed_shear)]
     thick += ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m,
-                       k == 4 and not drilling)
+                       k == 4 and not drilling, k == 6)
     base = {part: tot - sum((values[j] * d[part] for j, d in enumerate(deriv_k) if part in d),
                             np.zeros(n)) for part, tot in total.items()}
     mbase = mass - sum((values[j] * d for j, d in enumerate(deriv_m) if d is not None),

@@ -25,7 +25,7 @@ import numpy as np
 from eigenupdate.errors import InputError
 from eigenupdate.io import nastran_offsets as offsets
 from eigenupdate.io.nastran_fields import in_range, mat9, tied_shear_modulus
-from eigenupdate.io.nastran_plies import ply_terms, thickness_terms
+from eigenupdate.io.nastran_plies import held_stabilisation, ply_terms, thickness_terms
 from eigenupdate.model import laminate, shells, shells_drilling, solids
 from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model import shells_transition as transition
@@ -392,6 +392,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                              f"{bdf.properties[mixed[0]].type} {mixed[0]}, whose "
                              f"plies use several materials (its condensed membrane is not "
                              f"linear in one of them)")
+        if "E" in slots and k == 6 and np.any((mids["mid2"] == cid)
+                                              != ((mids["mid3"] == cid) & tied3)):
+            held_stabilisation(f"MAT1 {cid} field E", "its bending and shear apart")
         if "E" in slots:
             d = deriv_k[slots["E"]]
             sh = shells.shear_thickness(T, size)

@@ -105,7 +105,7 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
                                  f"stack unsymmetric (membrane-bending coupling B != 0); "
                                  f"use LAM=SYM")
             if tria6 and not np.isclose(_ratio(st, t), _ratio(st, t0), rtol=1e-9, atol=0):
-                _held(where)
+                held_stabilisation(where, "plies of several materials")
             rho = np.asarray(st["rho"], float)
             for tt in (t0, t):  # its mass stays on the mid-plane (ZOFFS, moments linear)
                 zz = -tt.sum() / 2 + np.concatenate([[0.0], np.cumsum(tt)])
@@ -183,10 +183,12 @@ def _ratio(stack: dict, t: np.ndarray) -> float:
     return float(stabilisation_ratio(D, H))
 
 
-def _held(where: str) -> None:
-    warnings.warn(f"{where}: plies of several materials: CTRIA6's shear stabilisation "
-                  f"is held at the deck's section (second order in the change: update "
-                  f"again from the written BDF)", EigenupdateWarning, stacklevel=3)
+def held_stabilisation(where: str, why: str) -> None:
+    """Note that CTRIA6's stabilisation ratio is held at the deck's values (``why``: what
+    moves it)."""
+    warnings.warn(f"{where}: {why}: CTRIA6's shear stabilisation is held at the deck's "
+                  f"section (second order in the change: update again from the written "
+                  f"BDF)", EigenupdateWarning, stacklevel=3)
 
 
 MAX_SIZES = 64

@@ -93,3 +93,39 @@ def fe_plate(nx, a, angles, t, rho_h, triangles):
     K, M = K[free][:, free], M[free][:, free]
     mu = spla.eigsh(M, 1, K, which="LA", return_eigenvectors=False)
     return float(np.sqrt(1.0 / mu[0]))
+
+
+def fe_quadratic_plate(nx, a, abdh_of, T, rho_h, triangles):
+    """Lowest omega of nx x nx CQUAD8 (2 nx x nx CTRIA6) on an a x a plate with the S2
+    support of :func:`navier_coupled`, symmetric section (B = 0): ``abdh_of(phi)`` gives
+    A, B, D, H in the axes of elements whose x is at -phi from the laminate's (as
+    :func:`stack`), moduli per thickness power and CTRIA6's stabilisation scaled by
+    :func:`~eigenupdate.model.shells_quadratic.stabilisation_ratio`, as the deck path."""
+    from quadratic_meshes import plate_mesh
+
+    from eigenupdate.model import shells_quadratic as sq
+
+    xyz, el = plate_mesh(nx, a, a, triangles)
+    xe = xyz[el]
+    R, _ = sq.material_axes(xe)
+    A, _, D, H = abdh_of(np.arctan2(R[:, 1, 0], R[:, 0, 0]))
+    n = len(el)
+    cb, cs = D / T**3, H / T
+    _, parts = sq.local_parts(xe, A / T, cb, cs)
+    size = sq.stabilisation_size(xe) * np.sqrt(sq.stabilisation_ratio(cb, cs))
+    f = {"membrane": np.full(n, T), "drilling": np.full(n, T), "bending": np.full(n, T**3),
+         "shear": shells.shear_thickness(T, size)}
+    K = shells.combine(np.broadcast_to(np.eye(3), (n, 3, 3)), parts, f)
+    d, N = node_dofs(el, 6), 6 * len(xyz)
+    K, M = scatter(d, K, N), scatter(d, rho_h * sq.shell_mass(xe, False), N)
+    x, y = xyz[:, 0], xyz[:, 1]
+    on_x = np.isclose(x, 0) | np.isclose(x, a)
+    on_y = np.isclose(y, 0) | np.isclose(y, a)
+    fixed = np.zeros((len(xyz), 6), bool)
+    fixed[on_x | on_y, 2] = True
+    fixed[on_x, 1] = fixed[on_x, 3] = True
+    fixed[on_y, 0] = fixed[on_y, 4] = True
+    free = np.flatnonzero(~fixed.ravel())
+    mu = spla.eigsh(M[free][:, free], 1, K[free][:, free], which="LA",
+                    return_eigenvectors=False)
+    return float(np.sqrt(1.0 / mu[0]))

@@ -324,3 +324,47 @@ def test_a_graded_mesh_linearises_the_ply_shear_about_the_decks_T(tmp_path):
                                    [Configuration("base")], 6)[0].eigenvalues
     assert 0 < eps < 0.05
     assert np.all(np.abs(lam_lin / lam_exact - 1) <= eps + 1e-9)
+
+
+def test_ctria6_stabilisation_of_a_two_material_stack_is_held_at_the_deck(tmp_path):
+    """CTRIA6's stabilisation ratio (model/shells_quadratic.py stabilisation_ratio) is a
+    property of the ply material alone for a one-material stack (rotation invariants
+    summed over the plies), so the hand-edited deck check above holds exactly; a stack of
+    MAT8 and MAT1 plies moves it with a ply's thickness, so it is held at the deck's
+    section and a note says so. Sources: the warning, the deck read without parameters
+    (equal at the deck's thicknesses, 1e-12), central differences."""
+    two = "PCOMP,1,,,,,,,SYM\n,1,5.e-4,0.,,2,5.e-4,0.\nPCOMP,2\n,2,1.e-3,0.\n" + MATS
+    path = quadratic_plate(tmp_path / "a.bdf", two, triangles=True)
+    with pytest.warns(EigenupdateWarning, match=r"PCOMP 1 field T1: plies of several "
+                      r"materials: CTRIA6's shear stabilisation is held"):
+        nm = read_nastran(path, [(Parameter("t", 0.0), CardField("PCOMP", 1, "T1"))])
+    plain = _read(path).model
+    for x, y in ((nm.model.stiffness(), plain.stiffness()), (nm.model.mass(), plain.mass())):
+        assert abs(x - y).max() <= 1e-12 * abs(y).max()
+    assert_matrix_derivatives(nm.model)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("error", "PCOMP.*stabilisation is held", EigenupdateWarning)
+        _read(quadratic_plate(tmp_path / "b.bdf", laminates(), triangles=True), ["a1", "b2"])
+
+
+def test_ctria6_stabilisation_with_a_modulus_of_bending_not_shear_is_held(tmp_path):
+    """A MAT1 E parameter that is MID2 of a CTRIA6 PSHELL whose MID3 is another material
+    moves the bending and not the shear, so the stabilisation ratio, held at the deck's:
+    a note says so (none where MID1 = MID2 = MID3, whose ratio E cancels from). Sources:
+    the warning, the deck read without parameters (1e-12), central differences."""
+    props = ("PSHELL,1,2,2.e-3,2,,3\nPSHELL,2,2,2.e-3,2,,2\n"
+             "MAT1,2,7.0e10,,0.33,2700.\nMAT1,3,2.1e11,,0.3,7850.\n")
+    path = quadratic_plate(tmp_path / "a.bdf", props, triangles=True)
+    spec = [(Parameter("E", 0.0), CardField("MAT1", 2, "E"))]
+    with pytest.warns(EigenupdateWarning, match=r"MAT1 2 field E: its bending and shear "
+                      r"apart: CTRIA6's shear stabilisation is held"):
+        nm = read_nastran(path, spec)
+    plain = _read(path).model
+    for x, y in ((nm.model.stiffness(), plain.stiffness()), (nm.model.mass(), plain.mass())):
+        assert abs(x - y).max() <= 1e-12 * abs(y).max()
+    assert_matrix_derivatives(nm.model)
+    path = quadratic_plate(tmp_path / "b.bdf", props.replace(",,3\n", ",,2\n"),
+                           triangles=True)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("error", ".*stabilisation is held", EigenupdateWarning)
+        read_nastran(path, spec)

@@ -27,7 +27,7 @@ from eigenupdate.io import nastran_offsets as offsets
 from eigenupdate.io.nastran_fields import in_range, mat9, tied_shear_modulus
 from eigenupdate.io.nastran_materials import mat1 as _mat1
 from eigenupdate.io.nastran_materials import ply, pshell, rigid_plies
-from eigenupdate.io.nastran_plies import ply_terms, thickness_terms
+from eigenupdate.io.nastran_plies import held_stabilisation, ply_terms, thickness_terms
 from eigenupdate.model import laminate, shells, shells_drilling, solids
 from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model import shells_transition as transition
@@ -269,6 +269,10 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             cc[sel] = np.where(big[:, None, None], B / (Tp**2 * p["E1"]), 0.0)
             cs[sel] = H / (Tp * p["G3"])
     size = elem.stabilisation_size(xyz_e)
+    if k == 6:  # the stabilisation relative to the section's bending (at the deck's values)
+        e1 = E1[:, None, None]
+        size = size * np.sqrt(quadratic.stabilisation_ratio(
+            cb * E2[:, None, None], cs * G3[:, None, None], cm * e1, cc * e1))
     total = {"membrane": E1 * T, "drilling": E1 * T, "bending": E2 * T**3,
              "shear": G3 * shells.shear_thickness(T, size),
              shells.COUPLING: np.where(np.abs(cc).max(axis=(1, 2)) > 0, E1 * T**2, 0.0)}
@@ -290,6 +294,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                              f"{bdf.properties[mixed[0]].type} {mixed[0]}, whose "
                              f"plies use several materials (its condensed membrane is not "
                              f"linear in one of them)")
+        if "E" in slots and k == 6 and np.any((mids["mid2"] == cid)
+                                              != ((mids["mid3"] == cid) & tied3)):
+            held_stabilisation(f"MAT1 {cid} field E", "its bending and shear apart")
         if "E" in slots:
             d = deriv_k[slots["E"]]
             sh = shells.shear_thickness(T, size)
@@ -309,7 +316,7 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     thick = [(*t, None) for t in thickness_terms(elems, rows, pindex, size, wtmass,
                                                    deriv_k, deriv_m, fixed_shear)]
     thick += ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m,
-                       k == 4 and not drilling)
+                       k == 4 and not drilling, k == 6)
     base = {part: tot - sum((values[j] * d[part] for j, d in enumerate(deriv_k) if part in d),
                             np.zeros(n)) for part, tot in total.items()}
     mbase = mass - sum((values[j] * d for j, d in enumerate(deriv_m) if d is not None),

@@ -28,6 +28,7 @@ import numpy as np
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.model import laminate, shells
 from eigenupdate.model.parametric import FunctionTerm, Term
+from eigenupdate.model.shells_quadratic import stabilisation_ratio
 
 _SYM3 = ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))
 _SYM2 = ((0, 0), (0, 1), (1, 1))
@@ -63,12 +64,15 @@ def ply_slots(pid: int, stack: dict, slots: dict) -> tuple[int, ...]:
     return tuple(by_card[c] for c in stack["card_ply"])
 
 
-def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: bool
-              ) -> list:
+def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: bool,
+              tria6: bool = False) -> list:
     """(pid, part, element mask, term, moduli) of every PCOMP with a ply thickness
     parameter: part "stiffness" with ``moduli`` (cm, cb, cs) per element (unit basis
     turned by ``phi``), the parts they make and the membrane moduli CQUAD4 condenses
-    with (None: its own), or "mass". Clears those elements' linear derivatives."""
+    with (None: its own), or "mass". Clears those elements' linear derivatives.
+    ``tria6``: ``size`` holds CTRIA6's stabilisation ratio at the deck's thicknesses
+    (:func:`eigenupdate.model.shells_quadratic.stabilisation_ratio`), which a change of
+    the plies moves only where they differ in material: a note says so."""
     out = []
     pids = np.array([e.pid for e in elems])
     n = len(elems)
@@ -100,6 +104,8 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
                 raise InputError(f"{where}: not a parameter: a thickness change makes the "
                                  f"stack unsymmetric (membrane-bending coupling B != 0); "
                                  f"use LAM=SYM")
+            if tria6 and not np.isclose(_ratio(st, t), _ratio(st, t0), rtol=1e-9, atol=0):
+                held_stabilisation(where, "plies of several materials")
             rho = np.asarray(st["rho"], float)
             for tt in (t0, t):  # its mass stays on the mid-plane (ZOFFS, moments linear)
                 zz = -tt.sum() / 2 + np.concatenate([[0.0], np.cumsum(tt)])
@@ -166,6 +172,23 @@ def ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m, quad4: b
                 out.append((pid, "mass", on, Term(None, ((s, 1.0),), wtmass * rho), None))
         p["fixed_mass"] = sum(st["rho"][i] * t0[i] for i, k in enumerate(sl) if k < 0)
     return out
+
+
+def _ratio(stack: dict, t: np.ndarray) -> float:
+    """CTRIA6's stabilisation ratio of the stack at ply thicknesses t."""
+    z = -t.sum() / 2 + np.concatenate([[0.0], np.cumsum(t)])
+    q = laminate.rotate_plane(stack["q"], stack["theta"])
+    D = np.einsum("p,pij->ij", np.diff(z**3) / 3, q)
+    H = np.einsum("p,pij->ij", t, laminate.rotate_shear(stack["g"], stack["theta"]))
+    return float(stabilisation_ratio(D, H))
+
+
+def held_stabilisation(where: str, why: str) -> None:
+    """Note that CTRIA6's stabilisation ratio is held at the deck's values (``why``: what
+    moves it)."""
+    warnings.warn(f"{where}: {why}: CTRIA6's shear stabilisation is held at the deck's "
+                  f"section (second order in the change: update again from the written "
+                  f"BDF)", EigenupdateWarning, stacklevel=3)
 
 
 MAX_SIZES = 64

@@ -122,9 +122,7 @@ def stiffness_parts(elem, xyz: np.ndarray, cm, cb, cs, k6rot: float, labels: lis
 def _warn_warp(xyz: np.ndarray, R: np.ndarray, labels: list[str]) -> None:
     """Warn, as NASTRAN's GEOMCHECK does, of quadrilaterals warped beyond
     :data:`eigenupdate.model.shells.WARN_WARP` (accepted up to ``MAX_WARP``)."""
-    h = np.max(np.abs(rigid_links.warp_heights(xyz, R[:, 2])), axis=1)
-    warp = h / np.sqrt(np.linalg.norm(np.cross(xyz[:, 2] - xyz[:, 0], xyz[:, 3] - xyz[:, 1]),
-                                      axis=1) / 2)
+    warp = rigid_links.warp(xyz, R[:, 2])
     bad = np.flatnonzero(warp > shells.WARN_WARP)
     if bad.size:
         worst = bad[np.argmax(warp[bad])]

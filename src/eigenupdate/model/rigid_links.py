@@ -60,6 +60,14 @@ def warp_heights(xyz: np.ndarray, normal: np.ndarray) -> np.ndarray:
     return np.where(np.abs(h) > 1e-12 * size[:, None], h, 0.0)
 
 
+def warp(xyz: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """Warp (n,) of quadrilaterals xyz (n, 4, 3): the largest :func:`warp_heights` over
+    the square root of the area (half |G1G3 x G2G4|), NASTRAN's geometry."""
+    xyz = np.asarray(xyz, float)
+    area = np.linalg.norm(np.cross(xyz[:, 2] - xyz[:, 0], xyz[:, 3] - xyz[:, 1]), axis=1) / 2
+    return np.max(np.abs(warp_heights(xyz, normal)), axis=1) / np.sqrt(area)
+
+
 def warp_links(parts: dict, xyz: np.ndarray, R: np.ndarray) -> dict:
     """``parts`` computed on the mean plane of warped quadrilaterals, seen from their
     grids (links of length minus their :func:`warp_heights`); unchanged if none is

@@ -46,9 +46,7 @@ def panel_geometry(xyz: np.ndarray, labels: list[str] | None = None):
     Rs, _ = shells.shell_axes(xyz, labels)  # zero area, convex and in order
     # no rotations to link a warped panel's grids to its mean plane: refused beyond
     # NASTRAN's warning level
-    h = rigid_links.warp_heights(xyz, Rs[:, 2])
-    warp = np.max(np.abs(h), axis=1) / np.sqrt(np.linalg.norm(
-        np.cross(xyz[:, 2] - xyz[:, 0], xyz[:, 3] - xyz[:, 1]), axis=1) / 2)
+    warp = rigid_links.warp(xyz, Rs[:, 2])
     bad = np.flatnonzero(warp > shells.WARN_WARP)
     if bad.size:
         raise InputError(f"{labels[bad[0]] if labels else f'panel {bad[0]}'}: warped by "

@@ -195,7 +195,7 @@ def shell_axes(xyz: np.ndarray, labels: list[str] | None = None
     R = np.stack([x, np.cross(z, x), z], axis=1)
     local = np.einsum("nij,nkj->nki", R, xyz - xyz.mean(axis=1, keepdims=True))
     if k == 4:
-        warp = np.max(np.abs(local[:, :, 2]), axis=1) / np.sqrt(area2 / 2.0)
+        warp = rigid_links.warp(xyz, z)
         bad = np.flatnonzero(warp > MAX_WARP)
         if bad.size:
             raise InputError(f"{name(bad[0])}: warped by {warp[bad[0]]:.3g} (nodes' distance "

@@ -174,11 +174,10 @@ modes are -0.36/-0.56 % off with plain facets, +0.17/+1.02 % with normals
 def curvature(bdf, grid, xyz: np.ndarray, n_nodes: int, snorm: float):
     """``nodes (n, k) -> curvature (n,)`` of CQUAD4 (k = 4) or CTRIA3 (k = 3) elements
     from the normals of their grids (model/shell_normals.py) under PARAM SNORM ``snorm``
-    (degrees); when it is <= 0, a warped CQUAD4's own twist
-    (:func:`~eigenupdate.model.shell_normals.warped_curvature`); None when the deck has
-    no such shells. Normals from every
-    CQUAD4, CTRIA3 and a CTRIA6's four facets (quadratic.FACETS, as a curved one is
-    modelled) at a grid."""
+    (degrees), None when the deck has no such shells; when it is <= 0, a warped
+    CQUAD4's own twist (:func:`~eigenupdate.model.shell_normals.warped_curvature`).
+    Normals from every CQUAD4, CTRIA3 and a CTRIA6's four facets (quadratic.FACETS, as a
+    curved one is modelled) at a grid."""
     if not snorm > 0:
         # a warped CQUAD4's own corner normals (flat facets: none, NASTRAN-95's and
         # MSC 70.7's plain facets)

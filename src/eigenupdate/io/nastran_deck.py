@@ -52,20 +52,25 @@ SKIPPED = frozenset({
     "FORCE", "FORCE1", "FORCE2", "MOMENT", "MOMENT1", "MOMENT2", "LOAD", "PLOAD", "PLOAD1",
     "PLOAD2", "PLOAD4", "PLOADX1", "GRAV", "RFORCE", "ACCEL", "ACCEL1", "TEMP", "TEMPD",
     "SPCD", "DLOAD", "RLOAD1", "RLOAD2", "TLOAD1", "TLOAD2", "LSEQ", "DAREA", "DPHASE",
-    "DELAY", "SLOAD", "QBDY1", "QBDY2", "QHBDY", "QVOL",
+    "DELAY", "SLOAD", "QBDY1", "QBDY2", "QBDY3", "QHBDY", "QVOL", "CLOAD", "PLOADX", "GMLOAD",
+    "TEMPRB", "TEMPP1", "TEMPBC", "NOLIN1", "NOLIN2", "NOLIN3", "NOLIN4", "TIC", "BOLTFOR",
     # tables, damping, frequencies, time steps, eigenvalue methods
     "TABLED1", "TABLED2", "TABLED3", "TABLED4", "TABLEM1", "TABLEM2", "TABLEM3", "TABLEM4",
     "TABDMP1", "TABRND1", "TABLES1", "TABLEST", "TABLEH1", "TABLEHT", "FREQ", "FREQ1",
     "FREQ2", "FREQ3", "FREQ4", "FREQ5", "TSTEP", "TSTEPNL", "EIGRL", "EIGR", "EIGC", "EIGB",
-    "EIGP", "NLPARM", "NLPCI", "RANDPS", "RANDT1",
+    "EIGP", "NLPARM", "NLPCI", "RANDPS", "RANDT1", "TABRNDG", "TABLED5", "TSTEP1", "NLSTEP",
+    "NLCNTL", "NLCNTL2", "NLCNTLG", "RVDOF", "RVDOF1",
     # damping (real modes ignore it) and extra points of dynamic response
     "CDAMP1", "CDAMP2", "CDAMP3", "CDAMP4", "CDAMP5", "PDAMP", "PDAMP5", "PDAMPT", "CVISC",
     "PVISC", "PBUSHT", "PELAST", "EPOINT", "TF",
     # heat transfer: thermal materials and boundary cards
     "MAT4", "MAT5", "CHBDYE", "CHBDYG", "CHBDYP", "PHBDY", "CONV", "PCONV", "RADBC",
+    "RADM", "RADMT", "RADSET", "RADCAV", "RADLST", "RADMTX", "VIEW", "VIEW3D",
     # sets, output, bookkeeping (SUPORT1 is chosen by case control for rigid-body modes)
     "SUPORT1", "CBARAO", "SEQGP", "SEQSEP",
-    "USET", "USET1", "DTI", "MDLPRM", "SET1", "SET2", "SET3", "PLOTEL", "ECHOON", "ECHOOFF",
+    "USET", "USET1", "DTI", "MDLPRM", "SET1", "SET2", "SET3", "ECHOON", "ECHOOFF", "OUTRCV",
+    "PLOTEL", "PLOTEL3", "PLOTEL4", "PLOTEL6", "PLOTEL8", "PLOTTET", "PLOTPEN", "PLOTPYR",
+    "PLOTHEX",
     "MONPNT1", "MONPNT2", "MONPNT3", "MONDSP1", "MONSUM", "MONSUM1",
     # aeroelasticity
     "AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAERO5", "PAERO1", "PAERO2",

@@ -160,12 +160,13 @@ def one(path: Path, compare: bool) -> dict:
         skip = n_rigid
         while skip < len(hz) and abs(hz[skip]) <= 1e-9 * top:
             skip += 1
-        v2 = upper_frequency(nm.text)
-        theirs = np.array(hz[skip:])
-        above = 0
-        if v2 is not None:  # rows above EIGRL V2: SOL 111/112 residual vectors (RESVEC)
-            above = int(np.count_nonzero(theirs > v2 * (1 + 1e-6)))
-            theirs = theirs[theirs <= v2 * (1 + 1e-6)]
+        v2, nd = eigrl(nm.text)
+        # rows beyond EIGRL ND or above V2: SOL 111/112 residual vectors (RESVEC)
+        rows = np.array(hz[:nd] if nd else hz)
+        if v2 is not None:
+            rows = rows[rows <= v2 * (1 + 1e-6)]
+        above = len(hz) - len(rows)
+        theirs = rows[skip:]
         k = min(len(theirs), len(model.coordinates) - n_rigid)
         if k <= 0:
             out.update(compare="no elastic modes to compare")
@@ -190,10 +191,11 @@ def _fields(line: str) -> list[str]:
     return [line[i:i + 8].strip() for i in range(0, min(len(line), 72), 8)]
 
 
-def upper_frequency(text: list[str]) -> float | None:
-    """V2 of the EIGRL the case control selects (Hz): Lanczos finds no eigenvalue above
-    it, so rows above are residual vectors. (EIGR's F2 bounds only the eigenvectors of
-    its tridiagonal methods: not used.)"""
+def eigrl(text: list[str]) -> tuple[float | None, int | None]:
+    """V2 (Hz) and ND of the EIGRL the case control selects: Lanczos finds no more than
+    ND eigenvalues (rigid-body ones included) and none above V2, so NASTRAN's rows
+    beyond are residual vectors. (EIGR's F2 bounds only the eigenvectors of its
+    tridiagonal methods: not used.)"""
     methods = {int(m.group(2)) for m in map(_METHOD.match, text) if m}
     for line in text:
         f = _fields(line)
@@ -202,10 +204,12 @@ def upper_frequency(text: list[str]) -> float | None:
         try:
             if methods and int(f[1]) not in methods:
                 continue
-            return float(f[3].replace("D", "E")) if f[3] else None
+            v2 = float(f[3].replace("D", "E")) if f[3] else None
+            nd = int(f[4]) if len(f) > 4 and f[4] else None
+            return v2, nd
         except ValueError:
             continue
-    return None
+    return None, None
 
 
 def _limit() -> None:
@@ -291,7 +295,7 @@ def _table(results: list[dict], n_fragments: int) -> None:
                 print(f"  {r['deck']}: {r['compare']}")
                 continue
             flag = "AGREES" if abs(r["worst"]) <= r["tolerance"] else "DIFFERS"
-            extra = f", {r['above_v2']} rows above V2 left out" if r["above_v2"] else ""
+            extra = f", {r['above_v2']} rows beyond EIGRL ND/V2 left out" if r["above_v2"] else ""
             print(f"  {flag:8s} {r['deck']} vs {r['reference']}: {r['modes']} modes, "
                   f"{r['n_rigid']} rigid, worst {r['worst']:+.2e} (mode {r['worst_mode']}), "
                   f"tolerance {r['tolerance']:g}{extra}")

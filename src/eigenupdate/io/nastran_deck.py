@@ -42,8 +42,8 @@ SUPPORTED = frozenset({
     "RBE1", "RBE2", "RBAR", "RROD", "RBE3", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3",
     "CRIGDR",
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
-    "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "CHEXA",
-    "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG", "CSHEAR", "PSHEAR", "CQUADR",
+    "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "MAT2",
+    "CHEXA", "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG", "CSHEAR", "PSHEAR", "CQUADR",
     "CTRIAR",
 })
 # cards that change neither K nor M of a normal-modes analysis
@@ -377,7 +377,7 @@ _ID_FIELD = {
                               "CRIGD1 CRIGD2 CRIGD3 CRIGDR"),
     **_kinds("property (PID)", "PBAR PBARL PBEAM PBEAML PROD PTUBE PELAS PMASS PBUSH PSHELL "
                                "PCOMP PCOMPG PSOLID PSHEAR"),
-    **_kinds("material (MID)", "MAT1 MAT8 MAT9"),
+    **_kinds("material (MID)", "MAT1 MAT2 MAT8 MAT9"),
     **_kinds("set (SID)", "SPC SPC1 SPCADD MPC MPCADD EIGRL EIGR"),
     **_kinds("coordinate system (CID)", "CORD1R CORD1C CORD1S CORD2R CORD2C CORD2S"),
 }

@@ -6,7 +6,9 @@ lines are copied from the pyNastran decks that were refused for them (pyNastran 
 BSD-3-Clause): bwb/bwb_freq.bdf (PLOTEL3, PLOTEL4), other/sdbush01.bdf (TABRNDG),
 msc/force_vector/nas102_ws21.dat (NOLIN1, NOLIN4), nx/sol401/sol401_tstep1.dat (TSTEP1),
 nx/z402cdamp1_04.bdf (NLCNTLG), thermal/htflw47.bdf (QBDY3, TEMPBC), thermal/hd15901.bdf
-(RADMTX), other/v12902.bdf (TIC), superelements/resvec23.bdf (RVDOF1).
+(RADMTX), other/v12902.bdf (TIC), superelements/resvec23.bdf (RVDOF1),
+nx/normalized_mass_density/s200tpgext1.dat (GROUP: a set for output and optimisation;
+pyNastran's reader failed on its THRU).
 
 Independent source: the same deck without these cards (they define no element, mass or
 constraint), whose K and M must be identical, bit for bit.
@@ -47,6 +49,8 @@ CARDS = {
     "RADMTX": "RADMTX  1       1       0.      0.      0.      0.      0.      0.\n",
     "TIC": "TIC,1,2,1,0.0,1.0\n",
     "RVDOF1": "RVDOF1,3,2\n",
+    "GROUP": ("GROUP        222     Top Surf                                           +\n"
+              "+           ELEM       1    THRU     999\n"),
 }
 
 

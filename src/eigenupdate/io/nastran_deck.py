@@ -81,7 +81,7 @@ SKIPPED = frozenset({
     # optimisation
     "DESVAR", "DVPREL1", "DVPREL2", "DVMREL1", "DVMREL2", "DVCREL1", "DVCREL2", "DRESP1",
     "DRESP2", "DRESP3", "DCONSTR", "DCONADD", "DOPTPRM", "DTABLE", "DEQATN", "DLINK",
-    "DVGRID", "DSCREEN", "DVPSURF",
+    "DVGRID", "DSCREEN", "DVPSURF", "GROUP",
     # direct matrices that only DMAP reads (aerodynamic WKK, W2GJ, FA2J...); the
     # structural ones, selected by K2GG and M2GG, are DMIG (io/nastran_dmig.py)
     "DMI",

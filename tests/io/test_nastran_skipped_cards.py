@@ -93,3 +93,18 @@ def test_bolt_and_contact_stay_refused(tmp_path):
                     "BGSET        101       1       2     1.5             .01\nENDDATA\n")
     with pytest.raises(InputError, match=r"not supported: BGSET x1, BOLT x1$"):
         read_nastran(path)
+
+
+def test_a_heat_transfer_material_is_named_as_such(tmp_path):
+    """A thermal deck's PSOLID names a MAT4 (skipped: it changes neither K nor M): the
+    refusal says the deck's MAT4 are heat-transfer materials (pyNastran's
+    elements/time_thermal_elements.bdf was refused with 'material 15 is not defined')."""
+    grids = "".join(f"GRID,{i + 1},,{x}.,{y}.,{z}.\n" for i, (x, y, z) in enumerate(
+        [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1),
+         (0, 1, 1)]))
+    path = tmp_path / "thermal.bdf"
+    path.write_text("SOL 159\nCEND\nBEGIN BULK\n" + grids + "CHEXA,1,5,1,2,3,4,5,6\n,7,8\n"
+                    "PSOLID,5,15\nMAT4,15,200.,,7800.\nENDDATA\n")
+    with pytest.raises(InputError, match=r"PSOLID 5: material 15 is not defined \(the "
+                       r"deck's MAT4 are heat-transfer materials, not read for K and M\)"):
+        read_nastran(path)

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
+from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus, undefined_material
 from eigenupdate.model import laminate, shells
 
 RIGID_SHEAR = 1e3
@@ -31,7 +31,7 @@ def mat1(bdf, mid, where: str):
     """A MAT1 for a shell or solid, its fields checked."""
     mat = bdf.materials.get(mid)
     if mat is None:
-        raise InputError(f"{where}: material {mid} is not defined")
+        raise InputError(f"{where}: {undefined_material(bdf, mid)}")
     if mat.type != "MAT1":
         raise InputError(f"{where}: material {mat.type} {mid} is not supported here (MAT1 "
                          f"only)")
@@ -208,7 +208,7 @@ def ply(bdf, mid: int, where: str) -> tuple[np.ndarray, np.ndarray, float]:
     G1Z/G2Z blank) and density of a PCOMP ply."""
     mat = bdf.materials.get(mid)
     if mat is None:
-        raise InputError(f"{where}: material {mid} is not defined")
+        raise InputError(f"{where}: {undefined_material(bdf, mid)}")
     if mat.type == "MAT1":
         m = mat1(bdf, mid, where)
         return shells.plane_stress(m.e, m.nu)[0], np.eye(2) * m.g, m.rho or 0.0

@@ -42,8 +42,8 @@ SUPPORTED = frozenset({
     "RBE1", "RBE2", "RBAR", "RROD", "RBE3", "MPC", "MPCADD", "CRIGD1", "CRIGD2", "CRIGD3",
     "CRIGDR",
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
-    "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "CHEXA",
-    "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG", "CSHEAR", "PSHEAR", "CQUADR",
+    "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "MAT2",
+    "CHEXA", "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG", "CSHEAR", "PSHEAR", "CQUADR",
     "CTRIAR",
 })
 # cards that change neither K nor M of a normal-modes analysis
@@ -52,20 +52,25 @@ SKIPPED = frozenset({
     "FORCE", "FORCE1", "FORCE2", "MOMENT", "MOMENT1", "MOMENT2", "LOAD", "PLOAD", "PLOAD1",
     "PLOAD2", "PLOAD4", "PLOADX1", "GRAV", "RFORCE", "ACCEL", "ACCEL1", "TEMP", "TEMPD",
     "SPCD", "DLOAD", "RLOAD1", "RLOAD2", "TLOAD1", "TLOAD2", "LSEQ", "DAREA", "DPHASE",
-    "DELAY", "SLOAD", "QBDY1", "QBDY2", "QHBDY", "QVOL",
+    "DELAY", "SLOAD", "QBDY1", "QBDY2", "QBDY3", "QHBDY", "QVOL", "CLOAD", "PLOADX", "GMLOAD",
+    "TEMPRB", "TEMPP1", "TEMPBC", "NOLIN1", "NOLIN2", "NOLIN3", "NOLIN4", "TIC", "BOLTFOR",
     # tables, damping, frequencies, time steps, eigenvalue methods
     "TABLED1", "TABLED2", "TABLED3", "TABLED4", "TABLEM1", "TABLEM2", "TABLEM3", "TABLEM4",
     "TABDMP1", "TABRND1", "TABLES1", "TABLEST", "TABLEH1", "TABLEHT", "FREQ", "FREQ1",
     "FREQ2", "FREQ3", "FREQ4", "FREQ5", "TSTEP", "TSTEPNL", "EIGRL", "EIGR", "EIGC", "EIGB",
-    "EIGP", "NLPARM", "NLPCI", "RANDPS", "RANDT1",
+    "EIGP", "NLPARM", "NLPCI", "RANDPS", "RANDT1", "TABRNDG", "TABLED5", "TSTEP1", "NLSTEP",
+    "NLCNTL", "NLCNTL2", "NLCNTLG", "RVDOF", "RVDOF1",
     # damping (real modes ignore it) and extra points of dynamic response
     "CDAMP1", "CDAMP2", "CDAMP3", "CDAMP4", "CDAMP5", "PDAMP", "PDAMP5", "PDAMPT", "CVISC",
     "PVISC", "PBUSHT", "PELAST", "EPOINT", "TF",
     # heat transfer: thermal materials and boundary cards
     "MAT4", "MAT5", "CHBDYE", "CHBDYG", "CHBDYP", "PHBDY", "CONV", "PCONV", "RADBC",
+    "RADM", "RADMT", "RADSET", "RADCAV", "RADLST", "RADMTX", "VIEW", "VIEW3D",
     # sets, output, bookkeeping (SUPORT1 is chosen by case control for rigid-body modes)
     "SUPORT1", "CBARAO", "SEQGP", "SEQSEP",
-    "USET", "USET1", "DTI", "MDLPRM", "SET1", "SET2", "SET3", "PLOTEL", "ECHOON", "ECHOOFF",
+    "USET", "USET1", "DTI", "MDLPRM", "SET1", "SET2", "SET3", "ECHOON", "ECHOOFF", "OUTRCV",
+    "PLOTEL", "PLOTEL3", "PLOTEL4", "PLOTEL6", "PLOTEL8", "PLOTTET", "PLOTPEN", "PLOTPYR",
+    "PLOTHEX",
     "MONPNT1", "MONPNT2", "MONPNT3", "MONDSP1", "MONSUM", "MONSUM1",
     # aeroelasticity
     "AERO", "AEROS", "CAERO1", "CAERO2", "CAERO3", "CAERO4", "CAERO5", "PAERO1", "PAERO2",
@@ -76,7 +81,7 @@ SKIPPED = frozenset({
     # optimisation
     "DESVAR", "DVPREL1", "DVPREL2", "DVMREL1", "DVMREL2", "DVCREL1", "DVCREL2", "DRESP1",
     "DRESP2", "DRESP3", "DCONSTR", "DCONADD", "DOPTPRM", "DTABLE", "DEQATN", "DLINK",
-    "DVGRID", "DSCREEN", "DVPSURF",
+    "DVGRID", "DSCREEN", "DVPSURF", "GROUP",
     # direct matrices that only DMAP reads (aerodynamic WKK, W2GJ, FA2J...); the
     # structural ones, selected by K2GG and M2GG, are DMIG (io/nastran_dmig.py)
     "DMI",
@@ -372,7 +377,7 @@ _ID_FIELD = {
                               "CRIGD1 CRIGD2 CRIGD3 CRIGDR"),
     **_kinds("property (PID)", "PBAR PBARL PBEAM PBEAML PROD PTUBE PELAS PMASS PBUSH PSHELL "
                                "PCOMP PCOMPG PSOLID PSHEAR"),
-    **_kinds("material (MID)", "MAT1 MAT8 MAT9"),
+    **_kinds("material (MID)", "MAT1 MAT2 MAT8 MAT9"),
     **_kinds("set (SID)", "SPC SPC1 SPCADD MPC MPCADD EIGRL EIGR"),
     **_kinds("coordinate system (CID)", "CORD1R CORD1C CORD1S CORD2R CORD2C CORD2S"),
 }

@@ -168,3 +168,12 @@ def mat9(bdf, mat, cordm, where: str) -> np.ndarray:
         raise InputError(f"{where}: CORDM {cordm} with {label}: only a rectangular "
                          f"material system (or 0, basic) is supported")
     return solids.rotated_elasticity(c, system.beta())
+
+
+def undefined_material(bdf, mid) -> str:
+    """``material N is not defined``, saying why when the deck has heat-transfer materials
+    (MAT4, MAT5: skipped, never read, so a thermal deck's PSOLID names one of them)."""
+    thermal = [k for k in ("MAT4", "MAT5") if bdf.card_count.get(k)]
+    note = (f" (the deck's {' and '.join(thermal)} are heat-transfer materials, not read for "
+            f"K and M)") if thermal else ""
+    return f"material {mid} is not defined{note}"

@@ -10,7 +10,7 @@ import warnings
 import numpy as np
 
 from eigenupdate.errors import EigenupdateWarning, InputError
-from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
+from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus, undefined_material
 from eigenupdate.model import frame3d, sections
 from eigenupdate.model.parametric import FunctionTerm
 from eigenupdate.model.sections import PARTS, SectionPart
@@ -426,7 +426,7 @@ def _enters(part: str, field: str, tied: bool, beam: bool) -> bool:
 def _material(bdf, mid: int, where: str):
     mat = bdf.materials.get(mid)
     if mat is None:
-        raise InputError(f"{where}: material MAT1 {mid} is not defined")
+        raise InputError(f"{where}: {undefined_material(bdf, mid)}")
     if mat.type != "MAT1":  # MAT8 or MAT9 (shells', solids')
         raise InputError(f"{where}: material {mat.type} {mid} is not supported here (MAT1 only)")
     for name in ("e", "g", "rho"):

@@ -1,5 +1,6 @@
-"""Shell materials of a deck: MAT1 (isotropic) and MAT8 (orthotropic) as a PSHELL's
-MID1/MID2/MID3 and as PCOMP plies (MSC QRG PSHELL, MAT8, PCOMP).
+"""Shell materials of a deck: MAT1 (isotropic), MAT8 (orthotropic) and MAT2 (anisotropic)
+as a PSHELL's MID1/MID2/MID3, MAT1 and MAT8 as PCOMP plies (MSC QRG PSHELL, MAT8, MAT2,
+PCOMP).
 
 A PSHELL's MAT8 is read in the element's material axes (THETA/MCID, as a PCOMP ply):
 membrane T Q, bending (12I/T^3) T^3 / 12 Q, transverse shear (TS/T) T diag(G1Z, G2Z),
@@ -18,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
+from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus, undefined_material
 from eigenupdate.model import laminate, shells
 
 RIGID_SHEAR = 1e3
@@ -30,7 +31,7 @@ def mat1(bdf, mid, where: str):
     """A MAT1 for a shell or solid, its fields checked."""
     mat = bdf.materials.get(mid)
     if mat is None:
-        raise InputError(f"{where}: material {mid} is not defined")
+        raise InputError(f"{where}: {undefined_material(bdf, mid)}")
     if mat.type != "MAT1":
         raise InputError(f"{where}: material {mat.type} {mid} is not supported here (MAT1 "
                          f"only)")
@@ -69,6 +70,32 @@ def mat8(bdf, mid: int) -> tuple[np.ndarray, np.ndarray, float, object]:
     return q, np.array([vals["G1Z"], vals["G2Z"]], float), mat.rho or 0.0, mat
 
 
+def mat2(bdf, mid: int) -> tuple[np.ndarray, np.ndarray, float, object]:
+    """Plane moduli G (3, 3), transverse shear moduli (2, 2), density and the card of a
+    MAT2 (MSC QRG MAT2: {s1, s2, t12} = G {e1, e2, g12} with G's upper triangle G11, G12,
+    G13, G22, G23, G33; as a PSHELL MID3 the same G11, G12, G22 relate {t1z, t2z} to
+    {g1z, g2z} and G13, G23, G33 are blank), in the element's material axes (THETA/MCID)
+    as a MAT8's. A material system of its own (MCSID) is refused."""
+    mat = bdf.materials[mid]
+    label = f"MAT2 {mid}"
+    if mat.mcsid not in (None, -1):
+        raise InputError(f"{label}: MCSID {mat.mcsid} (a material system of its own) is not "
+                         f"supported; leave it blank to use the element's THETA/MCID")
+    g = {k: in_range(getattr(mat, k) or 0.0, f"{label}: {k}")
+         for k in ("G11", "G12", "G13", "G22", "G23", "G33")}
+    q = np.array([[g["G11"], g["G12"], g["G13"]], [g["G12"], g["G22"], g["G23"]],
+                  [g["G13"], g["G23"], g["G33"]]])
+    shear = q[:2, :2].copy()
+    if (mat.rho or 0.0) < 0:
+        raise InputError(f"{label}: negative density RHO = {mat.rho:g}")
+    return q, shear, mat.rho or 0.0, mat
+
+
+def _definite(m: np.ndarray, what: str) -> None:
+    if not np.all(np.linalg.eigvalsh(m) > 0):
+        raise InputError(f"{what} is not positive definite")
+
+
 def reference_shear(q: np.ndarray) -> float:
     """The shear modulus a rigid transverse shear is a multiple of: an isotropic MAT1's
     E / (2 (1 + NU)); for a MAT8 max(E1, E2) / (2 (1 + NU12)) (NU12 < 0 taken as 0).
@@ -84,10 +111,13 @@ def reference_shear(q: np.ndarray) -> float:
 
 
 def _material(bdf, mid, where: str):
-    """("MAT1", card) or ("MAT8", (q, g, rho, card)) of a PSHELL MIDi."""
+    """("MAT1", card), ("MAT8", (q, g, rho, card)) or ("MAT2", (q, g, rho, card)) of a
+    PSHELL MIDi."""
     mat = bdf.materials.get(mid)
     if mat is not None and mat.type == "MAT8":
         return "MAT8", mat8(bdf, mid)
+    if mat is not None and mat.type == "MAT2":
+        return "MAT2", mat2(bdf, mid)
     return "MAT1", mat1(bdf, mid, where)
 
 
@@ -119,9 +149,17 @@ def pshell(bdf, prop) -> dict:
     tst = 5.0 / 6.0 if prop.tst in (None, 0.833333) else in_range(prop.tst, f"{where}: TS/T")
     if m2 is not None and not (ratio > 0 and tst > 0):
         raise InputError(f"{where}: 12I/T^3 = {ratio:g} and TS/T = {tst:g} must be > 0")
+    for k, m, use in ((k1, m1, "MID1"), (k2, m2, "MID2")):
+        if k == "MAT2":  # the membrane's and bending's moduli
+            _definite(m[0], f"{where} {use}: MAT2 {m[3].mid}'s G (G11 .. G33)")
+    if k3 == "MAT2":
+        if np.any(m3[0][2] != 0):
+            raise InputError(f"{where} MID3: MAT2 {m3[3].mid}'s G13, G23, G33 must be blank "
+                             f"for transverse shear (QRG MAT2)")
+        _definite(m3[1], f"{where} MID3: MAT2 {m3[3].mid}'s G11, G12, G22")
     out = {"T": T, "E3": 1.0, "tied3": False, "laminate": None,
-           "oriented": "MAT8" in (k1, k2, k3)}
-    if k1 == "MAT8":
+           "oriented": bool({"MAT8", "MAT2"} & {k1, k2, k3})}
+    if k1 in ("MAT8", "MAT2"):
         out.update(cm=m1[0], E1=1.0, mid1=m1[3].mid)
         rho1, mid1 = m1[2], m1[3].mid
     else:
@@ -129,7 +167,7 @@ def pshell(bdf, prop) -> dict:
         rho1, mid1 = m1.rho or 0.0, m1.mid
     if m2 is None:
         out.update(cb=np.zeros((3, 3)), E2=0.0, mid2=0)
-    elif k2 == "MAT8":
+    elif k2 in ("MAT8", "MAT2"):
         out.update(cb=m2[0] * ratio / 12, E2=1.0, mid2=m2[3].mid)
     else:
         out.update(cb=shells.plane_stress(1.0, m2.nu)[0] * ratio / 12, E2=m2.e, mid2=m2.mid)
@@ -138,7 +176,7 @@ def pshell(bdf, prop) -> dict:
         # MID3 blank: NASTRAN's shear-rigid (Kirchhoff) plate, as MID2's G times
         # RIGID_SHEAR: the frequencies then differ from the rigid limit by 1/RIGID_SHEAR
         # of the shear deformation's share, itself of order (T / L)^2
-        if k2 == "MAT8":
+        if k2 in ("MAT8", "MAT2"):
             out.update(cs=np.eye(2) * RIGID_SHEAR * reference_shear(m2[0]), G3=1.0,
                        mid3=m2[3].mid)
         else:
@@ -148,6 +186,8 @@ def pshell(bdf, prop) -> dict:
         g = m3[1]
         out.update(cs=np.diag(np.where(np.isnan(g), RIGID_SHEAR * reference_shear(m3[0]),
                                        tst * g)), G3=1.0, mid3=m3[3].mid)
+    elif k3 == "MAT2":
+        out.update(cs=tst * m3[1], G3=1.0, mid3=m3[3].mid)
     elif m3 is not None:
         if not (m3.g or 0.0) > 0:
             raise InputError(f"{where}: MID3's MAT1 {m3.mid} has G = {m3.g or 0.0:g} (E alone "
@@ -168,7 +208,7 @@ def ply(bdf, mid: int, where: str) -> tuple[np.ndarray, np.ndarray, float]:
     G1Z/G2Z blank) and density of a PCOMP ply."""
     mat = bdf.materials.get(mid)
     if mat is None:
-        raise InputError(f"{where}: material {mid} is not defined")
+        raise InputError(f"{where}: {undefined_material(bdf, mid)}")
     if mat.type == "MAT1":
         m = mat1(bdf, mid, where)
         return shells.plane_stress(m.e, m.nu)[0], np.eye(2) * m.g, m.rho or 0.0

@@ -13,7 +13,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_continuum import _add, _add_all, _to_cd, fixed, scaled
-from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus
+from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus, undefined_material
 from eigenupdate.model import shear_panel
 from eigenupdate.model.assembly import assemble_many
 from eigenupdate.model.parametric import Term
@@ -35,8 +35,9 @@ def _pshear(bdf, prop) -> tuple:
     nsm = in_range(prop.nsm or 0.0, f"{where}: NSM")
     mat = bdf.materials.get(prop.mid)
     if mat is None or mat.type != "MAT1":
-        what = "is not defined" if mat is None else f"is {mat.type} (MAT1 only)"
-        raise InputError(f"{where}: material {prop.mid} {what}")
+        what = (undefined_material(bdf, prop.mid) if mat is None
+                else f"material {prop.mid} is {mat.type} (MAT1 only)")
+        raise InputError(f"{where}: {what}")
     for name in ("e", "g", "nu", "rho"):
         if getattr(mat, name) is not None:
             in_range(getattr(mat, name), f"MAT1 {mat.mid}: {name.upper()}")

@@ -1,0 +1,68 @@
+"""tools/deck_sweep.py's readers of what NASTRAN printed and of the deck's eigenvalue
+method, and its grouping of refusals. Source: the layout of NASTRAN's .f06 REAL
+EIGENVALUES table (rows copied from pyNastran's models/beam_modes/beam_modes.f06, BSD-3)
+and the EIGRL card's fields (MSC QRG: SID, V1, V2, ND). Core environment: no pyNastran."""
+
+from __future__ import annotations
+
+import sys
+
+from conftest import ROOT
+
+sys.path.insert(0, str(ROOT / "tools"))
+import deck_sweep  # noqa: E402
+
+HEADER = ("                                              R E A L   E I G E N V A L U E S\n"
+          "   MODE    EXTRACTION      EIGENVALUE            RADIANS             CYCLES      "
+          "      GENERALIZED         GENERALIZED\n"
+          "    NO.       ORDER                                                              "
+          "         MASS              STIFFNESS\n")
+ROW = ("        {0}         {0}        8.232777E+06        2.869282E+03        {1}        "
+       "8.801022E-03        7.245685E+04\n")
+
+
+def test_f06_table_follows_page_breaks_and_stops_at_the_next_subcase(tmp_path):
+    """Rows 1, 2 on one page, 3 after a page header that repeats the title: one table;
+    a second subcase's table restarts at mode 1 and is not read."""
+    text = (HEADER + ROW.format(1, "4.566603E+02") + ROW.format(2, "4.566603E+02")
+            + "1    MSC.NASTRAN JOB                                   PAGE    12\n"
+            + HEADER + ROW.format(3, "2.674588E+03")
+            + "1    SUBCASE 2\n" + HEADER + ROW.format(1, "9.999999E+02"))
+    path = tmp_path / "x.f06"
+    path.write_text(text)
+    assert deck_sweep.f06_table(path) == [456.6603, 456.6603, 2674.588]
+
+
+def test_f06_without_a_table(tmp_path):
+    path = tmp_path / "x.f06"
+    path.write_text("1    MSC.NASTRAN JOB\n    nothing here\n")
+    assert deck_sweep.f06_table(path) is None
+
+
+def test_eigrl_of_the_selected_method():
+    """Fixed field (cbush_psd_bug's EIGRL: V2 = 2000 Hz, ND = 7) and free field; the
+    case control's METHOD picks the card."""
+    text = ["SOL 111", "CEND", "METHOD = 100", "BEGIN BULK",
+            "EIGRL,7,,,3",
+            "EIGRL        1000.100000 2000.00               0       7            MASS"]
+    assert deck_sweep.eigrl(text) == (2000.0, None)  # ND is field 5: blank here
+    free = ["CEND", "  METHOD = 7", "BEGIN BULK", "EIGRL,7,,,3"]
+    assert deck_sweep.eigrl(free) == (None, 3)
+    assert deck_sweep.eigrl(["BEGIN BULK", "EIGR,1,LAN,0.,.1,,6"]) == (None, None)
+
+
+def test_refusals_are_grouped_by_card():
+    msg = ("/x/deck.bdf: cards that would change K or M and are not supported: CBEND x2, "
+           "PBEND x2")
+    assert deck_sweep.kinds(msg) == ["card CBEND not supported", "card PBEND not supported"]
+    one = "/x/deck.bdf: line 12: PBARL 100: section type Z is not supported"
+    assert deck_sweep.kinds(one) == ["line N: PBARL N: section type Z is not supported"]
+
+
+def test_included_files_are_fragments(tmp_path):
+    (tmp_path / "main.bdf").write_text("BEGIN BULK\nINCLUDE 'geom.inc'\nENDDATA\n")
+    (tmp_path / "geom.inc").write_text("GRID,1,,0.,0.,0.\n")
+    (tmp_path / "loads.blk").write_text("FORCE,1,1,,1.,1.,0.,0.\n")  # no GRID: a fragment
+    found, fragments = deck_sweep.decks(tmp_path)
+    assert [p.name for p in found] == ["main.bdf"]
+    assert sorted(p.name for p in fragments) == ["geom.inc", "loads.blk"]

@@ -293,3 +293,20 @@ def test_refusals_are_one_line(tmp_path, capsys, text, params, words):
     B != 0 and a Z0 off the mid-plane (no coupling or mass-moment terms)."""
     line = _refused(tmp_path, capsys, text, params)
     assert "deck.bdf" in line and words in line, line
+
+
+def test_a_pshell_mat8_density_with_its_thickness(tmp_path):
+    """A PSHELL whose MID1 = MID2 = MID3 is a MAT8: its RHO and T both parameters (mass
+    WTMASS RHO T, a product). Sources: the deck re-read with both changed in its text
+    (round-off of the same sums), central differences of the model."""
+    from bounds import assert_matrix_derivatives
+
+    fields = [("PSHELL", 1, "T"), ("MAT8", 1, "RHO")]
+    model = _read(mixed_plate(tmp_path / "a.bdf", PSHELL8), fields).model
+    edited = PSHELL8.replace("PSHELL,1,1,2.e-3", "PSHELL,1,1,2.2e-3").replace(
+        "3000000000.0,1600.0", "3000000000.0,1750.0")
+    ref = _read(mixed_plate(tmp_path / "b.bdf", edited)).model
+    s = [2.2e-3, 1750.0]
+    for x, y in ((model.stiffness(s), ref.stiffness()), (model.mass(s), ref.mass())):
+        assert abs(x - y).max() <= 1e-12 * abs(y).max()
+    assert_matrix_derivatives(model)

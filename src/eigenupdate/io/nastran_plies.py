@@ -1,5 +1,6 @@
 """Shell thicknesses as parameters: PSHELL T (:func:`thickness_terms`) and PCOMP ply
-thicknesses (``PCOMP pid Tk``, k the card's ply; :func:`ply_terms`).
+thicknesses (``PCOMP pid Tk``, k the card's ply; :func:`ply_terms`), and the plies'
+MAT8 moduli E1, E2, NU12, G12, G1Z, G2Z and RHO (:func:`ply_terms`).
 
 A shell's stiffness is linear in the laminate's A, D and H in element axes, and those
 are the laminate's own A0(t), D0(t), H0(t) turned by the element's material angle phi:
@@ -17,6 +18,16 @@ moduli are equal (A0 = T q) it is T times one part; else the modes are condensed
 the deck's A0 (:func:`eigenupdate.model.shells.local_parts` ``condense_with``), linear in
 A, exact at the deck's thicknesses and a Ritz approximation (stiffer by the square of
 the change of A's shape) at others.
+
+A MAT8 modulus enters A0, D0, H0 through the plies' Q (and a rigid ply's shear, a
+multiple of its reference shear modulus) on the same basis: the coefficient functions
+take the plies' moduli from x too (:class:`eigenupdate.model.ply_moduli.PlyModuli`), so
+thickness and modulus parameters of one PCOMP share them; one MAT8 parameter moves every
+ply of that MID. The same A0 shape then moves with the moduli, so a CQUAD4 always
+condenses as under the deck's A0 (exact too when every modulus scales by one factor).
+The mass is WTMASS sum RHO_k t_k: one term per (RHO, thickness) pair. A MAT8's RHO alone
+(no modulus or thickness of that PCOMP a parameter) stays a linear parameter
+(:mod:`eigenupdate.io.nastran_continuum`), its plies' mass at their height.
 """
 
 from __future__ import annotations

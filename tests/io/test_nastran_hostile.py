@@ -190,10 +190,10 @@ def test_bad_cards_are_one_line_naming_card_and_id(tmp_path, capsys, name, text,
     assert words in refused(tmp_path, capsys, text)
 
 
-def test_parameter_on_a_card_without_parameters_names_card_and_id(tmp_path, capsys):
+def test_parameter_on_a_field_that_is_none_names_card_and_id(tmp_path, capsys):
     line = refused(tmp_path, capsys, deck("CQUAD4", _nodes(SQUARE), mat=M8,
-                                          prop="PCOMP,1\n" + PLIES), [("MAT8", 8, "E1")])
-    assert "line 15: MAT8 8 field E1: card MAT8 has no parameter fields" in line
+                                          prop="PCOMP,1\n" + PLIES), [("MAT8", 8, "ST")])
+    assert "line 15: MAT8 8: field 'ST' is not a parameter; the parameter fields" in line
 
 
 def test_deep_include_chain_and_a_device_are_refused(tmp_path, capsys):

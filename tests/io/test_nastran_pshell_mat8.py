@@ -202,9 +202,11 @@ def test_mixed_mat1_mat8_parameters_are_the_re_read_deck(tmp_path):
     assert_matrix_derivatives(model)
 
 
-def test_mat8_fields_are_not_parameters(tmp_path):
-    """MAT8 fields as parameters are refused (only MAT1's are read), naming the card."""
+def test_mat8_moduli_of_a_pshell_are_not_parameters(tmp_path):
+    """A PSHELL's MAT8 moduli as parameters are refused (they are parameters as PCOMP
+    plies only: tests/io/test_nastran_mat8_parameters.py), naming the card."""
     path = tmp_path / "p.bdf"
     path.write_text(MESH.replace("{prop}", f"PSHELL,7,8,{T!r},8,,8\n" + MAT8))
-    with pytest.raises(InputError, match="MAT8 8 field E1: card MAT8 has no parameter"):
+    with pytest.raises(InputError, match="MAT8 8 field E1: not a parameter as PSHELL 7's "
+                                         "MID1/MID2/MID3"):
         _read(path, card_specs([("e1", "MAT8", 8, "E1")]))

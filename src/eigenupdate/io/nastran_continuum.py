@@ -26,7 +26,7 @@ from eigenupdate.errors import InputError
 from eigenupdate.io import nastran_offsets as offsets
 from eigenupdate.io.nastran_fields import in_range, mat9, tied_shear_modulus
 from eigenupdate.io.nastran_materials import mat1 as _mat1
-from eigenupdate.io.nastran_materials import ply, pshell, rigid_plies
+from eigenupdate.io.nastran_materials import mat8_values, ply, pshell, rigid_plies
 from eigenupdate.io.nastran_plies import held_stabilisation, ply_terms, thickness_terms
 from eigenupdate.model import laminate, shells, shells_drilling, solids
 from eigenupdate.model import shells_quadratic as quadratic
@@ -161,7 +161,9 @@ def _pcomp(bdf, prop) -> dict:
                         t, z0, np.radians(angles)),
            "stack": {"q": np.stack([p[0] for p in plies]), "g": np.stack([p[1] for p in plies]),
                      "t": t, "theta": np.radians(angles), "rho": [p[2] for p in plies],
-                     "n_card": len(prop.thicknesses),
+                     "n_card": len(prop.thicknesses), "mid": [int(m) for m in mids],
+                     "mat8": {int(m): mat8_values(bdf.materials[int(m)]) for m in set(mids)
+                              if bdf.materials[int(m)].type == "MAT8"},
                      # Z0 on the card stays when a ply changes; blank, it is -T/2 (moves)
                      "z0_given": "Z0" not in getattr(prop, "blank", {"Z0"}),
                      "card_ply": [prop._adjust_ply_id(i) for i in range(len(t))]}}
@@ -283,9 +285,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     mids = {q: np.array([p[q] for p in rows]) for q in ("mid1", "mid2", "mid3")}
     tied3 = np.array([p["tied3"] for p in rows])
     for (card, cid), slots in pindex.items():
-        if card != "MAT1":
+        if card not in ("MAT1", "MAT8"):  # a MAT8's moduli: nastran_plies.ply_terms
             continue
-        if any(np.any(m == cid) for m in mids.values()):
+        if card == "MAT1" and any(np.any(m == cid) for m in mids.values()):
             _linear_in_e(bdf.materials[cid], slots)
         mixed = sorted({e.pid for e, p in zip(elems, rows, strict=True)
                         if cid in p.get("plies", ()) and p["mid1"] != cid})

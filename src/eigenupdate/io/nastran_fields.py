@@ -13,6 +13,9 @@ from eigenupdate.model import solids
 # card -> field -> (pyNastran attribute, what it scales); the rest are refused with a reason
 FIELDS = {
     "MAT1": {"E": "e", "RHO": "rho"},
+    # a PCOMP ply's moduli (nonlinear: Q11 = E1 / (1 - NU12 NU21), ...) and density
+    "MAT8": {"E1": "e11", "E2": "e22", "NU12": "nu12", "G12": "g12", "G1Z": "g1z",
+             "G2Z": "g2z", "RHO": "rho"},
     "PBAR": {"A": "A", "I1": "i1", "I2": "i2", "J": "j"},
     "PBEAM": {"A": "A", "I1": "i1", "I2": "i2", "J": "j"},
     "PROD": {"A": "A", "J": "j"},
@@ -46,8 +49,9 @@ def field_unit(card: str, field: str) -> str:
     >>> field_unit("MAT1", "E"), field_unit("PBAR", "I1"), field_unit("CONM1", "M64")
     ('force/length^2', 'length^4', 'mass*length^2')
     """
-    if card == "MAT1":
-        return {"E": "force/length^2", "RHO": "mass/length^3"}.get(field, "")
+    if card in ("MAT1", "MAT8"):
+        return ("mass/length^3" if field == "RHO" else "" if field == "NU12" else
+                "force/length^2")
     if card in ("PBAR", "PBEAM", "PROD"):
         return "length^2" if field == "A" else "length^4"
     if card in ("PBARL", "PBEAML", "PSHELL", "PCOMP", "PSHEAR"):
@@ -67,7 +71,8 @@ NOT_LINEAR = {
 
 
 def stores(bdf) -> dict:
-    return {"MAT1": bdf.materials, "PBAR": bdf.properties, "PBEAM": bdf.properties,
+    return {"MAT1": bdf.materials, "MAT8": bdf.materials, "PBAR": bdf.properties,
+            "PBEAM": bdf.properties,
             "PROD": bdf.properties,
             "PELAS": bdf.properties, "CELAS2": bdf.elements, "CELAS4": bdf.elements,
             "CMASS4": bdf.masses, "CONM2": bdf.masses, "CONM1": bdf.masses,

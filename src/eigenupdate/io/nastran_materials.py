@@ -6,7 +6,8 @@ A PSHELL's MAT8 is read in the element's material axes (THETA/MCID, as a PCOMP p
 membrane T Q, bending (12I/T^3) T^3 / 12 Q, transverse shear (TS/T) T diag(G1Z, G2Z),
 Q the plane-stress moduli of E1, E2, NU12, G12. A MAT1 keeps its E as the part's factor
 (so MAT1 E is a parameter); a MAT8's part has factor 1 and its moduli in the matrices
-(MAT8 fields are not parameters).
+(a MAT8's RHO is a parameter; its moduli are as PCOMP plies only:
+:mod:`eigenupdate.io.nastran_plies`).
 
 MAT8 G1Z/G2Z blank: MSC's default is an infinite transverse shear modulus. It is made
 shear-rigid as a PSHELL with MID3 blank (:data:`RIGID_SHEAR` times a reference shear
@@ -21,6 +22,7 @@ import numpy as np
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus, undefined_material
 from eigenupdate.model import laminate, shells
+from eigenupdate.model.ply_moduli import reference_shear
 
 RIGID_SHEAR = 1e3
 """Transverse shear stiffness of a PSHELL with MID3 blank (shear-rigid in NASTRAN), as a
@@ -47,6 +49,15 @@ def mat1(bdf, mid, where: str):
     if (mat.g or 0.0) < 0:
         raise InputError(f"MAT1 {mid}: negative shear modulus G = {mat.g:g}")
     return mat
+
+
+def mat8_values(mat) -> np.ndarray:
+    """A MAT8's E1, E2, NU12, G12, G1Z, G2Z (:data:`eigenupdate.model.ply_moduli.NAMES`),
+    NU12 blank 0, G1Z/G2Z blank NaN (MSC's rigid); call after :func:`mat8` checked it."""
+    blank = getattr(mat, "blank", ())
+    return np.array([mat.e11, mat.e22, mat.nu12 or 0.0, mat.g12,
+                     np.nan if "G1Z" in blank else mat.g1z,
+                     np.nan if "G2Z" in blank else mat.g2z], float)
 
 
 def mat8(bdf, mid: int) -> tuple[np.ndarray, np.ndarray, float, object]:
@@ -94,20 +105,6 @@ def mat2(bdf, mid: int) -> tuple[np.ndarray, np.ndarray, float, object]:
 def _definite(m: np.ndarray, what: str) -> None:
     if not np.all(np.linalg.eigvalsh(m) > 0):
         raise InputError(f"{what} is not positive definite")
-
-
-def reference_shear(q: np.ndarray) -> float:
-    """The shear modulus a rigid transverse shear is a multiple of: an isotropic MAT1's
-    E / (2 (1 + NU)); for a MAT8 max(E1, E2) / (2 (1 + NU12)) (NU12 < 0 taken as 0).
-
-    >>> round(reference_shear(laminate.orthotropic_plane(2.6, 2.6, 0.3, 1.0)), 12)
-    1.0
-    >>> round(reference_shear(laminate.orthotropic_plane(1.0, 5.2, 0.3, 1.0)), 12)
-    2.0
-    """
-    nu = q[0, 1] / q[1, 1]  # NU12 (Q12 = NU12 Q22)
-    return float(max(q[0, 0], q[1, 1]) * (1.0 - min(nu * nu * q[1, 1] / q[0, 0], 1.0)
-                                          ) / (2.0 * (1.0 + max(nu, 0.0))))
 
 
 def _material(bdf, mid, where: str):

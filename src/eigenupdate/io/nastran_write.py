@@ -23,6 +23,8 @@ from eigenupdate.io.nastran import CardField, NastranModel
 # parameter; None: found by a flag or a pair (PBUSH "K", PELAS/PMASS pairs)
 FIELD_INDEX = {
     ("MAT1", "E"): 2, ("MAT1", "RHO"): 5,
+    **{("MAT8", f): k + 2 for k, f in enumerate(("E1", "E2", "NU12", "G12", "G1Z", "G2Z",
+                                                 "RHO"))},
     ("PBAR", "A"): 3, ("PBAR", "I1"): 4, ("PBAR", "I2"): 5, ("PBAR", "J"): 6,
     ("PBEAM", "A"): 3, ("PBEAM", "I1"): 4, ("PBEAM", "I2"): 5, ("PBEAM", "J"): 7,
     ("PROD", "A"): 3, ("PROD", "J"): 4,

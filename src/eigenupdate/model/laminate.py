@@ -34,10 +34,11 @@ def orthotropic_plane(E1, E2, nu12, G12) -> np.ndarray:
     >>> orthotropic_plane(2.0, 2.0, 0.0, 1.0).tolist()
     [[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 1.0]]
     """
-    E1, E2, nu12, G12 = np.broadcast_arrays(*(np.asarray(x, float) for x in (E1, E2, nu12, G12)))
+    # complex-safe (complex-step derivatives of the moduli)
+    E1, E2, nu12, G12 = np.broadcast_arrays(*(np.asarray(x) + 0.0 for x in (E1, E2, nu12, G12)))
     nu21 = nu12 * E2 / E1
     d = 1.0 - nu12 * nu21
-    q = np.zeros(E1.shape + (3, 3))
+    q = np.zeros(E1.shape + (3, 3), dtype=np.result_type(E1, E2, nu12, G12))
     q[..., 0, 0] = E1 / d
     q[..., 1, 1] = E2 / d
     q[..., 0, 1] = q[..., 1, 0] = nu12 * E2 / d
@@ -129,6 +130,7 @@ class PlyStackEntry:
     kind: str
     entry: tuple[int, int]
     c: float = 0.0
+    moduli: object = None
 
     def thicknesses(self, x: np.ndarray) -> np.ndarray:
         t = np.asarray(self.thickness, dtype=np.result_type(x, float)).copy()
@@ -141,10 +143,11 @@ class PlyStackEntry:
         t = self.thicknesses(np.asarray(x))
         T = t.sum()
         i, j = self.entry
+        q = self.q if self.moduli is None else self.moduli(x)[self.kind[0] == "H"]
         if self.kind == "D":
             z = -T / 2 + np.concatenate([np.zeros(1, t.dtype), np.cumsum(t)])
-            return np.sum(np.diff(z**3) / 3 * self.q[:, i, j])
-        v = np.sum(t * self.q[:, i, j])
+            return np.sum(np.diff(z**3) / 3 * q[:, i, j])
+        v = np.sum(t * q[:, i, j])
         if self.kind == "H":
             v = SHEAR_FACTOR * v * (T**2 / (T**2 + self.c) if self.c else 1.0)
         elif self.kind == "H1":

@@ -18,31 +18,34 @@ def grid_id(i, j, k=0):
     return 100000 * k + 1000 * j + i + 1
 
 
-def mesh() -> str:
-    lines = ["$ stiffened panel: skin PSHELL 1, blades PSHELL 2"]
-    for j in range(NY + 1):
-        for i in range(NX + 1):
-            lines.append(f"GRID,{grid_id(i, j)},,{LX * i / NX:.6f},{LY * j / NY:.6f},0.")
-    for j in BLADE_ROWS:
+def mesh(nx: int = NX, ny: int = NY, blade_rows: tuple = BLADE_ROWS,
+         title: str = "stiffened panel: skin PSHELL 1, blades PSHELL 2") -> str:
+    """The mesh of ``nx`` x ``ny`` skin CQUAD4 (PID 1) with blades (PID 2) along x at
+    the skin rows ``blade_rows`` (tests/data/composite_panel uses a coarser one)."""
+    lines = [f"$ {title}"]
+    for j in range(ny + 1):
+        for i in range(nx + 1):
+            lines.append(f"GRID,{grid_id(i, j)},,{LX * i / nx:.6f},{LY * j / ny:.6f},0.")
+    for j in blade_rows:
         for k in range(1, NZ + 1):
-            for i in range(NX + 1):
-                lines.append(f"GRID,{grid_id(i, j, k)},,{LX * i / NX:.6f},{LY * j / NY:.6f},"
+            for i in range(nx + 1):
+                lines.append(f"GRID,{grid_id(i, j, k)},,{LX * i / nx:.6f},{LY * j / ny:.6f},"
                              f"{BLADE_H * k / NZ:.6f}")
     eid = 1
-    for j in range(NY):
-        for i in range(NX):
+    for j in range(ny):
+        for i in range(nx):
             g = (grid_id(i, j), grid_id(i + 1, j), grid_id(i + 1, j + 1), grid_id(i, j + 1))
             lines.append(f"CQUAD4,{eid},1," + ",".join(map(str, g)))
             eid += 1
-    for j in BLADE_ROWS:
+    for j in blade_rows:
         for k in range(NZ):
-            for i in range(NX):
+            for i in range(nx):
                 g = (grid_id(i, j, k), grid_id(i + 1, j, k), grid_id(i + 1, j, k + 1),
                      grid_id(i, j, k + 1))
                 lines.append(f"CQUAD4,{eid},2," + ",".join(map(str, g)))
                 eid += 1
-    edge = [grid_id(i, j) for i in (0, NX) for j in range(NY + 1)]
-    edge += [grid_id(i, j, k) for i in (0, NX) for j in BLADE_ROWS for k in range(1, NZ + 1)]
+    edge = [grid_id(i, j) for i in (0, nx) for j in range(ny + 1)]
+    edge += [grid_id(i, j, k) for i in (0, nx) for j in blade_rows for k in range(1, NZ + 1)]
     lines += [f"SPC1,1,123456,{g}" for g in edge]
     return "\n".join(lines) + "\n"
 

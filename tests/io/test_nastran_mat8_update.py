@@ -10,17 +10,15 @@ copied here) and its frequencies re-simulated. Runs in .venv-nastran (pyNastran)
 from __future__ import annotations
 
 import shutil
-import subprocess
-import sys
 import warnings
 
 import numpy as np
 import pytest
 from conftest import ROOT
+from generated_examples import assert_generator_writes, assert_truth_frequencies
 from nastran_frames import need
 
 from eigenupdate.errors import EigenupdateWarning
-from eigenupdate.io.measurements import read_measurements
 from eigenupdate.model.parameters import Parameter
 
 pytestmark = pytest.mark.nastran
@@ -39,18 +37,8 @@ def _values(bdf) -> np.ndarray:
 
 
 def test_decks_and_measurements_are_what_the_generator_and_truth_give(tmp_path, run_cli):
-    subprocess.run([sys.executable, str(PANEL / "make_panel.py")], cwd=tmp_path, check=True)
-    for name in ("mesh.bdf", "panel.bdf", "truth.bdf"):
-        assert (tmp_path / name).read_text() == (PANEL / name).read_text(), name
-    out = tmp_path / "sim.csv"
-    code, _, err = run_cli("simulate", PANEL / "truth.toml", "-o", out)
-    assert code == 0, err
-    shipped, again = read_measurements(PANEL / "measured.csv"), read_measurements(out)
-    assert shipped.keys() == again.keys() and len(shipped) == 30
-    # converged eigenvalues of the same model (residual ~ eps cond, 1e-12 relative at
-    # most); another CPU or BLAS changes only the last digits
-    for key, m in shipped.items():
-        assert again[key].frequency_hz == pytest.approx(m.frequency_hz, rel=1e-9)
+    assert_generator_writes(PANEL, tmp_path)
+    assert_truth_frequencies(PANEL, tmp_path, run_cli, 30)
 
 
 @pytest.mark.slow

@@ -8,17 +8,15 @@ here) and its frequencies re-simulated. Runs in .venv-nastran (pyNastran)."""
 
 from __future__ import annotations
 
-import subprocess
-import sys
 import warnings
 
 import numpy as np
 import pytest
 from conftest import EXAMPLES
+from generated_examples import assert_generator_writes, assert_truth_frequencies
 from nastran_frames import need
 
 from eigenupdate.errors import EigenupdateWarning
-from eigenupdate.io.measurements import read_measurements
 from eigenupdate.model.parameters import Parameter
 
 pytestmark = pytest.mark.nastran
@@ -37,21 +35,11 @@ def _values(bdf) -> np.ndarray:
 
 
 def test_decks_are_what_the_generator_writes(tmp_path):
-    subprocess.run([sys.executable, str(PANEL / "make_panel.py")], cwd=tmp_path, check=True)
-    for name in ("mesh.bdf", "panel.bdf", "truth.bdf"):
-        assert (tmp_path / name).read_text() == (PANEL / name).read_text(), name
+    assert_generator_writes(PANEL, tmp_path)
 
 
 def test_shipped_measurements_are_the_truth_decks_frequencies(tmp_path, run_cli):
-    out = tmp_path / "sim.csv"
-    code, _, err = run_cli("simulate", PANEL / "truth.toml", "-o", out)
-    assert code == 0, err
-    shipped, again = read_measurements(PANEL / "measured.csv"), read_measurements(out)
-    assert shipped.keys() == again.keys() and len(shipped) == 30
-    # both are converged eigenvalues (residual ~ eps cond, 1e-12 relative at most) of the
-    # same model; another CPU or BLAS changes only the last digits
-    for key, m in shipped.items():
-        assert again[key].frequency_hz == pytest.approx(m.frequency_hz, rel=1e-9)
+    assert_truth_frequencies(PANEL, tmp_path, run_cli, 30)
 
 
 @pytest.mark.slow

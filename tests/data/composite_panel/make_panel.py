@@ -9,44 +9,21 @@ panel.bdf  the model to update: the ply's nominal E1 and G12, INCLUDE 'mesh.bdf'
 truth.bdf  the same mesh with the E1 and G12 that simulate the test.
 """
 
+import importlib.util
 from pathlib import Path
 
-LX, LY, NX, NY = 0.6, 0.4, 12, 8
-BLADE_ROWS, BLADE_H, NZ = (2, 6), 0.03, 2
-
-
-def grid_id(i, j, k=0):
-    """Skin grid (i along x, j along y): 1000 j + i + 1; blade grid k above it: + 100000 k."""
-    return 100000 * k + 1000 * j + i + 1
+# the shipped example's mesh generator, on a coarser grid (loaded by path: this file has
+# the same name)
+_spec = importlib.util.spec_from_file_location(
+    "stiffened_panel_mesh",
+    Path(__file__).resolve().parents[3] / "examples" / "stiffened_panel" / "make_panel.py")
+_example = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_example)
 
 
 def mesh() -> str:
-    lines = ["$ composite stiffened panel: skin PCOMP 1, blades PSHELL 2"]
-    for j in range(NY + 1):
-        for i in range(NX + 1):
-            lines.append(f"GRID,{grid_id(i, j)},,{LX * i / NX:.6f},{LY * j / NY:.6f},0.")
-    for j in BLADE_ROWS:
-        for k in range(1, NZ + 1):
-            for i in range(NX + 1):
-                lines.append(f"GRID,{grid_id(i, j, k)},,{LX * i / NX:.6f},{LY * j / NY:.6f},"
-                             f"{BLADE_H * k / NZ:.6f}")
-    eid = 1
-    for j in range(NY):
-        for i in range(NX):
-            g = (grid_id(i, j), grid_id(i + 1, j), grid_id(i + 1, j + 1), grid_id(i, j + 1))
-            lines.append(f"CQUAD4,{eid},1," + ",".join(map(str, g)))
-            eid += 1
-    for j in BLADE_ROWS:
-        for k in range(NZ):
-            for i in range(NX):
-                g = (grid_id(i, j, k), grid_id(i + 1, j, k), grid_id(i + 1, j, k + 1),
-                     grid_id(i, j, k + 1))
-                lines.append(f"CQUAD4,{eid},2," + ",".join(map(str, g)))
-                eid += 1
-    edge = [grid_id(i, j) for i in (0, NX) for j in range(NY + 1)]
-    edge += [grid_id(i, j, k) for i in (0, NX) for j in BLADE_ROWS for k in range(1, NZ + 1)]
-    lines += [f"SPC1,1,123456,{g}" for g in edge]
-    return "\n".join(lines) + "\n"
+    return _example.mesh(12, 8, (2, 6), "composite stiffened panel: skin PCOMP 1, blades "
+                                        "PSHELL 2")
 
 
 def header(title: str, e1: str, g12: str) -> str:

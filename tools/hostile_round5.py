@@ -295,6 +295,7 @@ def sparse(name, size=10 << 30):
 case("fig2 csv 10 GB (sparse)", F2, ["check", S], sparse("measured.csv"))
 case("fig2 study 10 GB (sparse)", F2, ["check", S], sparse("study.toml"))
 nf("deck 10 GB (sparse)", ["check", S], sparse("frame.bdf"))
+case("frf uff 10 GB (sparse)", BF, ["extract", S, "-o", "@x.csv"], lambda w: sparse("frf/base.uff")(w))
 nf("eigrl ND = 10^9", ["frequencies", S], edit("frame.bdf", "EIGRL         10                      12", "EIGRL         10                1000000000"))
 nf("spc1 1 THRU 10^8", ["check", S], edit("frame.bdf", "SPC1           1   12456    1006", "SPC1           1   12456    1006\nSPC1,1,3,1,THRU,100000000"))
 nf("set1 1 THRU 10^8 (a card not assembled)", ["check", S], edit("frame.bdf", "SPC1           1   12456    1006", "SPC1           1   12456    1006\nSET1,77,1,THRU,100000000"))
@@ -329,6 +330,10 @@ case("frf sim-frf -o DIR base.uff a FIFO --force", BF, SIMFRF + ["--force"], in_
 case("frf sim-frf -o DIR base.uff a directory --force", BF, SIMFRF + ["--force"], lambda w: (w / "o" / "base.uff").mkdir(parents=True))
 case("frf sim-frf -o DIR a symlink to frf (the inputs) --force", BF, SIMFRF + ["--force"], lambda w: (w / "o").symlink_to(w / "frf"))
 case("frf sim-frf -o /dev/null", BF, SIMFRF[:3] + ["/dev/null"] + SIMFRF[4:])
+case("frf extract --uff55 /dev/null", BF, ["extract", S, "-o", "@x.csv", "--uff55", "/dev/null"])
+case("fig2 report -o a FIFO", F2, ["report", S, "--saved-only", "-o", "@r.html"], lambda w: os.mkfifo(w / "r.html"))
+case("fig2 design -o a symlink to the study", F2, ["design", S, "-o", "@p.toml"], lambda w: (w / "p.toml").symlink_to(w / "study.toml"))
+case("fig2 design -o a symlink to the study --force", F2, ["design", S, "-o", "@p.toml", "--force"], lambda w: (w / "p.toml").symlink_to(w / "study.toml"))
 LONG = "configuration,mode," + "x" * 20000 + "\n"
 case("frf extract -o over a file with a 20000-character first line", BF, ["extract", S, "-o", "@x.csv"], lambda w: (w / "x.csv").write_text(LONG))
 case("frf extract -o a 4000-character name", BF, ["extract", S, "-o", "@" + "x" * 4000 + ".csv"])

@@ -8,6 +8,7 @@ from conftest import ROOT
 from refusals import one_line
 
 FIG2 = ROOT / "examples" / "paper_fig2"
+FRF_EXAMPLE = ROOT / "examples" / "paper_beam_frf"
 
 
 def _sparse(path, size):
@@ -36,3 +37,16 @@ def test_the_size_budget_must_be_a_number(tmp_path, run_cli, monkeypatch):
     monkeypatch.setenv("EIGENUPDATE_MAX_INPUT_MB", "lots")
     code, _, err = run_cli("check", FIG2 / "study.toml")
     one_line(code, err, "EIGENUPDATE_MAX_INPUT_MB: must be an integer >= 1, got 'lots'")
+
+
+def test_an_frf_file_beyond_the_size_budget_is_refused_before_it_is_hashed(
+        tmp_path, run_cli, monkeypatch):
+    """extract hashes every FRF file (one file given for two tests) before reading it: a
+    sparse 10 GB UFF file was read whole there ('out of memory', naming no file)."""
+    d = tmp_path / "frf"
+    shutil.copytree(FRF_EXAMPLE, d)
+    _sparse(d / "frf" / "base.uff", 3 * 2**20)
+    monkeypatch.setenv("EIGENUPDATE_MAX_INPUT_MB", "1")
+    code, _, err = run_cli("extract", d / "study.toml", "-o", d / "x.csv")
+    one_line(code, err, "base.uff: the FRF file is 3 MB, read whole into memory")
+    assert not (d / "x.csv").exists()

@@ -256,7 +256,6 @@ GARBAGE = bytes(range(256)) * 8
 case("fig2 study empty", F2, ["check", S], lambda w: (w / "study.toml").write_text(""))
 case("fig2 study binary garbage", F2, ["check", S], lambda w: (w / "study.toml").write_bytes(GARBAGE))
 case("fig2 simulate truth empty", F2, ["simulate", "@truth.toml", "-o", "@s.csv"], lambda w: (w / "truth.toml").write_text(""))
-nf("deck empty", ["check", S], lambda w: (w / "frame.bdf").write_text(""))
 nf("deck binary garbage", ["check", S], lambda w: (w / "frame.bdf").write_bytes(GARBAGE))
 sp("included mesh binary garbage", ["check", S], lambda w: (w / "mesh.bdf").write_bytes(GARBAGE))
 sp("included mesh empty", ["check", S], lambda w: (w / "mesh.bdf").write_text(""))

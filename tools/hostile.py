@@ -8,7 +8,8 @@ count, "Traceback", and the files created or modified. Usage:
     python tools/hostile.py [-k SUBSTRING] [--nastran]
 
 Prints one line per case: name, exit status, stderr lines, flags, the last stderr line.
-Flags: TB (traceback), NEW/MOD (files created or changed by a failed run), HANG, >1L.
+Flags: TB (traceback), NEW/MOD (files created or changed by a failed run), HANG, >1L,
+LONG (a line over 1000 characters), and a case's own check.
 """
 
 from __future__ import annotations
@@ -68,11 +69,12 @@ def scale_freq(factor):
 CASES: list[tuple] = []
 
 
-def case(name, example, argv, mutate=None, python=CORE, env=None):
-    CASES.append((name, example, argv, mutate, python, env))
+def case(name, example, argv, mutate=None, python=CORE, env=None, check=None):
+    """``check(code, stderr)``: a further flag (str) of this case, or None."""
+    CASES.append((name, example, argv, mutate, python, env, check))
 
 
-def run(name, example, argv, mutate, python, env_extra=None, keep=False):
+def run(name, example, argv, mutate, python, env_extra=None, check=None, keep=False):
     d = Path(tempfile.mkdtemp(prefix="hostile-"))
     try:
         shutil.copytree(EX / example, d / "ex")
@@ -111,6 +113,10 @@ def run(name, example, argv, mutate, python, env_extra=None, keep=False):
             flags.append(">1L")
         if code == 0 and re.search(r"\b(nan|inf)\b", out, re.I):
             flags.append("NAN")
+        if any(len(ln) > 1000 for ln in elines):
+            flags.append("LONG")
+        if check is not None and (extra := check(code, err)):
+            flags.append(extra)
         last = elines[-1] if elines else ""
         print(f"{name:45s} {code!s:4s} {len(err.strip().splitlines()):3d} "
               f"{' '.join(flags):10s} {last[:230]}", flush=True)

@@ -33,6 +33,12 @@ LIMITS: dict[str, tuple[str, int]] = {
     # Monte Carlo trials (--trials, --validate): one seed and one result kept per trial
     # (--trials 1000000000 spawned its seeds until memory ran out)
     "trials": ("EIGENUPDATE_MAX_TRIALS", 100_000),
+    # an input file read whole (a study, a deck and each INCLUDE, a UFF or JSON file), MB:
+    # a sparse 10 GB study file was read until memory ran out, naming no file
+    "input_mb": ("EIGENUPDATE_MAX_INPUT_MB", 1_000),
+    # ids in one NASTRAN "A THRU B" range, which pyNastran expands into a list (SPC1
+    # 1 THRU 100000000 ran out of memory)
+    "thru_ids": ("EIGENUPDATE_MAX_THRU_IDS", 10_000_000),
 }
 """name -> (environment variable, default limit)."""
 

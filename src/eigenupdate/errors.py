@@ -56,6 +56,7 @@ class _Located(Exception):
         prefix = ": ".join(parts)
         message = shorten(message, max(80, MAX_MESSAGE - len(prefix) - 2))
         super().__init__(f"{prefix}: {message}" if prefix else message)
+        self.message = message  # without the prefix: for a caller that adds the source
         self.source = source
         self.field = field
 

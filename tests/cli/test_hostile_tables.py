@@ -1,4 +1,4 @@
-"""The hostile-case tables of tools/ (rounds 1-4) hold no row twice: the same command
+"""The hostile-case tables of tools/ (rounds 1-5) hold no row twice: the same command
 on the same example, mutated by the same code with the same constants, is one case
 (round 2 repeated round 1's `montecarlo --workers 0`)."""
 
@@ -24,7 +24,7 @@ def test_no_hostile_case_is_repeated():
         import hostile
 
         rows = {"hostile.py": list(hostile.CASES)}
-        for n in (2, 3, 4):
+        for n in (2, 3, 4, 5):
             spec = importlib.util.spec_from_file_location(
                 f"hostile_round{n}", ROOT / "tools" / f"hostile_round{n}.py")
             spec.loader.exec_module(importlib.util.module_from_spec(spec))
@@ -34,10 +34,11 @@ def test_no_hostile_case_is_repeated():
     seen: dict = {}
     repeats = []
     for table, cases in rows.items():
-        for name, example, argv, mutate, python, env in cases:
+        for name, example, argv, mutate, python, env, _check in cases:
             key = (example, tuple(map(str, argv)), _key(mutate), python, repr(env))
             if key in seen:
                 repeats.append((seen[key], f"{table}: {name}"))
             seen.setdefault(key, f"{table}: {name}")
     assert not repeats, repeats
     assert len(rows["round 4"]) >= 15
+    assert len(rows["round 5"]) >= 40

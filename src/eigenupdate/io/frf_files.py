@@ -8,6 +8,7 @@ from pathlib import Path
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.frf_csv import read_frf_csv
+from eigenupdate.io.inputs import require_regular
 from eigenupdate.io.uff import read_frfs
 from eigenupdate.io.uff._pyuff import PathLike
 from eigenupdate.measure.frf import FRF, dof_label
@@ -55,6 +56,7 @@ def require_distinct(files: Mapping[str, Sequence[PathLike]], source: str | None
         for p in paths:
             if not Path(p).is_file():  # /dev/zero, a directory: the reader refuses it unread
                 continue
+            require_regular(p, "FRF file")  # read whole to be hashed: a 10 GB one is not
             try:
                 digest = hashlib.sha256(Path(p).read_bytes()).digest()
             except OSError:

@@ -149,7 +149,7 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
     except InputError as exc:
         if exc.source:
             raise
-        raise InputError(_located(str(exc), deck), source=src, field=exc.field) from None
+        raise InputError(_located(exc.message, deck), source=src, field=exc.field) from None
     except OverflowError:
         raise InputError("a number in the deck overflows K or M (a value near 1e300?)",
                          source=src) from None

@@ -30,7 +30,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from eigenupdate.budget import require
 from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.io.inputs import require_size
 
 # cards that define K, M or the coordinates and are assembled (io/nastran.py)
 SUPPORTED = frozenset({
@@ -151,6 +153,17 @@ class _Blanks:
         self.cls, self.fields = cls, fields
 
     def add_card(self, card, comment=""):
+        fields = [str(card.field(i) or "").strip().upper() for i in range(card.nfields)]
+        for i in (i for i in range(1, len(fields) - 1) if fields[i] == "THRU"):
+            a, b = fields[i - 1], fields[i + 1]
+            if a.isdigit() and b.isdigit():  # else pyNastran's own message
+                n = int(b) - int(a) + 1
+                try:
+                    if n < 1:  # pyNastran kept only the first id
+                        raise InputError(f"{a} THRU {b}: the range must increase")
+                    require("thru_ids", n, f"{a} THRU {b} is {n:,} ids (pyNastran lists them)")
+                except InputError as exc:
+                    raise ValueError(f"{exc}\ncard=['{fields[0]}', '{fields[1]}']") from None
         try:
             obj = self.cls.add_card(card, comment=comment)
         except Exception as exc:
@@ -184,6 +197,7 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
     if path.exists() and not path.is_file():  # a directory, /dev/zero, a pipe: unbounded
         raise InputError(f"cannot read {path}: not a regular file")
     try:
+        require_size(path, path.stat().st_size, "NASTRAN file")
         text = path.read_text(errors="replace")
     except OSError as exc:
         raise InputError(f"cannot read {path}: {exc.strerror or exc}") from None

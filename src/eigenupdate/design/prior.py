@@ -247,6 +247,8 @@ def _root_mean(var: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     se(sqrt(mean)) = se(mean) / (2 sqrt(mean)))."""
     n = var.shape[0]
     std = np.sqrt(var.mean(axis=0))
-    se = (var.std(axis=0, ddof=1) / np.sqrt(n) / (2 * std) if n > 1
-          else np.full_like(std, np.inf))
-    return std, se
+    if n < 2:
+        return std, np.full_like(std, np.inf)
+    with np.errstate(invalid="ignore"):  # a draw the plan cannot identify: variance inf
+        sd = var.std(axis=0, ddof=1)
+    return std, np.where(np.isfinite(std), sd / np.sqrt(n) / (2 * std), np.inf)

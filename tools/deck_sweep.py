@@ -31,7 +31,7 @@ import time
 from collections import Counter
 from pathlib import Path
 
-EXTENSIONS = {".bdf", ".dat", ".nas", ".blk", ".pch", ".inc"}
+EXTENSIONS = {".bdf", ".dat", ".nas", ".blk", ".pch", ".inc", ".inp"}  # .inp: NASTRAN-95
 _INCLUDE = re.compile(r"^\s*INCLUDE\s+'?([^'$]+)'?", re.IGNORECASE)
 _MODEL_CARD = re.compile(r"^(GRID|SPOINT|DMIG)[\s,*]", re.IGNORECASE)
 _GRID = re.compile(r"^GRID[\s,*]", re.IGNORECASE)
@@ -104,8 +104,26 @@ def op2_table(path: Path) -> list[float] | None:
     return None
 
 
+def ref_json(deck: Path) -> list[float] | None:
+    """``cycles_hz`` of a ref.json beside the deck that names it (``deck``), the layout of
+    ../shared/data/nastran/ (NASTRAN's frequencies, rigid-body modes included)."""
+    path = deck.parent / "ref.json"
+    try:
+        ref = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    hz = ref.get("cycles_hz") if isinstance(ref, dict) else None
+    if ref.get("deck", deck.name) != deck.name or not isinstance(hz, list) or not hz:
+        return None
+    return [float(x) for x in hz]
+
+
 def reference(deck: Path) -> tuple[str, list[float]] | None:
-    """NASTRAN's eigenvalue table of a deck: (file name, Hz) from the .f06, else the .op2."""
+    """NASTRAN's eigenvalue table of a deck: (file name, Hz) from a ref.json that names
+    it, else the .f06, else the .op2."""
+    hz = ref_json(deck)
+    if hz:
+        return "ref.json", hz
     for suffix, reader in ((".f06", f06_table), (".op2", op2_table)):
         for p in deck.parent.iterdir():
             if p.stem.lower() == deck.stem.lower() and p.suffix.lower() == suffix:

@@ -66,3 +66,14 @@ def test_included_files_are_fragments(tmp_path):
     found, fragments = deck_sweep.decks(tmp_path)
     assert [p.name for p in found] == ["main.bdf"]
     assert sorted(p.name for p in fragments) == ["geom.inc", "loads.blk"]
+
+
+def test_ref_json_that_names_the_deck_is_the_reference(tmp_path):
+    """The layout of ../shared/data/nastran/: ref.json's cycles_hz, for the deck it names
+    (another deck of the folder has none from it); a NASTRAN-95 .inp deck is a deck."""
+    (tmp_path / "ref.json").write_text('{"deck": "a.inp", "cycles_hz": [0.0, 12.5]}')
+    (tmp_path / "a.inp").write_text("BEGIN BULK\nGRID,1,,0.,0.,0.\nENDDATA\n")
+    (tmp_path / "b.bdf").write_text("BEGIN BULK\nGRID,1,,0.,0.,0.\nENDDATA\n")
+    assert deck_sweep.reference(tmp_path / "a.inp") == ("ref.json", [0.0, 12.5])
+    assert deck_sweep.reference(tmp_path / "b.bdf") is None
+    assert [p.name for p in deck_sweep.decks(tmp_path)[0]] == ["a.inp", "b.bdf"]

@@ -281,11 +281,13 @@ def _mass_terms(pid, on, sl, rslots, rho, t0, wtmass) -> list:
 
 
 def _ratio(t: np.ndarray, q: np.ndarray, g: np.ndarray) -> float:
-    """CTRIA6's stabilisation ratio of a stack of turned moduli q, g at thicknesses t."""
-    z = -t.sum() / 2 + np.concatenate([[0.0], np.cumsum(t)])
-    D = np.einsum("p,pij->ij", np.diff(z**3) / 3, q)
-    H = np.einsum("p,pij->ij", t, g)
-    return float(stabilisation_ratio(D, H))
+    """CTRIA6's stabilisation ratio of a stack of turned moduli q, g at thicknesses t:
+    its bending per T^3 and shear per T, as the assembly passes them
+    (:mod:`eigenupdate.io.nastran_continuum`), so a one-material stack's is its
+    material's at any thickness."""
+    T = float(np.sum(t))
+    _, _, D, H = laminate.abd(q, g, t, -T / 2, np.zeros((1, len(t))))
+    return float(stabilisation_ratio(D[0] / T**3, H[0] / T)[()])
 
 
 def held_stabilisation(where: str, why: str) -> None:

@@ -141,6 +141,7 @@ def one(path: Path, compare: bool) -> dict:
 
     from eigenupdate.errors import InputError
     from eigenupdate.io.nastran import read_nastran
+    from eigenupdate.io.nastran_solution import BUCKLING, solution
     from eigenupdate.solve.eigen import solve_elastic
 
     out: dict = {"deck": str(path)}
@@ -165,6 +166,10 @@ def one(path: Path, compare: bool) -> dict:
     if ref is None:
         return out
     name, hz = ref
+    cend = next((i for i, x in enumerate(nm.text) if x.upper().strip().startswith("CEND")), -1)
+    if solution(nm.text, cend)[0] in BUCKLING:  # its table holds load factors
+        out.update(reference=name, compare="a buckling deck: no frequencies to compare")
+        return out
     cards = set(nm.bdf.elements) and {e.type for e in nm.bdf.elements.values()}
     continuum = any(c.startswith(CONTINUUM) for c in cards)
     out.update(reference=name, tolerance=1e-2 if continuum else 1e-4)

@@ -32,6 +32,7 @@ from typing import Any
 
 from eigenupdate.budget import require
 from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.io import nastran_solution
 from eigenupdate.io.inputs import require_size
 
 # cards that define K, M or the coordinates and are assembled (io/nastran.py)
@@ -290,8 +291,8 @@ def load_deck(path: str | Path) -> Deck:
     bulk = next((i for i, x in enumerate(lines) if x.upper().startswith(("BEGIN BULK",
                                                                          "BEGIN,BULK"))),
                 len(lines))
-    temperature = any(_TEMPERATURE.match(x) for x in lines[cend + 1:bulk]) if cend >= 0 \
-        else False
+    temperature = cend >= 0 and any(_TEMPERATURE.match(x) for x in lines[cend + 1:bulk])
+    nastran_solution.check(lines, origin, cend, bulk, path)
     # a comment keeps the line numbers
     lines = ["$" + x if i < cend and _APPROACH.match(x) else x for i, x in enumerate(lines)]
     lines, origin = _one_per_card(lines, origin)

@@ -1,0 +1,95 @@
+"""The deck's solution sequence, and the ones whose modes its K and M do not give.
+
+The reader builds K and M as the bulk data defines them, which are the matrices of
+NASTRAN's normal modes (MSC/NX SOL 103, SEMODES; NASTRAN-95 rigid format 3) and of the
+sequences that start from them (dynamics, flutter, statics, buckling, optimisation).
+Some sequences compute the modes of another stiffness or structure; their frequencies
+would differ from what this reader gives, so such a deck is refused, naming the line:
+
+* modes with differential stiffness (a preload): NASTRAN-95's rigid format 13, MSC/NX
+  SOL 103 with STATSUB in the case control (in SOL 105 it selects the buckling load),
+  SOL 106/129 with PARAM NMLOOP, SOL 400 modes after a nonlinear step (ANALYSIS = NLSTAT
+  or NLTRAN);
+* cyclic symmetry, where the bulk data is one segment: NASTRAN-95's rigid formats 14 and
+  15, MSC/NX SOL 114-118 (CYCSTATX, CYCMODE, CYCBUCKL, CYCFREQ);
+* heat transfer (APP HEAT, ANALYSIS = HEAT, SOL 153 and 159): K is a conductance.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+from eigenupdate.errors import InputError
+
+_SOL = re.compile(r"^\s*SOL\s*[ ,]\s*([A-Z0-9]+)", re.IGNORECASE)
+_APP = re.compile(r"^\s*APP\w*\s*[ ,]\s*(\w+)", re.IGNORECASE)
+_STATSUB = re.compile(r"^\s*STATSUB\b", re.IGNORECASE)
+_NMLOOP = re.compile(r"^\s*PARAM\s*[ ,*]\s*NMLOOP\b", re.IGNORECASE)
+_ANALYSIS = re.compile(r"^\s*ANALYSIS\s*=\s*(NLSTAT|NLTRAN|HEAT)", re.IGNORECASE)
+
+_NAMES = {"SEMODES": "103", "MODES": "103", "SEBUCKL": "105", "NLSTATIC": "106",
+          "CYCSTATX": "114", "CYCMODE": "115", "CYCBUCKL": "116", "CYCFREQ": "118",
+          "NLTRAN": "129", "NLSCSH": "153", "NLTCSH": "159", "NONLIN": "400",
+          "SEMFREQ": "111", "SEMTRAN": "112", "SEMCEIG": "110", "DESOPT": "200"}
+_CYCLIC = {"114", "115", "116", "118"}
+_HEAT = {"153", "159"}
+BUCKLING = {"105", "5"}  # their eigenvalues are load factors, not frequencies
+
+
+def solution(lines: list[str], cend: int) -> tuple[str | None, int | None, int | None]:
+    """(SOL as a number where it has one, its line index, the line index of NASTRAN's
+    ``APP HEAT`` or None) from the executive control ``lines[:cend]``.
+
+    >>> solution(["ID X", "APP DISPLACEMENT", "SOL   3,1", "CEND"], 3)
+    ('3', 2, None)
+    >>> solution(["SOL SEMODES", "CEND"], 1)
+    ('103', 0, None)
+    """
+    sol, at, heat = None, None, None
+    for i, text in enumerate(lines[:max(cend, 0)]):
+        if (m := _SOL.match(text)) and sol is None:
+            sol, at = _NAMES.get(m.group(1).upper(), m.group(1).upper()), i
+        elif (m := _APP.match(text)) and m.group(1).upper() == "HEAT":
+            heat = i
+    return sol, at, heat
+
+
+def check(lines: list[str], origin: list, cend: int, bulk: int, path: Path) -> str | None:
+    """Refuse a deck whose solution's modes are not those of its K and M; its SOL.
+
+    ``lines``, ``origin`` (file name, line) as the deck ``path`` reads, ``cend`` and
+    ``bulk`` the indices of CEND and BEGIN BULK (-1 and len(lines) where it has none).
+    """
+    sol, at, heat = solution(lines, cend)
+
+    def refuse(i: int, what: str) -> None:
+        name, number = origin[i]
+        where = f"line {number}" if name == path.name else f"{name}:{number}"
+        raise InputError(f"{where}: {what}, not the modes of the deck's K and M that this "
+                         f"reader builds", source=str(path))
+
+    if heat is not None:
+        refuse(heat, "APP HEAT makes it a heat transfer analysis")
+    if sol in _HEAT:
+        refuse(at, f"SOL {sol} is a heat transfer analysis")
+    if sol == "13":
+        refuse(at, "SOL 13 (NASTRAN-95's normal modes with differential stiffness) "
+                   "computes the modes of a preloaded structure")
+    if sol in _CYCLIC or sol in ("14", "15"):
+        refuse(at, f"SOL {sol} is a cyclic symmetry analysis of one segment")
+    case = range(cend + 1, bulk) if cend >= 0 else range(0)
+    for i in case:
+        if _STATSUB.match(lines[i]) and sol not in BUCKLING:
+            refuse(i, "STATSUB asks for the modes of a preloaded structure (differential "
+                      "stiffness)")
+        if (m := _ANALYSIS.match(lines[i])) and m.group(1).upper() == "HEAT":
+            refuse(i, "ANALYSIS = HEAT is a heat transfer analysis")
+        if m and sol == "400":
+            refuse(i, "SOL 400 modes after a nonlinear step include its stiffness")
+    if sol in ("106", "129"):
+        for i, text in enumerate(lines):
+            if _NMLOOP.match(text):
+                refuse(i, f"SOL {sol} with PARAM NMLOOP computes modes of the loaded, "
+                          f"deformed structure")
+    return sol

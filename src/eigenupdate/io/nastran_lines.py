@@ -5,6 +5,7 @@ assembly of their (parameter) stiffness and mass, vectorised over elements with
 from __future__ import annotations
 
 import math
+import re
 import warnings
 
 import numpy as np
@@ -55,7 +56,7 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
         return sections[key]
 
     label, rod, ga, gb, g0, xv, wa, wb, sec = [], [], [], [], [], [], [], [], []
-    basic_v = []
+    basic_v, offt_o = [], []  # X in basic; offsets at A, B in the offset system
     pins = []
     zero = np.zeros(3)
     for eid, e in sorted(bdf.elements.items()):
@@ -66,9 +67,10 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             if prop is None or prop.type not in {"PBAR": ("PBAR", "PBARL"),
                                                  "PBEAM": ("PBEAM", "PBEAML")}[ptype]:
                 raise InputError(f"{lab}: property {ptype} {e.pid} is not defined")
-            if str(e.offt) not in ("GGG", "BGG", "1"):  # NASTRAN-95's F = 1: as GGG
-                raise InputError(f"{lab}: OFFT {e.offt} is not supported (only GGG, BGG: "
-                                 f"offsets in the element system are not)")
+            offt = "GGG" if str(e.offt) == "1" else str(e.offt)  # NASTRAN-95's F = 1
+            if not re.fullmatch("[GB][GO][GO]", offt):
+                raise InputError(f"{lab}: OFFT {e.offt} is not one of GGG, BGG, GGO, BGO, "
+                                 f"GOG, BOG, GOO, BOO (QRG CBAR)")
             pin = np.zeros(12, bool)
             for end, flags in ((0, e.pa), (6, e.pb)):
                 pin[[end + int(c) - 1 for c in str(flags or "") if c != "0"]] = True
@@ -79,7 +81,8 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             a, b = grid(e.nodes[0], lab), grid(e.nodes[1], lab)
             g0.append(-1 if e.g0 is None else grid(e.g0, lab))
             xv.append(zero if e.g0 is not None else e.x)
-            basic_v.append(str(e.offt) == "BGG")  # X in basic, not in GA's system
+            basic_v.append(offt[0] == "B")  # X in basic, not in GA's system
+            offt_o.append((offt[1] == "O", offt[2] == "O"))
             # lumped mass too: the end masses sit at the offset ends, carried rigidly to
             # the grids (NASTRAN-95 mis/bard.f; tests/io/test_nastran_bar_offset_mass.py)
             wa.append(e.wa)
@@ -106,6 +109,7 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             g0.append(-1)
             xv.append(zero)
             basic_v.append(False)
+            offt_o.append((False, False))
             wa.append(zero)
             wb.append(zero)
         else:
@@ -120,15 +124,24 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     rod, ga, gb, g0 = np.array(rod), np.array(ga), np.array(gb), np.array(g0)
     # orientation vector and offsets are given in GA's (GB's) displacement system
     to_basic = np.transpose(frames, (0, 2, 1))
-    wa = np.einsum("nij,nj->ni", to_basic[ga], np.array(wa, float))
-    wb = np.einsum("nij,nj->ni", to_basic[gb], np.array(wb, float))
-    xa, xb = xyz[ga] + wa, xyz[gb] + wb
     v = np.einsum("nij,nj->ni", to_basic[ga], np.array(xv, float))
     basic_v = np.array(basic_v, bool)
     v[basic_v] = np.array(xv, float)[basic_v]
     by_g0 = g0 >= 0
     v[by_g0] = xyz[g0[by_g0]] - xyz[ga[by_g0]]
-    v[rod] = frame3d.any_normal((xb - xa)[rod])
+    v[rod] = frame3d.any_normal((xyz[gb] - xyz[ga])[rod])
+    wa_raw, wb_raw = np.array(wa, float).reshape(-1, 3), np.array(wb, float).reshape(-1, 3)
+    wa = np.einsum("nij,nj->ni", to_basic[ga], wa_raw)
+    wb = np.einsum("nij,nj->ni", to_basic[gb], wb_raw)
+    offt_o = np.array(offt_o, bool).reshape(-1, 2)
+    if offt_o.any():  # OFFT ?O? / ??O: in the offset system, x from GA to GB and y from v
+        sel = offt_o.any(axis=1)
+        _, r = frame3d.local_axes(xyz[ga][sel], xyz[gb][sel], v[sel],
+                                  [label[i] for i in np.flatnonzero(sel)])
+        for end, w, raw in ((0, wa, wa_raw), (1, wb, wb_raw)):
+            on = offt_o[sel, end]
+            w[np.flatnonzero(sel)[on]] = np.einsum("nji,nj->ni", r[on], raw[sel][on])
+    xa, xb = xyz[ga] + wa, xyz[gb] + wb
     rows = sec  # per element: E, G, tied, rho, A, I1, I2, J, nsm, mid, pkey, K1, K2, NSI, I12
     L, R = frame3d.local_axes(xa, xb, v, label)
     T = frame3d.element_transform(R, wa, wb, frames[ga], frames[gb])

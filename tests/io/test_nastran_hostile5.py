@@ -45,7 +45,12 @@ def test_a_reversed_thru_range_is_refused(tmp_path, run_cli):
     the first id): the other grids' SPC was dropped without a word."""
     d = _copy(FRAME, tmp_path, "frame.bdf", SPC, SPC + "\nSPC1,1,3,3001,THRU,1001")
     code, _, err = run_cli("check", d / "study.toml")
-    one_line(code, err, "SPC1 1: 3001 THRU 1001: the range must increase")
+    # the line of the range, not the set's first SPC1 card (another line)
+    lines = (d / "frame.bdf").read_text().splitlines()
+    at = lines.index("SPC1,1,3,3001,THRU,1001") + 1
+    assert at != next(i for i, x in enumerate(lines) if x.startswith("SPC1")) + 1
+    one_line(code, err, f"frame.bdf: line {at}: SPC1 1: 3001 THRU 1001: the range must "
+                        "increase")
 
 
 def test_an_included_file_beyond_the_size_budget_is_refused_unread(tmp_path, run_cli,

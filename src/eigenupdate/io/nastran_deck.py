@@ -34,6 +34,7 @@ from eigenupdate.budget import require
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io import nastran_solution
 from eigenupdate.io.inputs import require_size
+from eigenupdate.io.nastran_blame import FIRST, blamed_card, card_in_traceback, card_starts, place
 
 # cards that define K, M or the coordinates and are assembled (io/nastran.py)
 SUPPORTED = frozenset({
@@ -148,7 +149,7 @@ class _Blanks:
     card left blank, as ``obj.blank``: NASTRAN's rule for a blank field (e.g. MAT1's G
     follows E, a given G stays) cannot be read off the numbers pyNastran fills in.
     pyNastran's own failures on the card (a ZeroDivisionError on MAT1 NU = -1) are
-    tagged with the card's name and id (``card=['MAT1', '1']``) for :func:`_blamed_card`."""
+    tagged with the card's name and id (``card=['MAT1', '1']``) for :func:`blamed_card`."""
 
     def __init__(self, cls, fields):
         self.cls, self.fields = cls, fields
@@ -237,33 +238,6 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
         _expand(target, out, origin, (*stack, target), included)
 
 
-_FIRST = re.compile(r"^([A-Za-z][A-Za-z0-9]*)(\*?)")
-
-
-def _card_starts(lines: list[str], origin: list[tuple[str, int]]) -> dict:
-    """(card, first integer field) -> "file:line" of the card's first line."""
-    out: dict = {}
-    for text, (name, number) in zip(lines, origin, strict=True):
-        m = _FIRST.match(text)
-        if m is None:
-            continue
-        card = m.group(1).upper()
-        if "," in text[:10]:
-            fields = text.split(",")
-            second = fields[1] if len(fields) > 1 else ""
-        elif m.group(2):  # large field: 8 then 16 characters
-            second = text[8:24]
-        else:
-            second = text[8:16]
-        try:
-            cid = int(second.strip())
-        except ValueError:  # a name (DMIG KX) or blank
-            cid = second.strip().upper() or None
-        out.setdefault((card, cid), f"{name}:{number}")
-        out.setdefault((card, None), f"{name}:{number}")
-    return out
-
-
 def load_deck(path: str | Path) -> Deck:
     """Read a deck (executive and case control optional) and sort its cards.
 
@@ -308,7 +282,7 @@ def load_deck(path: str | Path) -> Deck:
                          punch=not has_cend, validate=True)
     except Exception as exc:  # pyNastran raises many kinds on malformed cards
         msg = [x for x in str(exc).strip().splitlines() if x.strip()]
-        blamed = _blamed_card(str(exc), lines, origin, path.name) or _card_in_traceback(
+        blamed = blamed_card(str(exc), lines, origin, path.name) or card_in_traceback(
             exc, lines, origin, path.name)
         first = msg[0] if msg else type(exc).__name__
         if re.match(r"nodes=\[", first):  # pyNastran's validate(): a grid given twice
@@ -327,7 +301,7 @@ def load_deck(path: str | Path) -> Deck:
                          source=str(path)) from None
     _grdset_defaults(bdf)
     _implicit_spoints(bdf)
-    deck = Deck(path, bdf, _card_starts(lines, origin), text=text, included=included,
+    deck = Deck(path, bdf, card_starts(lines, origin), text=text, included=included,
                 bulk=first, temperature=temperature)
     _sort_cards(deck)
     return deck
@@ -401,7 +375,7 @@ _ID_FIELD = {
 def _blank_ids(lines: list[str], origin: list, main: str) -> None:
     """A card of _ID_FIELD whose id is blank, named by its file and line."""
     for text, (name, number) in zip(lines, origin, strict=True):
-        m = _FIRST.match(text)
+        m = FIRST.match(text)
         kind = _ID_FIELD.get(m.group(1).upper()) if m else None
         if kind is None:
             continue
@@ -490,52 +464,6 @@ def _grdset_defaults(bdf) -> None:
             g.cp = gs.cp
         if gs.cd and "CD" in blank:
             g.cd = gs.cd
-
-
-def _blamed_card(text: str, lines: list[str], origin, main: str) -> str:
-    """``line N: CARD id`` (``file:N`` in an included file) of the card pyNastran's message
-    quotes (``card=['GRID', '2', ...]``), or "" when it quotes none."""
-    m = re.search(r"card=\[\s*'([A-Za-z0-9]+)\*?'\s*,\s*'\s*(\d+)\s*'", text)
-    named = re.search(r"card=\[\s*'(PARAM)\*?'\s*,\s*'\s*([A-Za-z][A-Za-z0-9_]*)\s*'", text)
-    if named is not None:  # a PARAM is known by its name (SNORM = 'YES')
-        return _located("PARAM", named.group(2).upper(), lines, origin, main)
-    if m is None:  # validate()'s messages name the card (PSHELL pid=1) or print it
-        m = re.match(r"([A-Z][A-Z0-9]*) [a-z]+=(-?\d+)\b", text) or (re.search(
-            r"^([A-Z][A-Z0-9]*)\*?(?: +|\s*,\s*)(-?\d+)\b", text.split("\n", 1)[-1],
-            re.MULTILINE) if "\n" in text else None)
-    if m is None:
-        return ""
-    return _located(m.group(1).upper(), int(m.group(2)), lines, origin, main)
-
-
-def _card_in_traceback(exc: BaseException, lines: list[str], origin, main: str) -> str:
-    """``line N: CARD id`` of the card object pyNastran was building or checking when it
-    raised without quoting it (a card's validate(): ``AssertionError: mass=-150.0``), from
-    the innermost frame whose ``self`` is a card; or ""."""
-    tb, found = exc.__traceback__, None
-    while tb is not None:
-        card = tb.tb_frame.f_locals.get("self")
-        kind = getattr(card, "type", None)
-        ident = next((getattr(card, a) for a in ("eid", "pid", "mid", "nid", "sid", "cid")
-                      if isinstance(getattr(card, a, None), int)), None)
-        if ident is None and kind in ("DMIG", "DMI"):  # named, not numbered
-            ident = str(getattr(card, "name", "")).upper() or None
-        if isinstance(kind, str) and kind.isupper() and ident is not None:
-            found = (kind, ident)
-        tb = tb.tb_next
-    return "" if found is None else _located(*found, lines, origin, main)
-
-
-def _located(card: str, cid: int | str, lines: list[str], origin, main: str) -> str:
-    """``line N: CARD id`` (``file:N`` in an included file; ``CARD id`` if not found)."""
-    hit = _card_starts(lines, origin).get((card, cid))
-    return f"{card} {cid}" if hit is None else f"{place(hit, main)}: {card} {cid}"
-
-
-def place(hit: str, main: str) -> str:
-    """``line N`` for a ``file:N`` of the deck ``main`` itself, else ``file:N``."""
-    name, line = hit.rsplit(":", 1)
-    return f"line {line}" if name == main else hit
 
 
 def _unused_properties(bdf) -> set[str]:

@@ -196,15 +196,19 @@ BAD = [
      "line 16: CQUAD1 3: G3 = None (field #5) on card must be an integer (not blank)"),
     ("CQUAD1,3,1,3,4,8,7", "CQUAD1,3,1,3,4,8,7\nCTRIA1,30,1,3,4,8",
      "line 17: CTRIA1 30: PTRIA1 1 is not defined (property 1 is a PQUAD1)"),
+    # G given against E / (2 (1 + NU)) = 2.632e10: NASTRAN-95's in-plane shear differs
+    ("MAT1,1,7.e10,,.33", "MAT1,1,7.e10,2.5e10,.33",
+     "line 20: PQUAD1 1: MAT1 1's G = 2.5e+10 is not E / (2 (1 + NU)) = 2.63158e+10"),
 ]
 
 
 @pytest.mark.parametrize(("old", "new", "message"), BAD, ids=["missing", "t1", "mid1",
-                                                             "grid", "kind"])
+                                                             "grid", "kind", "g"])
 def test_bad_nastran95_plate_cards_are_refused_in_one_line(tmp_path, run_cli, old, new,
                                                            message):
     """A CQUAD1 naming no PQUAD1, T1 <= 0, a blank required field, a CTRIA1 naming a
-    PQUAD1: exit 2, one line naming the file, line, card and id."""
+    PQUAD1, a MAT1 G NASTRAN-95 would use for in-plane shear: exit 2, one line naming the
+    file, line, card and id."""
     a, _ = _pair(tmp_path, "pquad1", False, False)
     text = a.read_text()
     assert old in text

@@ -16,6 +16,8 @@ checks) is the PSHELL one, and messages name the deck's card and id.
   (KTRIQD passes T as the plate's T2, and KTRBSC's shear stiffness is G T2).
 * CQUAD1, CQUAD2, CTRIA1, CTRIA2 (EID PID G1.. TH): PID blank is EID; TH is the
   material angle from the G1-G2 side, as CQUAD4's THETA.
+* Refused: a transverse shear material other than MAT1, and a MID1/MID2 MAT1 whose
+  given G is not E / (2 (1 + NU)) (:func:`_plane_shear`).
 """
 
 from __future__ import annotations
@@ -106,6 +108,22 @@ def _positive(c: _Card, value: float, what: str) -> None:
         raise InputError(f"{c.label}: {what} = {value:g} must be > 0")
 
 
+def _plane_shear(c: _Card, bdf, p) -> None:
+    """Refuse a MID1/MID2 MAT1 whose given G is not E / (2 (1 + NU)): NASTRAN-95's MAT
+    routine gives these plates that G as in-plane shear modulus (premat.f, G33 = G),
+    CQUAD4 and CTRIA3 E / (2 (1 + NU)). 1e-5 accepts a G consistent to an 8-character
+    field's digits (each rounded by at most 5e-7)."""
+    for mid in {p.mid1, p.mid2} - {None, 0}:
+        m = bdf.materials.get(mid)
+        if m is None or m.type != "MAT1" or not (m.e or 0) > 0 or not (m.g or 0) > 0:
+            continue
+        g = m.e / (2 * (1 + (m.nu or 0.0)))
+        if abs(m.g - g) > 1e-5 * m.g:
+            raise InputError(f"{c.label}: MAT1 {mid}'s G = {m.g:g} is not E / (2 (1 + NU)) "
+                             f"= {g:g}: NASTRAN-95 takes that G for in-plane shear, which "
+                             f"the plate read as CQUAD4/CTRIA3 does not (not supported)")
+
+
 def _element(c: _Card):
     from pyNastran.bdf.cards.elements.shell import CQUAD4, CTRIA3
 
@@ -146,6 +164,7 @@ def read_plates(deck) -> None:
                     bdf.properties_mass[p.pid]
                 raise InputError(f"{c.label}: property id {p.pid} is also {other.type} "
                                  f"{p.pid}'s")
+            _plane_shear(c, bdf, p)
             shear = bdf.materials.get(p.mid3) if p.mid3 else None
             if shear is not None and shear.type != "MAT1":
                 raise InputError(f"{c.label}: transverse shear material {shear.type} "

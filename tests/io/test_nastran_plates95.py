@@ -127,6 +127,28 @@ def test_nastran95_property_is_the_pshell_it_amounts_to(tmp_path, case, tria, co
         assert abs(a - b).max() <= 1e-12 * abs(b).max()
 
 
+def test_small_large_and_free_fields_read_alike(tmp_path):
+    """The same CQUAD1 and PQUAD1 in free (the deck of the tests above), small and large
+    (16-character, ``*`` continuation) fields: the same K and M, exactly (the same
+    numbers read)."""
+    a, _ = _pair(tmp_path, "pquad1", False, True)
+    free = read_deck(a).model
+    text = a.read_text()
+    small = ("CQUAD1  3       1       3       4       8       7       0.0\n"
+             "PQUAD1  1       1       .05     1       2.e-5   1       .04     .3\n")
+    large = ("CQUAD1* 3               1               3               4\n"
+             "*       8               7               0.0\n"
+             "PQUAD1* 1               1               .05             1\n"
+             "*       2.e-5           1               .04             .3\n")
+    for cards in (small, large):
+        quad, prop = "CQUAD1,3,1,3,4,8,7,0.0\n", "PQUAD1,1,1,.05,1,2.e-5,1,.04,.3\n"
+        assert quad in text and prop in text
+        a.write_text(text.replace(quad, "").replace(prop, cards))
+        other = read_deck(a).model
+        assert abs(other.stiffness() - free.stiffness()).max() == 0
+        assert abs(other.mass() - free.mass()).max() == 0
+
+
 def test_theta_turns_an_anisotropic_material(tmp_path):
     """Guards the MAT2 case above: TH = 0 instead of 30 changes K (the material axes
     turn), so that case checks that TH reaches the element."""
@@ -196,6 +218,9 @@ BAD = [
      "line 16: CQUAD1 3: G3 = None (field #5) on card must be an integer (not blank)"),
     ("CQUAD1,3,1,3,4,8,7", "CQUAD1,3,1,3,4,8,7\nCTRIA1,30,1,3,4,8",
      "line 17: CTRIA1 30: PTRIA1 1 is not defined (property 1 is a PQUAD1)"),
+    # an MSC-style ZOFFS would be dropped
+    ("CQUAD1,3,1,3,4,8,7,0.0", "CQUAD1,3,1,3,4,8,7,0.0,.01",
+     "line 16: CQUAD1 3: field 9 = '.01' is beyond the card's fields"),
     # G given against E / (2 (1 + NU)) = 2.632e10: NASTRAN-95's in-plane shear differs
     ("MAT1,1,7.e10,,.33", "MAT1,1,7.e10,2.5e10,.33",
      "line 20: PQUAD1 1: MAT1 1's G = 2.5e+10 is not E / (2 (1 + NU)) = 2.63158e+10"),
@@ -203,11 +228,12 @@ BAD = [
 
 
 @pytest.mark.parametrize(("old", "new", "message"), BAD, ids=["missing", "t1", "mid1",
-                                                             "grid", "kind", "g"])
+                                                             "grid", "kind", "zoffs", "g"])
 def test_bad_nastran95_plate_cards_are_refused_in_one_line(tmp_path, run_cli, old, new,
                                                            message):
     """A CQUAD1 naming no PQUAD1, T1 <= 0, a blank required field, a CTRIA1 naming a
-    PQUAD1, a MAT1 G NASTRAN-95 would use for in-plane shear: exit 2, one line naming the
+    PQUAD1, data beyond the card's fields, a MAT1 G NASTRAN-95 would use for in-plane
+    shear: exit 2, one line naming the
     file, line, card and id."""
     a, _ = _pair(tmp_path, "pquad1", False, False)
     text = a.read_text()

@@ -124,6 +124,20 @@ def _plane_shear(c: _Card, bdf, p) -> None:
                              f"the plate read as CQUAD4/CTRIA3 does not (not supported)")
 
 
+# the last field of each card's layout (PQUAD1/PTRIA1: Z1, Z2 on the continuation)
+_LAST = {"CQUAD1": 7, "CQUAD2": 7, "CTRIA1": 6, "CTRIA2": 6, "PQUAD1": 10, "PTRIA1": 10,
+         "PQUAD2": 8, "PTRIA2": 8}
+
+
+def _no_extra_fields(c: _Card) -> None:
+    """Refuse data beyond the card's layout (an MSC-style ZOFFS, a third property): it
+    would be dropped without a word."""
+    extra = [i for i in range(_LAST[c.name] + 1, c.card.nfields) if not c.blank(i)]
+    if extra:
+        raise InputError(f"{c.label}: field {extra[0] + 1} = {c.card.field(extra[0])!r} is "
+                         f"beyond the card's fields (NASTRAN-95 User's Manual {c.name})")
+
+
 def _element(c: _Card):
     from pyNastran.bdf.cards.elements.shell import CQUAD4, CTRIA3
 
@@ -148,9 +162,11 @@ def read_plates(deck) -> None:
         name = lines[0][:8].split(",")[0].strip().rstrip("*").upper() if lines else ""
         if name in CARDS:
             cards.append(_Card(name, card_fields(lines)))
+            _no_extra_fields(cards[-1])
     props: dict = {}
     for c in (c for c in cards if c.name in PROPERTIES):
-        bases = [1, 5] if c.name in ("PQUAD2", "PTRIA2") and not c.blank(5) else [1]
+        two = c.name in ("PQUAD2", "PTRIA2") and any(not c.blank(i) for i in (5, 6, 7, 8))
+        bases = [1, 5] if two else [1]
         for base in bases:
             if base > 1:  # the second property on the card: its line is the card's
                 first, second = (str(c.card.field(i) or "").strip() for i in (1, base))

@@ -43,6 +43,7 @@ from eigenupdate.io.nastran_fields import (
     stores,
 )
 from eigenupdate.io.nastran_lines import assemble_lines
+from eigenupdate.io.nastran_plates95 import read_plates
 from eigenupdate.io.nastran_points import (
     assemble_cbush,
     assemble_conm1,
@@ -143,6 +144,7 @@ def read_nastran(path: str | Path, parameters: Sequence[tuple[Parameter, CardFie
     deck = None
     try:
         deck = load_deck(path)
+        read_plates(deck)  # NASTRAN-95's CQUAD1.. PTRIA2 as CQUAD4/CTRIA3 + PSHELL
         deck.bdf.eigenupdate_subcase = subcase
         nm = _assemble(path, deck.bdf, parameters)
         deck.skipped = ", ".join(x for x in (deck.skipped, idle_note(deck.bdf)) if x)

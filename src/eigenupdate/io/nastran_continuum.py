@@ -24,6 +24,7 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io import nastran_offsets as offsets
+from eigenupdate.io import nastran_plates95 as plates95
 from eigenupdate.io.nastran_fields import in_range, mat9, tied_shear_modulus
 from eigenupdate.io.nastran_materials import mat1 as _mat1
 from eigenupdate.io.nastran_materials import mat8_values, ply, pshell, rigid_plies
@@ -33,7 +34,8 @@ from eigenupdate.model import shells_quadratic as quadratic
 from eigenupdate.model import shells_transition as transition
 from eigenupdate.model.assembly import assemble_many
 
-SHELLS = {"CQUAD4": 4, "CTRIA3": 3, "CQUAD8": 8, "CTRIA6": 6}
+SHELLS = {"CQUAD4": 4, "CTRIA3": 3, "CQUAD8": 8, "CTRIA6": 6,
+          **{name: k for name, (_, k, _) in plates95.ELEMENTS.items()}}  # NASTRAN-95's
 DRILLING = {"CQUADR": 4, "CTRIAR": 3}  # model/shells_drilling.py
 SOLIDS = {("CHEXA", 8): "CHEXA8", ("CHEXA", 20): "CHEXA20", ("CPENTA", 6): "CPENTA6",
           ("CPENTA", 15): "CPENTA15", ("CTETRA", 4): "CTETRA4", ("CTETRA", 10): "CTETRA10",
@@ -215,10 +217,15 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
     rows = []
     for e, lab in zip(elems, labels, strict=True):
         prop = bdf.properties.get(e.pid)
-        if prop is None or prop.type not in ("PSHELL", "PCOMP", "PCOMPG"):
-            raise InputError(f"{lab}: property PSHELL, PCOMP or PCOMPG {e.pid} is not defined")
+        kind = None if prop is None else plates95.READ_AS.get(prop.type, prop.type)
+        # a NASTRAN-95 plate's own property (nastran_plates95 checked it) or a PSHELL/PCOMP
+        if kind not in ("PSHELL", "PCOMP", "PCOMPG") or (kind != prop.type) != (
+                e.type in plates95.ELEMENTS):
+            have = f" (property {e.pid} is a {prop.type})" if prop is not None else ""
+            raise InputError(f"{lab}: property PSHELL, PCOMP or PCOMPG {e.pid} is not "
+                             f"defined{have}")
         if e.pid not in props:
-            props[e.pid] = pshell(bdf, prop) if prop.type == "PSHELL" else _pcomp(bdf, prop)
+            props[e.pid] = pshell(bdf, prop) if kind == "PSHELL" else _pcomp(bdf, prop)
         p = props[e.pid]
         corner = [x for x in (e.T1, e.T2, e.T3, getattr(e, "T4", None)) if x is not None]
         if e.tflag or any(not math.isclose(x, p["T"], rel_tol=1e-12) for x in corner):

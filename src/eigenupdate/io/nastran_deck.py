@@ -35,6 +35,7 @@ from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io import nastran_solution
 from eigenupdate.io.inputs import require_size
 from eigenupdate.io.nastran_blame import FIRST, blamed_card, card_in_traceback, card_starts, place
+from eigenupdate.io.nastran_plates95 import CARDS as PLATES95
 
 # cards that define K, M or the coordinates and are assembled (io/nastran.py)
 SUPPORTED = frozenset({
@@ -48,7 +49,7 @@ SUPPORTED = frozenset({
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
     "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "MAT2",
     "CHEXA", "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG", "CSHEAR", "PSHEAR", "CQUADR",
-    "CTRIAR",
+    "CTRIAR", *PLATES95,
 })
 # cards that change neither K nor M of a normal-modes analysis
 SKIPPED = frozenset({
@@ -71,7 +72,7 @@ SKIPPED = frozenset({
     "MAT4", "MAT5", "CHBDYE", "CHBDYG", "CHBDYP", "PHBDY", "CONV", "PCONV", "RADBC",
     "RADM", "RADMT", "RADSET", "RADCAV", "RADLST", "RADMTX", "VIEW", "VIEW3D",
     # sets, output, bookkeeping (SUPORT1 is chosen by case control for rigid-body modes)
-    "SUPORT1", "CBARAO", "SEQGP", "SEQSEP",
+    "SUPORT1", "CBARAO", "SEQGP", "SEQSEP", "CNGRNT",
     "USET", "USET1", "DTI", "MDLPRM", "SET1", "SET2", "SET3", "ECHOON", "ECHOOFF", "OUTRCV",
     "PLOTEL", "PLOTEL3", "PLOTEL4", "PLOTEL6", "PLOTEL8", "PLOTTET", "PLOTPEN", "PLOTPYR",
     "PLOTHEX",
@@ -274,7 +275,7 @@ def load_deck(path: str | Path) -> Deck:
     _free_field_overflow(lines[start:], origin[start:], path)
     _blank_ids(lines[start:], origin[start:], path.name)
     bdf = _quiet_bdf()
-    bdf.disable_cards(SKIPPED - {"EPOINT"})  # extra points: kept apart from scalar points
+    bdf.disable_cards((SKIPPED | PLATES95) - {"EPOINT"})  # EPOINT: kept apart from SPOINT
     sink = io.StringIO()
     try:
         with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
@@ -363,9 +364,9 @@ _ID_FIELD = {
     **_kinds("element (EID)", "CBAR CBEAM CROD CONROD CTUBE CELAS1 CELAS2 CELAS3 CELAS4 "
                               "CMASS1 CMASS2 CMASS3 CMASS4 CONM1 CONM2 CBUSH CQUAD4 CTRIA3 "
                               "CQUAD8 CTRIA6 CHEXA CPENTA CTETRA CPYRAM CSHEAR RBE2 RBAR RBE3 "
-                              "CRIGD1 CRIGD2 CRIGD3 CRIGDR"),
+                              "CRIGD1 CRIGD2 CRIGD3 CRIGDR CQUAD1 CQUAD2 CTRIA1 CTRIA2"),
     **_kinds("property (PID)", "PBAR PBARL PBEAM PBEAML PROD PTUBE PELAS PMASS PBUSH PSHELL "
-                               "PCOMP PCOMPG PSOLID PSHEAR"),
+                               "PCOMP PCOMPG PSOLID PSHEAR PQUAD1 PQUAD2 PTRIA1 PTRIA2"),
     **_kinds("material (MID)", "MAT1 MAT2 MAT8 MAT9"),
     **_kinds("set (SID)", "SPC SPC1 SPCADD MPC MPCADD EIGRL EIGR"),
     **_kinds("coordinate system (CID)", "CORD1R CORD1C CORD1S CORD2R CORD2C CORD2S"),

@@ -34,6 +34,9 @@ FIELDS = {
     "PBEAML": {f"DIM{k + 1}": ("_dim", k) for k in range(10)},
     # thickness: membrane ~ T, bending ~ T^3, shear ~ T, mass ~ RHO T + NSM (nonlinear)
     "PSHELL": {"T": "t"},
+    # NASTRAN-95's homogeneous plates: T as a PSHELL's (I = T^3 / 12, shear thickness T)
+    "PQUAD2": {"T": "t"},
+    "PTRIA2": {"T": "t"},
     # ply k's thickness (the card's k-th ply; LAM=SYM: and its mirror): A, D, H, mass
     "PCOMP": {f"T{k + 1}": ("_ply", k) for k in range(99)},
     # shear panel thickness: K ~ G T, mass ~ RHO T + NSM (linear)
@@ -54,7 +57,7 @@ def field_unit(card: str, field: str) -> str:
                 "force/length^2")
     if card in ("PBAR", "PBEAM", "PROD"):
         return "length^2" if field == "A" else "length^4"
-    if card in ("PBARL", "PBEAML", "PSHELL", "PCOMP", "PSHEAR"):
+    if card in ("PBARL", "PBEAML", "PSHELL", "PCOMP", "PSHEAR", "PQUAD2", "PTRIA2"):
         return "length"
     if card == "PBUSH":
         return "force/length" if field in ("K1", "K2", "K3") else "force*length/rad"
@@ -67,6 +70,9 @@ def field_unit(card: str, field: str) -> str:
 NOT_LINEAR = {
     ("MAT1", "NU"): "G = E / (2 (1 + NU)) is not linear in NU",
     ("MAT1", "G"): "give E (G follows it when the card leaves G blank)",
+    **{(c, f): "membrane and mass follow T1, bending I and shear T3 do not (three fields); "
+               "a PQUAD2/PTRIA2 T or a MAT1 E or RHO can be" for c in ("PQUAD1", "PTRIA1")
+       for f in ("T1", "I", "T3")},
 }
 
 
@@ -78,6 +84,7 @@ def stores(bdf) -> dict:
             "CMASS4": bdf.masses, "CONM2": bdf.masses, "CONM1": bdf.masses,
             "PBUSH": bdf.properties, "PBARL": bdf.properties, "PBEAML": bdf.properties,
             "PSHELL": bdf.properties, "PCOMP": bdf.properties, "PSHEAR": bdf.properties,
+            "PQUAD2": bdf.properties, "PTRIA2": bdf.properties,
             "CMASS2": bdf.masses, "PMASS": bdf.properties_mass}
 
 

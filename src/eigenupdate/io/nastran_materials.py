@@ -120,7 +120,7 @@ def _material(bdf, mid, where: str):
 
 def pshell(bdf, prop) -> dict:
     """A PSHELL's moduli per part (per unit factor E1, E2, G3 when MAT1) and mass."""
-    where = f"PSHELL {prop.pid}"
+    where = f"{prop.type} {prop.pid}"  # NASTRAN-95's PQUAD1.. read as PSHELLs too
     if not prop.mid1:
         raise InputError(f"{where}: MID1 blank (no membrane) is not supported")
     if prop.mid4:

@@ -22,6 +22,7 @@ import numpy as np
 
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io.nastran_fields import in_range
+from eigenupdate.io.nastran_plates95 import READ_AS
 from eigenupdate.model import (
     rigid_links,
     shell_normals,
@@ -186,7 +187,8 @@ def curvature(bdf, grid, xyz: np.ndarray, n_nodes: int, snorm: float):
     for card, corners in (("CQUAD4", [(0, 1, 2, 3)]), ("CTRIA3", [(0, 1, 2)]),
                           ("CTRIA6", quadratic.FACETS)):
         nodes = np.array([[grid(g, f"{card} {e.eid}") for g in e.node_ids] for e in
-                          bdf.elements.values() if e.type == card and all(e.node_ids)], int)
+                          bdf.elements.values() if READ_AS.get(e.type, e.type) == card
+                          and all(e.node_ids)], int)
         facets += [(shell_normals.facet_normals(xyz[nodes[:, c]]), nodes[:, c])
                    for c in map(list, corners) if nodes.size]
     if not facets:

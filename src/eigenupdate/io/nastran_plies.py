@@ -329,7 +329,7 @@ def thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m,
     pids = np.array([e.pid for e in elems])
     for (card, pid), slots in sorted(pindex.items()):
         on = pids == pid
-        if card != "PSHELL" or "T" not in slots or not on.any():
+        if card not in ("PSHELL", "PQUAD2", "PTRIA2") or "T" not in slots or not on.any():
             continue
         p = rows[int(np.flatnonzero(on)[0])]
         t = slots["T"]
@@ -360,7 +360,7 @@ def thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m,
                     out.append((pid, "shear", a, Term(None, pw, c)))
                 else:
                     fixed_shear += c * a
-                _linearised(f"PSHELL {pid} field T", sizes.size, T0)
+                _linearised(f"{card} {pid} field T", sizes.size, T0)
             for h in sizes if sizes.size <= MAX_SIZES else ():
                 mask = on & (size == h)
                 if h == 0:  # CQUAD8: s(T) = T

@@ -104,6 +104,10 @@ def _locate(cards: list[_Card], f: CardField) -> tuple[_Card, int]:
             for k in range(0, len(ids), step):
                 if _int(ids[k]) == f.id:
                     return card, k + 1
+        elif f.card in ("PQUAD2", "PTRIA2"):  # one or two PID MID T NSM sets per card
+            for k in (0, 4):
+                if _int(ids[k]) == f.id:
+                    return card, k + 2
         elif f.card == "PBUSH" and _int(ids[0]) == f.id:
             flags = [k for k, x in enumerate(ids) if x.upper() == "K" and k % 8 == 1]
             if flags:

@@ -106,9 +106,21 @@ def test_chain_with_fewer_modes_bounds_the_full_chain_from_above(tmp_path, spoin
     assert np.all(got >= full[:got.size] * (1 - 1e-12))
 
 
+def test_qset_alone_keeps_the_lowest_modes_of_the_whole_chain(tmp_path):
+    """Closed form: QSET without ASET omits every physical coordinate (QRG QSET), so the
+    fixed-interface modes are the chain's own (nothing held) and the two q-set
+    coordinates keep exactly its two lowest frequencies (second method: the unreduced
+    deck; rounding far below 1e-10)."""
+    full = _hz(_read(_deck(tmp_path, CHAIN, "full.bdf")), 2)
+    nm = _read(_deck(tmp_path, CHAIN + "QSET1,0,101,102\n"))
+    assert nm.model.coordinates.tolist() == [1011, 1021]
+    assert _hz(nm, 2) == pytest.approx(full, rel=1e-10)
+    assert np.array(nm.fixed_hz) == pytest.approx(full, rel=1e-10)
+
+
 def test_parameters_of_a_dynamically_reduced_deck_refused(tmp_path):
     path = _deck(tmp_path, CHAIN + "ASET1,1,3\nQSET1,0,101,102\n")
-    with pytest.raises(InputError, match=r"ASET/OMIT with QSET \(Craig-Bampton reduction\): K "
+    with pytest.raises(InputError, match=r"ASET with QSET \(Craig-Bampton reduction\): K "
                                          r"and M of the reduced model are not linear"):
         _read(path, [(Parameter("k", 0.0), CardField("PELAS", 7, "K"))])
 
@@ -129,7 +141,7 @@ def test_perturbations_on_omitted_and_modal_coordinates_refused(tmp_path):
     ("ASET1,1,3\nOMIT1,1,2\nQSET,101\n", 10, "both ASET and OMIT cards: give one of them"),
     ("ASET1,1,3\nQSET,2,1\n", 10, "QSET: GRID 2: the q-set (generalized coordinates"),
     ("ASET1,1,3\nQSET1,0,101,102,103\n", 2, "EIGRL 1: ND 2 is below the 3 q-set coordinates"),
-    ("QSET1,0,101,102\n", 10, "QSET: 2 q-set coordinates but no ASET or OMIT card"),
+    ("OMIT1,1,2\nQSET1,0,101,102\n", 10, "OMIT with QSET: with a q-set NASTRAN omits"),
     ("ASET1,1,3\nQSET1,0,101\nCELAS2,99,1.,101\n", 10, "QSET: SPOINT 101 carries stiffness"),
 ])
 def test_bad_reduction_sets_refused_in_one_line(tmp_path, run_cli, cards, nd, message):

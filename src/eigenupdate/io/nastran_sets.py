@@ -1,7 +1,8 @@
 """NASTRAN's reduction sets of a normal-modes deck and the reduction they ask for.
 
 ASET/ASET1 (the a-set, with the SUPORT coordinates) or OMIT/OMIT1 (the o-set) make a
-static (Guyan) reduction; QSET/QSET1 on SPOINTs add generalized coordinates, the lowest
+static (Guyan) reduction; QSET/QSET1 on SPOINTs (with ASET or alone: every coordinate
+outside ASET and QSET is omitted, QRG QSET) add generalized coordinates, the lowest
 fixed-interface modes of the o-set with the a-set held, one per q-set coordinate: the
 dynamic (Craig-Bampton) reduction of MSC's SOL 103/SEMODES residual structure. Both are in
 :mod:`eigenupdate.model.reduction`. MSC takes those modes from the EIGRL that METHOD
@@ -83,7 +84,7 @@ def q_set(bdf, where, n_grids: int) -> np.ndarray:
             if n in where and str(c or "").strip() not in ("", "0"):
                 raise InputError(f"{card.type}: component {c} of SPOINT {n} must be 0 or "
                                  f"blank")
-            if n not in where:
+            if n not in where:  # even in a THRU range, which pyNastran has expanded
                 raise InputError(f"{card.type}: SPOINT {n} is referenced but not defined")
     return np.unique(np.array(set_rows(qsets, where, "QSET", scalar=True), dtype=int))
 
@@ -104,14 +105,17 @@ def reduce(bdf, where, n_grids: int, ndof: int, k: sp.csr_array, m: sp.csr_array
     if analysis is None and q.size == 0:
         return Reduced(k, m, keep, none, none)
     what = "ASET/OMIT (Guyan reduction)" if q.size == 0 else \
-        "ASET/OMIT with QSET (Craig-Bampton reduction)"
+        "ASET with QSET (Craig-Bampton reduction)"
     if parameters:
         raise InputError(f"{what}: K and M of the reduced model are not linear in the "
                          f"parameters; remove the ASET/OMIT/QSET cards to update the full "
                          f"model")
-    if analysis is None:
-        raise InputError(f"QSET: {q.size} q-set coordinates but no ASET or OMIT card: "
-                         f"nothing is omitted to take fixed-interface modes of")
+    if q.size and list(bdf.omits):
+        raise InputError("OMIT with QSET: with a q-set NASTRAN omits every coordinate not in "
+                         "the ASET or QSET; give the boundary by ASET")
+    if analysis is None:  # QSET alone: every physical coordinate omitted (QRG QSET)
+        analysis = np.zeros(ndof, bool)
+        analysis[set_rows(bdf.suport, where, "SUPORT")] = True
     ids = nids[q // 6]
     _check_q(bdf, where, q, ids, keep, rows_ind, restrained)
     analysis = analysis[rows_ind]

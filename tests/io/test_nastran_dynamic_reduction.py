@@ -75,8 +75,10 @@ CHAIN = ("GRID,1,,0.,0.,0.,,23456\nGRID,2,,1.,0.,0.,,23456\nGRID,3,,2.,0.,0.,,23
 
 
 def _deck(tmp_path, body: str, name="deck.bdf", nd: int = 10):
+    """The chain's deck with METHOD 1 an EIGRL with ND = nd (nd = 0: an EIGR instead)."""
     path = tmp_path / name
-    path.write_text(CASE.format(nd=nd) + body + "ENDDATA\n")
+    head = CASE.format(nd=nd) if nd else CASE.replace("EIGRL,1,,,{nd}", "EIGR,1,LAN,0.,100.")
+    path.write_text(head + body + "ENDDATA\n")
     return path
 
 
@@ -120,7 +122,7 @@ def test_qset_alone_keeps_the_lowest_modes_of_the_whole_chain(tmp_path):
 
 def test_parameters_of_a_dynamically_reduced_deck_refused(tmp_path):
     path = _deck(tmp_path, CHAIN + "ASET1,1,3\nQSET1,0,101,102\n")
-    with pytest.raises(InputError, match=r"ASET with QSET \(Craig-Bampton reduction\): K "
+    with pytest.raises(InputError, match=r"QSET \(Craig-Bampton reduction\): K "
                                          r"and M of the reduced model are not linear"):
         _read(path, [(Parameter("k", 0.0), CardField("PELAS", 7, "K"))])
 
@@ -142,7 +144,11 @@ def test_perturbations_on_omitted_and_modal_coordinates_refused(tmp_path):
     ("ASET1,1,3\nQSET,2,1\n", 10, "QSET: GRID 2: the q-set (generalized coordinates"),
     ("ASET1,1,3\nQSET1,0,101,102,103\n", 2, "EIGRL 1: ND 2 is below the 3 q-set coordinates"),
     ("OMIT1,1,2\nQSET1,0,101,102\n", 10, "OMIT with QSET: with a q-set NASTRAN omits"),
+    ("ASET1,1,3\nQSET1,0,101\n", 0, "QSET: METHOD 1 names no EIGRL card"),
     ("ASET1,1,3\nQSET1,0,101\nCELAS2,99,1.,101\n", 10, "QSET: SPOINT 101 carries stiffness"),
+    ("ASET1,1,3\nQSET1,0,101\nSPC1,1,0,101\n", 10, "QSET: SPOINT 101 is restrained (SPC)"),
+    ("ASET1,1,3\nQSET1,0,101\nMPC,1,101,0,1.,3,1,-1.\n", 10,
+     "QSET: SPOINT 101 is dependent"),
 ])
 def test_bad_reduction_sets_refused_in_one_line(tmp_path, run_cli, cards, nd, message):
     """One line naming the card and the problem, exit 2, through the CLI."""

@@ -104,8 +104,7 @@ def reduce(bdf, where, n_grids: int, ndof: int, k: sp.csr_array, m: sp.csr_array
     none = np.zeros(0, int)
     if analysis is None and q.size == 0:
         return Reduced(k, m, keep, none, none)
-    what = "ASET/OMIT (Guyan reduction)" if q.size == 0 else \
-        "ASET with QSET (Craig-Bampton reduction)"
+    what = "QSET (Craig-Bampton reduction)" if q.size else "ASET/OMIT (Guyan reduction)"
     if parameters:
         raise InputError(f"{what}: K and M of the reduced model are not linear in the "
                          f"parameters; remove the ASET/OMIT/QSET cards to update the full "
@@ -117,7 +116,7 @@ def reduce(bdf, where, n_grids: int, ndof: int, k: sp.csr_array, m: sp.csr_array
         analysis = np.zeros(ndof, bool)
         analysis[set_rows(bdf.suport, where, "SUPORT")] = True
     ids = nids[q // 6]
-    _check_q(bdf, where, q, ids, keep, rows_ind, restrained)
+    _check_q(q, ids, keep, rows_ind, restrained)
     analysis = analysis[rows_ind]
     kept = analysis[keep]
     gone = rows_ind[keep[~kept]]
@@ -140,10 +139,9 @@ def reduce(bdf, where, n_grids: int, ndof: int, k: sp.csr_array, m: sp.csr_array
     return Reduced(k, m, keep[kept], gone, 10 * ids + 1, tuple(hz.tolist()))
 
 
-def _check_q(bdf, where, q: np.ndarray, ids: np.ndarray, keep: np.ndarray,
-             rows_ind: np.ndarray, restrained: np.ndarray) -> None:
+def _check_q(q: np.ndarray, ids: np.ndarray, keep: np.ndarray, rows_ind: np.ndarray,
+             restrained: np.ndarray) -> None:
     """The q-set SPOINTs must be free and unconnected: their rows carry the modes."""
-    omitted = set(set_rows(bdf.omits, where, "OMIT"))
     position = np.minimum(np.searchsorted(rows_ind, q), rows_ind.size - 1)
     for j, n in enumerate(ids):
         if rows_ind[position[j]] != q[j]:
@@ -154,8 +152,6 @@ def _check_q(bdf, where, q: np.ndarray, ids: np.ndarray, keep: np.ndarray,
         if position[j] in keep:
             raise InputError(f"QSET: SPOINT {n} carries stiffness or mass of an element: a "
                              f"q-set SPOINT holds a fixed-interface mode only")
-        if q[j] in omitted:
-            raise InputError(f"QSET and OMIT both name SPOINT {n}")
 
 
 def _eigrl(bdf, n_q: int) -> tuple[float, float]:
@@ -168,10 +164,9 @@ def _eigrl(bdf, n_q: int) -> tuple[float, float]:
                          f"case control's METHOD selects; it has {got}")
     sid = methods.pop()
     card = bdf.methods.get(sid)
-    if card is None or card.type != "EIGRL":
-        what = "not defined" if card is None else f"a {card.type}, not an EIGRL"
-        raise InputError(f"QSET: METHOD {sid} is {what} (the fixed-interface modes are read "
-                         f"through an EIGRL)")
+    if card is None or card.type != "EIGRL":  # EIGR is never parsed: it names no EIGRL
+        raise InputError(f"QSET: METHOD {sid} names no EIGRL card (the fixed-interface "
+                         f"modes are read through an EIGRL; EIGR is not)")
     nd = card.nd
     if nd is not None and nd < n_q:
         raise InputError(f"EIGRL {sid}: ND {nd} is below the {n_q} q-set coordinates: "

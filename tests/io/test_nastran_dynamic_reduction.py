@@ -192,3 +192,18 @@ def test_design_candidates_leave_out_the_q_set(tmp_path, run_cli):
     code, _, err = run_cli("design", study, "-o", tmp_path / "plan.toml")
     one_line(code, err, "design.coordinates", "coordinate 1011 is a q-set SPOINT",
              warnings_allowed=True)
+
+
+SCALAR = ("SPOINT,5,6,7\nCELAS2,1,100.,5,0\nCELAS2,2,200.,5,0,6,0\nCELAS2,3,300.,6,0,7,0\n"
+          "CMASS2,4,1.,5,0\nCMASS2,5,2.,7,0\n")
+
+
+@pytest.mark.parametrize("card", ["OMIT1,0,6", "OMIT,6,0", "ASET1,,5,7", "ASET,5,0,7"])
+def test_reduction_sets_on_scalar_points(tmp_path, card):
+    """Source: Guyan 1965, condensing a massless coordinate changes no frequency; QRG
+    ASET/OMIT: a scalar point's component is 0 or blank (such cards named no row). Three
+    coordinates, condition of K about 10: rounding near 1e-15, so 1e-12."""
+    full = _read(_deck(tmp_path, SCALAR, "full.bdf"))
+    nm = _read(_deck(tmp_path, SCALAR + card + "\n"))
+    assert nm.model.coordinates.tolist() == [51, 71]
+    assert _hz(nm, 2) == pytest.approx(_hz(full, 2), rel=1e-12)

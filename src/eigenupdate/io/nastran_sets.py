@@ -36,9 +36,9 @@ class Reduced:
     fixed_hz: tuple = ()  # frequencies of the fixed-interface modes used
 
 
-def set_rows(cards, where, label: str, scalar: bool = False) -> list[int]:
-    """Rows of ASET/ASET1/OMIT/OMIT1/SUPORT/QSET cards (point id, components); with
-    ``scalar`` a blank component is a scalar point's only one."""
+def set_rows(bdf, cards, where, label: str) -> list[int]:
+    """Rows of ASET/ASET1/OMIT/OMIT1/SUPORT/QSET cards (point id, components); a scalar
+    point's component is 0 or blank."""
     rows = []
     for card in cards:
         ids = getattr(card, "ids", None) or getattr(card, "nodes", [])
@@ -49,7 +49,7 @@ def set_rows(cards, where, label: str, scalar: bool = False) -> list[int]:
                 raise InputError(f"{label}: GRID {n} is referenced but not defined")
             c = str(c or "").strip()
             rows += [6 * where[n] + int(x) - 1 for x in c if x != "0"]
-            if scalar and c in ("", "0"):
+            if n not in bdf.nodes and c in ("", "0"):
                 rows.append(6 * where[n])
     return rows
 
@@ -64,11 +64,11 @@ def analysis_set(bdf, where, ndof: int) -> np.ndarray | None:
         raise InputError("both ASET and OMIT cards: give one of them")
     if asets:
         mask = np.zeros(ndof, bool)
-        mask[set_rows(asets, where, "ASET")] = True
-        mask[set_rows(bdf.suport, where, "SUPORT")] = True
+        mask[set_rows(bdf, asets, where, "ASET")] = True
+        mask[set_rows(bdf, bdf.suport, where, "SUPORT")] = True
     else:
         mask = np.ones(ndof, bool)
-        mask[set_rows(omits, where, "OMIT")] = False
+        mask[set_rows(bdf, omits, where, "OMIT")] = False
     return mask
 
 
@@ -86,7 +86,7 @@ def q_set(bdf, where, n_grids: int) -> np.ndarray:
                                  f"blank")
             if n not in where:  # even in a THRU range, which pyNastran has expanded
                 raise InputError(f"{card.type}: SPOINT {n} is referenced but not defined")
-    return np.unique(np.array(set_rows(qsets, where, "QSET", scalar=True), dtype=int))
+    return np.unique(np.array(set_rows(bdf, qsets, where, "QSET"), dtype=int))
 
 
 def _components(card) -> list:
@@ -114,7 +114,7 @@ def reduce(bdf, where, n_grids: int, ndof: int, k: sp.csr_array, m: sp.csr_array
                          "the ASET or QSET; give the boundary by ASET")
     if analysis is None:  # QSET alone: every physical coordinate omitted (QRG QSET)
         analysis = np.zeros(ndof, bool)
-        analysis[set_rows(bdf.suport, where, "SUPORT")] = True
+        analysis[set_rows(bdf, bdf.suport, where, "SUPORT")] = True
     ids = nids[q // 6]
     _check_q(q, ids, keep, rows_ind, restrained)
     analysis = analysis[rows_ind]

@@ -13,7 +13,8 @@ names blanked); ``crashed`` (any other exception: a bug); ``timeout``; ``skipped
 ``--max-grids`` GRID lines).
 
 When a deck reads and NASTRAN's eigenvalues of it are beside it (the .f06's REAL EIGENVALUES
-table, else the .op2's LAMA table, same stem), the deck is solved for as many modes as
+table - the second with QSET, the first being the fixed-interface modes - else the .op2's
+LAMA table, same stem), the deck is solved for as many modes as
 NASTRAN printed and the elastic frequencies compared (NASTRAN's rows after as many rows as
 we find rigid-body modes): the largest relative difference is listed with the tolerance
 (1 % with shells or solids, 1e-4 with line, spring, mass and rigid cards only).
@@ -66,9 +67,10 @@ def grid_lines(path: Path) -> int:
         return sum(1 for line in f if _GRID.match(line))
 
 
-def f06_table(path: Path) -> list[float] | None:
+def f06_table(path: Path, skip: int = 0) -> list[float] | None:
     """The first subcase's REAL EIGENVALUES (Hz), across page breaks: the rows numbered
-    1, 2, 3, ... after the first such header."""
+    1, 2, 3, ... after the first such header; with ``skip``, the table after as many
+    tables (a QSET deck's first is its fixed-interface modes)."""
     rows: list[float] = []
     inside = False
     for line in path.read_text(errors="replace").splitlines():
@@ -77,13 +79,15 @@ def f06_table(path: Path) -> list[float] | None:
             continue
         parts = line.split()
         if inside and len(parts) == 7 and parts[0].isdigit() and parts[1].isdigit():
+            if int(parts[0]) == 1 and rows and skip > 0:  # the next table begins
+                rows, skip = [], skip - 1
             if int(parts[0]) != len(rows) + 1:  # another subcase's table
                 break
             try:
                 rows.append(float(parts[4]))
             except ValueError:
                 break
-    return rows or None
+    return rows if rows and not skip else None
 
 
 def op2_table(path: Path) -> list[float] | None:
@@ -118,13 +122,17 @@ def ref_json(deck: Path) -> list[float] | None:
     return [float(x) for x in hz]
 
 
-def reference(deck: Path) -> tuple[str, list[float]] | None:
+def reference(deck: Path, skip: int = 0) -> tuple[str, list[float]] | None:
     """NASTRAN's eigenvalue table of a deck: (file name, Hz) from a ref.json that names
-    it, else the .f06, else the .op2."""
+    it, else the .f06, else the .op2; ``skip`` tables of the .f06 first (the .op2 is not
+    read then)."""
     hz = ref_json(deck)
     if hz:
         return "ref.json", hz
-    for suffix, reader in ((".f06", f06_table), (".op2", op2_table)):
+    readers = [(".f06", lambda p: f06_table(p, skip))]
+    if not skip:
+        readers.append((".op2", op2_table))
+    for suffix, reader in readers:
         for p in deck.parent.iterdir():
             if p.stem.lower() == deck.stem.lower() and p.suffix.lower() == suffix:
                 hz = reader(p)
@@ -162,7 +170,8 @@ def one(path: Path, compare: bool) -> dict:
         return out
     out.update(status="ok", seconds=round(time.perf_counter() - t0, 2),
                n=len(nm.model.coordinates))
-    ref = reference(path) if compare else None
+    # a dynamic reduction's (QSET) first table is its fixed-interface modes
+    ref = reference(path, 1 if nm.modal else 0) if compare else None
     if ref is None:
         return out
     name, hz = ref

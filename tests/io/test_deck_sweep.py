@@ -77,3 +77,18 @@ def test_ref_json_that_names_the_deck_is_the_reference(tmp_path):
     assert deck_sweep.reference(tmp_path / "a.inp") == ("ref.json", [0.0, 12.5])
     assert deck_sweep.reference(tmp_path / "b.bdf") is None
     assert [p.name for p in deck_sweep.decks(tmp_path)[0]] == ["a.inp", "b.bdf"]
+
+
+def test_f06_table_after_the_fixed_interface_modes(tmp_path):
+    """A dynamic reduction's .f06 (QSET) prints the fixed-interface modes first, then
+    the reduced model's table, both from mode 1: skip=1 reads the second; without a
+    second table there is nothing to compare."""
+    text = (HEADER + ROW.format(1, "1.380011E+03") + ROW.format(2, "8.287086E+03")
+            + HEADER + ROW.format(1, "3.497303E+02") + ROW.format(2, "2.168717E+03")
+            + ROW.format(3, "6.015472E+03"))
+    path = tmp_path / "x.f06"
+    path.write_text(text)
+    assert deck_sweep.f06_table(path, skip=1) == [349.7303, 2168.717, 6015.472]
+    assert deck_sweep.f06_table(path) == [1380.011, 8287.086]
+    path.write_text(HEADER + ROW.format(1, "1.380011E+03"))
+    assert deck_sweep.f06_table(path, skip=1) is None

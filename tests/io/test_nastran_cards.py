@@ -44,6 +44,19 @@ def test_scalar_points_two_mass_chain(tmp_path):
     assert got == pytest.approx(want, rel=1e-12)
 
 
+@pytest.mark.parametrize("spc", ["SPC1,1,0,5", "SPC1,1,,5", "SPC,1,5,0", "SPC,1,5,,0."])
+def test_spc_on_a_scalar_point(tmp_path, spc):
+    """Source: QRG SPC/SPC1, a scalar point's component is 0 or blank. Scalar point 5
+    held, 6 on a 100 N/m spring to ground and one to 5, 1 kg: omega^2 = 200 (the SPC was
+    dropped, leaving 5 free: two modes instead of one)."""
+    path = _deck(tmp_path, f"SPOINT,5,6\nCELAS2,1,100.,5,0,6,0\nCELAS2,2,100.,6,0\n"
+                 f"CMASS2,3,1.,5,0\nCMASS2,4,1.,6,0\n{spc}\n")
+    nm = read_nastran(path)
+    assert nm.model.coordinates.tolist() == [61] and nm.restrained == {51}
+    got = solve_elastic(nm.model.stiffness(), nm.model.mass(), 1).frequencies_hz
+    assert got == pytest.approx([np.sqrt(200.0) / (2 * np.pi)], rel=1e-12)
+
+
 ROT = "CORD2R,4,,0.,0.,0.,0.,0.,1.\n,0.,1.,0.\n"  # x' = y, y' = -x: 90 degrees about z
 
 

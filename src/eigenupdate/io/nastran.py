@@ -7,7 +7,7 @@ PBARL/PBEAML dimensions and products such as MAT1 E with PBAR A through their fo
 (matrices of :mod:`eigenupdate.model.frame3d`), scalar elements, CONM1/2 and CBUSH in
 :mod:`eigenupdate.io.nastran_points`, rigid elements and MPCs in
 :mod:`eigenupdate.io.nastran_constraints` (eliminated by :mod:`eigenupdate.model.constraints`),
-ASET/OMIT by :mod:`eigenupdate.model.reduction`. :mod:`eigenupdate.io.nastran_write`
+ASET/OMIT/QSET by :mod:`eigenupdate.io.nastran_sets`. :mod:`eigenupdate.io.nastran_write`
 writes the deck back. pyNastran is an optional extra (``pip install eigenupdate[nastran]``).
 
 Coordinates: the displacement ``component`` (1-6) of ``grid`` is coordinate
@@ -29,6 +29,7 @@ import scipy.sparse as sp
 
 from eigenupdate.errors import EigenupdateWarning, InputError, shorten
 from eigenupdate.io import nastran_offsets as offsets
+from eigenupdate.io import nastran_sets
 from eigenupdate.io.nastran_constraints import constraint_equations
 from eigenupdate.io.nastran_continuum import assemble_continuum
 from eigenupdate.io.nastran_deck import Deck, case_value, load_deck, modal_subcases, place
@@ -51,7 +52,7 @@ from eigenupdate.io.nastran_points import (
     assemble_scalars,
 )
 from eigenupdate.io.nastran_shear import assemble_shear
-from eigenupdate.model import constraints, reduction, shells
+from eigenupdate.model import constraints, shells
 from eigenupdate.model.coordinates import CoordinateTable
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.model.parametric import ParametricModel, Term
@@ -97,6 +98,8 @@ class NastranModel:
     text: list = field(default_factory=list)  # the deck's lines, INCLUDEs expanded
     included: list = field(default_factory=list)  # the files its INCLUDEs read
     omitted: frozenset = frozenset()  # coordinates reduced out by ASET/OMIT
+    modal: frozenset = frozenset()  # q-set SPOINTs: fixed-interface mode amplitudes
+    fixed_hz: tuple = ()  # the frequencies of those modes (NASTRAN's first table)
 
     def grid_dof(self, grid: int, component: int) -> int:
         """Coordinate of (grid, component); InputError if unknown or restrained."""
@@ -115,7 +118,11 @@ class NastranModel:
                              f"put the perturbation on an independent grid")
         if c in self.omitted:
             raise InputError(f"GRID {grid} component {component} is omitted by ASET/OMIT "
-                             f"(Guyan reduction): put the perturbation on a kept coordinate")
+                             f"(reduced out): put the perturbation on a kept coordinate")
+        if c in self.modal:
+            raise InputError(f"SPOINT {grid} is a q-set coordinate (the amplitude of a "
+                             f"fixed-interface mode, QSET): put the perturbation on a "
+                             f"physical a-set coordinate")
         if c not in self.model.coordinates:
             why = (f"SPC set {self.spc_set} or GRID PS" if c in self.restrained
                    else "it carries neither stiffness nor mass")
@@ -344,19 +351,11 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     if keep.size == 0:
         raise InputError("every coordinate is restrained or carries neither stiffness nor mass")
     k0m, m0m = (_kept(a, keep) for a in (K0, M0))
-    analysis = _analysis_set(bdf, where, ndof)
-    if analysis is not None:
-        analysis = analysis[rows_ind]
-        if specs:
-            raise InputError("ASET/OMIT (Guyan reduction): K and M of the reduced model are "
-                             "not linear in the parameters; remove the ASET/OMIT cards to "
-                             "update the full model")
-        k0m, m0m = reduction.guyan(k0m, m0m, np.flatnonzero(analysis[keep]))
-        gone = rows_ind[keep[~analysis[keep]]]
-        keep = keep[analysis[keep]]
-    else:
-        gone = np.zeros(0, int)
-    coords = (10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))[rows_ind[keep]]
+    red = nastran_sets.reduce(bdf, where, grids.size, ndof, k0m, m0m, keep, rows_ind,
+                              restrained, nids, bool(specs))
+    k0m, m0m, keep = red.k, red.m, red.keep
+    coords = np.concatenate([(10 * np.repeat(nids, 6) + np.tile(np.arange(1, 7), nids.size))
+                             [rows_ind[keep]], red.modal])
     params = []
     for (p, where), v in zip(specs, values, strict=True):
         params.append(Parameter(p.name, v, p.std, p.update, p.unit).with_unit(
@@ -380,9 +379,11 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     held = frozenset((10 * nids[held_rows // 6] + held_rows % 6 + 1).tolist())
     dependent = {int(10 * nids[r // 6] + r % 6 + 1): str(labels[r])
                  for r in np.flatnonzero(labels != "")}
+    gone = red.gone
     omitted = frozenset((10 * nids[gone // 6] + gone % 6 + 1).tolist())
     return NastranModel(path, pm, tuple(fields), consistent, spc_set, held, bdf,
-                        dependent=dependent, omitted=omitted)
+                        dependent=dependent, omitted=omitted,
+                        modal=frozenset(red.modal.tolist()), fixed_hz=red.fixed_hz)
 
 
 def _kept(a, keep: np.ndarray) -> sp.csr_array:
@@ -391,38 +392,6 @@ def _kept(a, keep: np.ndarray) -> sp.csr_array:
     if keep.size == a.shape[0]:
         return a
     return sp.csr_array(a[keep][:, keep])
-
-
-def _set_rows(cards, where, label: str) -> list[int]:
-    """Rows of ASET/ASET1/OMIT/OMIT1/SUPORT cards (GRID id, components)."""
-    rows = []
-    for card in cards:
-        ids = getattr(card, "ids", None) or getattr(card, "nodes", [])
-        comps = getattr(card, "components", None) or getattr(card, "Cs", None)
-        comps = [comps] * len(ids) if isinstance(comps, str) else comps
-        for n, c in zip(ids, comps, strict=True):
-            if n not in where:
-                raise InputError(f"{label}: GRID {n} is referenced but not defined")
-            rows += [6 * where[n] + int(x) - 1 for x in str(c) if x != "0"]
-    return rows
-
-
-def _analysis_set(bdf, where, ndof: int) -> np.ndarray | None:
-    """Mask of NASTRAN's a-set when ASET or OMIT cards ask for a Guyan reduction: the
-    ASET coordinates (with the SUPORT ones), or all but the OMIT ones."""
-    asets, omits = list(bdf.asets), list(bdf.omits)
-    if not asets and not omits:
-        return None
-    if asets and omits:
-        raise InputError("both ASET and OMIT cards: give one of them")
-    if asets:
-        mask = np.zeros(ndof, bool)
-        mask[_set_rows(asets, where, "ASET")] = True
-        mask[_set_rows(bdf.suport, where, "SUPORT")] = True
-    else:
-        mask = np.ones(ndof, bool)
-        mask[_set_rows(omits, where, "OMIT")] = False
-    return mask
 
 
 def _link_cord1_grids(bdf) -> None:
@@ -579,6 +548,8 @@ def _spc_rows(bdf, where, sid: int, seen: set) -> list[int]:
             if n not in where:
                 raise InputError(f"{card.type} {sid}: GRID {n} is referenced but not defined")
             rows += [6 * where[n] + int(c) - 1 for c in str(comps) if c != "0"]
+            if n not in bdf.nodes and str(comps or "").strip() in ("", "0"):
+                rows.append(6 * where[n])  # a scalar point's component is 0 or blank
     return rows
 
 

@@ -49,7 +49,7 @@ SUPPORTED = frozenset({
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
     "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "MAT2",
     "CHEXA", "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG", "CSHEAR", "PSHEAR", "CQUADR",
-    "CTRIAR", *PLATES95,
+    "CTRIAR", "QSET", "QSET1", *PLATES95,
 })
 # cards that change neither K nor M of a normal-modes analysis
 SKIPPED = frozenset({
@@ -275,7 +275,9 @@ def load_deck(path: str | Path) -> Deck:
     _free_field_overflow(lines[start:], origin[start:], path)
     _blank_ids(lines[start:], origin[start:], path.name)
     bdf = _quiet_bdf()
-    bdf.disable_cards((SKIPPED | PLATES95) - {"EPOINT"})  # EPOINT: kept apart from SPOINT
+    qset = any(re.match(r"QSET1?[\s,*]", x, re.IGNORECASE) for x in lines[start:])
+    # EPOINT: kept apart from SPOINT; a QSET deck's EIGRL gives its fixed-interface modes
+    bdf.disable_cards((SKIPPED | PLATES95) - {"EPOINT", "EIGRL" if qset else "EPOINT"})
     sink = io.StringIO()
     try:
         with contextlib.redirect_stdout(sink), contextlib.redirect_stderr(sink):
@@ -480,7 +482,8 @@ def _sort_cards(deck: Deck) -> None:
     bdf = deck.bdf
     counts = dict(bdf.card_count)  # rejected cards are counted here too
     unused = SKIPPED if deck.temperature else SKIPPED | TEMPERATURE_TABLES
-    skipped = {k: v for k, v in counts.items() if k in unused}
+    skipped = {k: v for k, v in counts.items() if k in unused  # QSET's modes are EIGRL's
+               and not (k == "EIGRL" and counts.keys() & {"QSET", "QSET1"})}
     refused = {k: v for k, v in counts.items() if k not in unused and k not in SUPPORTED}
     unused_props = [f"{k} x{refused.pop(k)} (no element uses it)"
                     for k in sorted(refused.keys() & _unused_properties(bdf))]

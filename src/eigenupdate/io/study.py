@@ -178,7 +178,7 @@ def load_study(path: str | Path, *, require_model: bool = True) -> Study:
     design = None
     if "design" in top.data:
         design = _design(TableReader(top.get("design", "table"), "design", src), model, mtype,
-                         modes)
+                         modes, getattr(nastran, "modal", frozenset()))
     top.finish()
     return Study(
         path=path,
@@ -379,15 +379,17 @@ def _frf_files(table: dict, names: list[str], base: Path, src: str) -> dict[str,
 
 
 def _design(r: TableReader, model: ParametricModel, model_type: str,
-            study_modes: list[int]) -> DesignSpec:
-    """The [design] table of ``eigenupdate design`` (see :class:`DesignSpec`)."""
+            study_modes: list[int], modal: frozenset = frozenset()) -> DesignSpec:
+    """The [design] table of ``eigenupdate design`` (see :class:`DesignSpec`); ``modal``:
+    a NASTRAN model's q-set coordinates (mode amplitudes, no place for a mass)."""
     coords = r.data.get("coordinates")
     if coords == "translational":
         r.used.add("coordinates")
         if model_type == "matrices":  # assembled matrices do not say which are rotations
             raise r.error("coordinates", "'translational' needs a model that says which "
                                          "coordinates are rotations; list the coordinates")
-        coords = [c.number for c in model.coordinate_table.coordinates if not c.rotation]
+        coords = [c.number for c in model.coordinate_table.coordinates
+                  if not c.rotation and c.number not in modal]
     else:
         coords = r.get("coordinates", "list")
         if not coords or not all(isinstance(c, int) and not isinstance(c, bool) for c in coords):
@@ -400,6 +402,9 @@ def _design(r: TableReader, model: ParametricModel, model_type: str,
                 model.index(c)
             except InputError as exc:
                 raise r.error("coordinates", str(exc)) from None
+            if c in modal:
+                raise r.error("coordinates", f"coordinate {c} is a q-set SPOINT (the amplitude "
+                                             f"of a fixed-interface mode, QSET), not a point")
 
     def positive_list(key: str, default: Any = ...) -> tuple[float, ...]:
         v = r.floats(key, default)

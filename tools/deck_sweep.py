@@ -226,16 +226,22 @@ def _fields(line: str) -> list[str]:
 def eigrl(text: list[str]) -> tuple[float | None, int | None]:
     """V2 (Hz) and ND of the EIGRL the case control selects: Lanczos finds no more than
     ND eigenvalues (rigid-body ones included) and none above V2, so NASTRAN's rows
-    beyond are residual vectors. (EIGR's F2 bounds only the eigenvectors of its
-    tridiagonal methods: not used.)"""
+    beyond are residual vectors. An EIGR's ND for FEER only (the other methods' rows
+    beyond ND are accurate eigenvalues; EIGR's F2 bounds only the eigenvectors of its
+    tridiagonal methods): NASTRAN-95's FEER prints unconverged approximations beyond the
+    ND roots it was asked for (D03-01-2A: ND 1, 12 rows, the last six 2-72 % off)."""
     methods = {int(m.group(2)) for m in map(_METHOD.match, text) if m}
     for line in text:
         f = _fields(line)
-        if len(f) < 4 or f[0].upper().rstrip("*") != "EIGRL":
+        card = f[0].upper().rstrip("*") if f else ""
+        if len(f) < 4 or card not in ("EIGRL", "EIGR"):
             continue
         try:
             if methods and int(f[1]) not in methods:
                 continue
+            if card == "EIGR":  # GIV, HOU, INV... print accurate rows beyond ND
+                feer = f[2].upper() == "FEER" and len(f) > 6 and f[6]
+                return None, (int(f[6]) if feer else None)
             v2 = float(f[3].replace("D", "E")) if f[3] else None
             nd = int(f[4]) if len(f) > 4 and f[4] else None
             return v2, nd

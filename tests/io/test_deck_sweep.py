@@ -51,6 +51,17 @@ def test_eigrl_of_the_selected_method():
     assert deck_sweep.eigrl(["BEGIN BULK", "EIGR,1,LAN,0.,.1,,6"]) == (None, None)
 
 
+def test_eigr_feer_rows_beyond_nd_are_left_out():
+    """NASTRAN-95's FEER prints approximations beyond the ND roots asked for (D03-01-2A's
+    EIGR 20: ND 1, 12 rows); its INV/GIV rows beyond ND are eigenvalues (EIGR fields:
+    SID, METHOD, F1, F2, NE, ND; NASTRAN-95 User's Manual, EIGR)."""
+    feer = ["  METHOD = 20", "BEGIN BULK",
+            "EIGR    5       INV     .89     2.4     1       3       0",
+            "EIGR    20      FEER    .87                     1"]
+    assert deck_sweep.eigrl(feer) == (None, 1)
+    assert deck_sweep.eigrl([feer[0].replace("20", "5"), *feer[1:]]) == (None, None)
+
+
 def test_refusals_are_grouped_by_card():
     msg = ("/x/deck.bdf: cards that would change K or M and are not supported: CBEND x2, "
            "PBEND x2")

@@ -103,8 +103,12 @@ def test_a_heat_transfer_material_is_named_as_such(tmp_path):
         [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1),
          (0, 1, 1)]))
     path = tmp_path / "thermal.bdf"
-    path.write_text("SOL 159\nCEND\nBEGIN BULK\n" + grids + "CHEXA,1,5,1,2,3,4,5,6\n,7,8\n"
-                    "PSOLID,5,15\nMAT4,15,200.,,7800.\nENDDATA\n")
+    bulk = ("CEND\nBEGIN BULK\n" + grids + "CHEXA,1,5,1,2,3,4,5,6\n,7,8\n"
+            "PSOLID,5,15\nMAT4,15,200.,,7800.\nENDDATA\n")
+    path.write_text("SOL 101\n" + bulk)
     with pytest.raises(InputError, match=r"PSOLID 5: material 15 is not defined \(the "
                        r"deck's MAT4 are heat-transfer materials, not read for K and M\)"):
+        read_nastran(path)
+    path.write_text("SOL 159\n" + bulk)  # a heat transfer solution says so first
+    with pytest.raises(InputError, match=r"line 1: SOL 159 is a heat transfer analysis"):
         read_nastran(path)

@@ -103,10 +103,10 @@ def test_section_properties_closed_forms(tmp_path, pid):
 
 def _frame_pair(tmp_path, consistent: bool):
     """The same random frame twice: members on the PBARL sections that NASTRAN gives no
-    shear factors here (ROD and BAR have theirs: test_pbarl_shear_factors), and on PBAR
-    cards holding the closed-form A, I1, I2, J of those sections."""
+    shear factors here (ROD, TUBE, BAR and BOX have theirs: test_pbarl_shear_factors),
+    and on PBAR cards holding the closed-form A, I1, I2, J of those sections."""
     frame = random_frame(np.random.default_rng(5 + consistent), consistent)
-    used = [p for p in sorted(SECTIONS) if SECTIONS[p][0] not in ("ROD", "BAR")]
+    used = [p for p in sorted(SECTIONS) if SECTIONS[p][0] not in ("ROD", "TUBE", "BAR", "BOX")]
     frame.bars = [(eid, a, b, v, used[eid % len(used)]) for eid, a, b, v, _ in frame.bars]
     frame.sections = {pid: closed_form(*SECTIONS[pid]) for pid in SECTIONS}
     pbar = frame.bdf()
@@ -138,17 +138,25 @@ def test_pbarl_frame_is_the_pbar_frame(tmp_path, consistent):
     assert np.max(np.abs(g / f - 1)) < 1e-12
 
 
-@pytest.mark.parametrize("shape,dims,factor", [("ROD", "0.03", 0.9),
-                                               ("BAR", "0.03,0.05", 5.0 / 6.0)])
+# BOX 0.6 x 0.2, walls 0.0025: its walls parallel to the shear over A = 0.003975
+_BOX_K = (2 * 0.195 * 0.0025 / 0.003975, 2 * 0.595 * 0.0025 / 0.003975)
+
+
+@pytest.mark.parametrize("shape,dims,factor", [
+    ("ROD", "0.03", (0.9, 0.9)), ("BAR", "0.03,0.05", (5.0 / 6.0, 5.0 / 6.0)),
+    ("TUBE", "0.06,0.05", (0.5, 0.5)), ("BOX", "0.6,0.2,0.0025,0.0025", _BOX_K)])
 def test_pbarl_shear_factors(tmp_path, shape, dims, factor):
-    """PBARL ROD and BAR are shear-flexible as NASTRAN makes them: the PBAR with the
-    section's A, I1, I2, J and K1 = K2 = 0.9 (circle; Simcenter's frequencies of the
-    shared pyn_beam_modes deck confirm it, test_nastran_decks.py) or 5/6 (rectangle)."""
+    """PBARL ROD, BAR, TUBE and BOX are shear-flexible as NASTRAN makes them: the PBAR
+    with the section's A, I1, I2, J and K1 = K2 = 0.9 (circle; Simcenter's frequencies of
+    the shared pyn_beam_modes deck confirm it, test_nastran_decks.py), 5/6 (rectangle),
+    0.5 (tube) or, for a box, the walls parallel to the shear over the area (TUBE's and
+    BOX's from the equivalent PBEAMs in MSC Nastran 2005's fmondsp.op2: K1, K2 = 0.5 and
+    0.245283, 0.7484277 of this box; test_nastran_tapered.py meets its modes)."""
     d = [float(x) for x in dims.split(",")]
     a, i1, i2, j = closed_form(shape, d)
     paths = []
     for name, card in (("pbar", f"PBAR,1,1,{a!r},{i1!r},{i2!r},{j!r}\n,,,,,,,,\n"
-                                f",{factor!r},{factor!r}"),
+                                f",{factor[0]!r},{factor[1]!r}"),
                        ("pbarl", f"PBARL,1,1,,{shape}\n,{dims}")):
         paths.append(tmp_path / f"{name}.bdf")
         paths[-1].write_text(_bulk(card))

@@ -44,9 +44,11 @@ def selections(bdf) -> dict[str, list[tuple[float, str]]]:
                 found.setdefault(key, set()).add(None)
                 continue
             if key in AFTER_CONSTRAINTS:
+                if _on_extra_points(bdf, value):
+                    continue  # extra points are outside the real eigenvalue problem
                 raise InputError(f"case control {key} (a direct input matrix added after the "
                                  f"constraints, in the p-set) is not supported; K2GG and "
-                                 f"M2GG are")
+                                 f"M2GG are (and K2PP, M2PP on extra points only)")
             found.setdefault(key, set()).add(_named(value, key))
     out = {}
     for key, chosen in found.items():
@@ -56,6 +58,27 @@ def selections(bdf) -> dict[str, list[tuple[float, str]]]:
         if chosen != {None}:
             out[key] = list(chosen.pop())
     return out
+
+
+def _on_extra_points(bdf, chosen) -> bool:
+    """True when every DMIG ``chosen`` (the case control's value) exists and its every
+    term is on EPOINTs: a K2PP or M2PP there changes the dynamic response only, not the
+    real modes (NASTRAN leaves extra points out of the eigenvalue problem; fmondsp's
+    K2PP = STIFF is one)."""
+    epoints = set(getattr(bdf, "epoints", {}) or {})
+    if not epoints:
+        return False
+    items = chosen.split(",") if isinstance(chosen, str) else chosen
+    for item in items:  # "name", "1.25*name" or pyNastran's (factor, ..., name)
+        name = (item.rpartition("*")[2] if isinstance(item, str) else str(item[-1]))
+        dmig = bdf.dmig.get(name.strip().upper())
+        if dmig is None:
+            return False
+        points = {int(g) for g, _ in np.reshape(np.asarray(dmig.GCj), (-1, 2))}
+        points |= {int(g) for g, _ in np.reshape(np.asarray(dmig.GCi), (-1, 2))}
+        if not points <= epoints - set(bdf.nodes) - set(bdf.spoints):
+            return False
+    return True
 
 
 def idle_note(bdf) -> str:

@@ -11,6 +11,7 @@ import warnings
 import numpy as np
 
 from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.io import nastran_tapered
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus, undefined_material
 from eigenupdate.model import frame3d, sections
 from eigenupdate.model.parametric import FunctionTerm
@@ -28,6 +29,7 @@ ROUNDING = 1e-4
 first station's is used): the shared pyn_solid_shell_bar deck writes I1 as .0052083 at
 end A and .005208 at end B (6e-5 apart); a real taper is larger and refused."""
 SHEAR_FACTORS = {"BAR": (5.0 / 6.0, 5.0 / 6.0), "ROD": (0.9, 0.9)}
+# TUBE 0.5 and BOX's walls: model/sections.py shear_factors (MSC's equivalent PBEAMs)
 
 
 def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
@@ -57,6 +59,8 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
 
     label, rod, ga, gb, g0, xv, wa, wb, sec = [], [], [], [], [], [], [], [], []
     basic_v, offt_o = [], []  # X in basic; offsets at A, B in the offset system
+    tapers: dict = {}  # per property: its nastran_tapered.Taper, None if constant
+    taper_of: list = []  # per element
     pins = []
     zero = np.zeros(3)
     for eid, e in sorted(bdf.elements.items()):
@@ -87,9 +91,15 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             # the grids (NASTRAN-95 mis/bard.f; tests/io/test_nastran_bar_offset_mass.py)
             wa.append(e.wa)
             wb.append(e.wb)
-            sec.append(section((prop.type, e.pid), lambda p=prop: (
-                pbarl_section(p) if p.type in ("PBARL", "PBEAML") else bar_section(p)),
-                lab))
+            if (prop.type, e.pid) not in tapers:
+                tapers[(prop.type, e.pid)] = _taper(prop)
+            taper = tapers[(prop.type, e.pid)]
+            if taper is not None and pin.any():
+                raise InputError(f"{lab}: pin flags on a tapered beam ({taper.where}) are "
+                                 f"not supported")
+            sec.append(section((prop.type, e.pid), lambda p=prop, tp=taper: _section_of(
+                p, tp), lab))
+            taper_of.append(taper)
         elif e.type in ("CROD", "CONROD", "CTUBE"):
             if e.type == "CTUBE":
                 prop = bdf.properties.get(e.pid)
@@ -110,6 +120,7 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
             xv.append(zero)
             basic_v.append(False)
             offt_o.append((False, False))
+            taper_of.append(None)
             wa.append(zero)
             wb.append(zero)
         else:
@@ -161,6 +172,8 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     bad = np.flatnonzero(~(np.isfinite(phi1) & np.isfinite(phi2)))
     if bad.size:
         raise InputError(f"{label[bad[0]]}: shear factors K1/K2 need A > 0 and G > 0")
+    tap = np.array([t is not None for t in taper_of])
+    phi1[tap] = phi2[tap] = 0.0  # the tapered parts hold their shear flexibility
     with np.errstate(over="ignore", invalid="ignore"):
         big = ~np.isfinite(E * np.maximum(A, np.maximum(I1, I2)) / L**3 * 12)
     if big.any():
@@ -175,6 +188,12 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     parts = {**{f"k_{k}": x for k, x in kp.items()}, **{f"m_{k}": x for k, x in mp.items()}}
     if coupled.any():  # unsymmetric sections (PBAR/PBEAM I12)
         parts["k_bend12"] = frame3d.bending_coupling_part(L)
+    if tap.any():
+        te = np.flatnonzero(tap)
+        for name, arr in nastran_tapered.element_parts(
+                [taper_of[e] for e in te], L[te], E[te], G[te], rho[te], K1[te], K2[te],
+                consistent).items():
+            parts[name][te] = arr
     dofs = (6 * np.stack([ga, gb], 1)[:, :, None] + np.arange(6)[None, None, :]).reshape(-1, 12)
     r_idx = np.repeat(dofs, 12, axis=1)
     c_idx = np.tile(dofs, (1, 12))
@@ -226,6 +245,8 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
                     in_phi |= mask & planes[fld]
                     for part, c in parts_:
                         d(slots[fld], part, c, mask)
+    if tap.any():
+        nastran_tapered.refuse_parameters(pindex, mids, pkeys, taper_of, K1, K2, tied)
     nonlin = _nonlinear_elements(deriv, pindex, pkeys, label, shear & np.array(pins).any(1),
                                  in_phi)
     if np.any(nonlin & coupled):
@@ -297,9 +318,32 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
                 put(dests[j], {p: c for p, c in dj.items() if p[0] == kind})
 
 
-def bar_section(prop) -> tuple:
+def _taper(prop) -> nastran_tapered.Taper | None:
+    """The taper of a CBEAM's property (None: a constant section)."""
+    if prop.type == "PBEAM":
+        return nastran_tapered.pbeam_taper(prop)
+    if prop.type != "PBEAML":
+        return None
+    _check_shape(prop)
+    return nastran_tapered.pbeaml_taper(prop, lambda d: pbarl_values(prop, d),
+                                        lambda d, a: _shear_factors(prop.Type, d, a))
+
+
+def _section_of(prop, taper) -> tuple:
+    """A property's section tuple; a tapered one's A, I1, I2, J, NSM, NSI its means."""
+    row = list(pbarl_section(prop) if prop.type in ("PBARL", "PBEAML")
+               else bar_section(prop, taper is not None))
+    if taper is not None:
+        A, i1, i2, j, nsm, nsi = taper.means()
+        row[:5] = A, i1, i2, j, nsm
+        row[9] = nsi
+    return tuple(row)
+
+
+def bar_section(prop, tapered: bool = False) -> tuple:
     """(A, I1, I2, J, NSM, MID, (card, id), K1, K2) of a PBAR or a constant-section
-    PBEAM; K = 0 means no shear flexibility (PBAR's blank, PBEAM's 0.0)."""
+    PBEAM (``tapered``: end A's values of a PBEAM that nastran_tapered reads); K = 0
+    means no shear flexibility (PBAR's blank, PBEAM's 0.0)."""
     where = f"{prop.type} {prop.pid}"
     k1, k2 = prop.k1 or 0.0, prop.k2 or 0.0
     if prop.type == "PBAR" and k1 >= 1e8:  # pyNastran's stand-in for a blank K1
@@ -309,7 +353,7 @@ def bar_section(prop) -> tuple:
     if k1 < 0 or k2 < 0:
         raise InputError(f"{where}: shear factors K1 = {k1:g}, K2 = {k2:g} must be >= 0")
     if prop.type == "PBEAM":
-        for name in ("A", "i1", "i2", "i12", "j", "nsm"):
+        for name in ("A", "i1", "i2", "i12", "j", "nsm") if not tapered else ():
             v = np.asarray(getattr(prop, name), float)
             # one value written twice to different digits (.0052083, .005208) is constant
             if np.ptp(v) > ROUNDING * np.abs(v).max():
@@ -323,7 +367,7 @@ def bar_section(prop) -> tuple:
                              f"offsets of the mass or neutral axis) are not supported")
         nsia = prop.nsia or 0.0
         nsib = nsia if prop.nsib is None else prop.nsib
-        if nsia != nsib:
+        if nsia != nsib and not tapered:
             raise InputError(f"{where}: NSI varies along the beam ({nsia:g}, {nsib:g})")
     first = [float(np.ravel(getattr(prop, n))[0]) for n in ("A", "i1", "i2", "i12", "j", "nsm")]
     A, i1, i2, i12, j, nsm = first
@@ -357,12 +401,9 @@ def _tube(prop) -> tuple:
     return area, 0.0, 0.0, j, prop.nsm or 0.0, prop.mid, ("PTUBE", prop.pid), 0.0, 0.0, 0.0
 
 
-def pbarl_section(prop) -> tuple:
-    """(A, I1, I2, J, NSM, MID, (card, id), K1, K2) of a standard PBARL or a constant
-    PBEAML section: the equivalent PBAR's (PBEAM's) values (the shear centre is taken
-    at the centroid)."""
-    where = f"{prop.type} {prop.pid}"
-    shape = prop.Type
+def _check_shape(prop) -> None:
+    """InputError unless a PBARL/PBEAML is a supported standard section."""
+    where, shape = f"{prop.type} {prop.pid}", prop.Type
     if prop.group.strip() != "MSCBML0":
         raise InputError(f"{where}: GROUP {prop.group} (a user section library) is not "
                          f"supported; only the standard sections of MSCBML0")
@@ -374,22 +415,20 @@ def pbarl_section(prop) -> tuple:
                }.get(shape, "")
         raise InputError(f"{where}: section type {shape}{why} is not supported (supported: "
                          f"{', '.join(PBARL_SHAPES)})")
+
+
+def pbarl_section(prop) -> tuple:
+    """(A, I1, I2, J, NSM, MID, (card, id), K1, K2) of a standard PBARL or a constant
+    PBEAML section: the equivalent PBAR's (PBEAM's) values (the shear centre is taken
+    at the centroid)."""
+    _check_shape(prop)
+    where, shape = f"{prop.type} {prop.pid}", prop.Type
     dim, nsm = prop.dim, prop.nsm
-    if prop.type == "PBEAML":  # one row of dimensions per station: constant sections only
-        rows = np.atleast_2d(np.asarray(dim, float))
-        if np.ptp(rows, axis=0).any() or np.ptp(np.ravel(nsm)) != 0:
-            raise InputError(f"{where}: the section varies along the beam; only a constant "
-                             f"section is supported")
+    if prop.type == "PBEAML":  # one row of dimensions per station: end A's (a taper's
+        rows = np.atleast_2d(np.asarray(dim, float))  # are read by nastran_tapered)
         dim, nsm = rows[0], float(np.ravel(nsm)[0])
-    try:
-        if shape in sections.THIN_WALLED:
-            A, i1, i2, _ = sections.thin_walled_section(shape, dim)
-        else:
-            A, i1, i2 = sections.solid_section(shape, dim)
-        j = sections.torsion_constant(shape, dim)
-    except InputError as exc:
-        raise InputError(f"{where}: {exc}") from None
-    if shape not in SHEAR_FACTORS:
+    A, i1, i2, j = pbarl_values(prop, dim)
+    if shape not in SHEAR_FACTORS and shape not in sections.SHEAR_SHAPES:
         warnings.warn(f"{where}: NASTRAN gives section {shape} shear flexibility with factors "
                       f"not modelled here (Euler-Bernoulli); stubby members will differ",
                       EigenupdateWarning, stacklevel=2)
@@ -402,8 +441,31 @@ def pbarl_section(prop) -> tuple:
                       f"from its centroid; NASTRAN puts the shear centre on the CBEAM's axis, "
                       f"this element the centroid: the member sits that much elsewhere",
                       EigenupdateWarning, stacklevel=2)
-    k1, k2 = SHEAR_FACTORS.get(shape, (0.0, 0.0))
+    k1, k2 = _shear_factors(shape, dim, A)
     return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, 0.0
+
+
+def _shear_factors(shape: str, dim, area: float) -> tuple[float, float]:
+    """NASTRAN's K1, K2 of a PBARL/PBEAML section; (0, 0): none modelled."""
+    if shape in sections.SHEAR_SHAPES:
+        return tuple(float(k) for k in sections.shear_factors(shape, np.asarray(dim, float),
+                                                              area))
+    return SHEAR_FACTORS.get(shape, (0.0, 0.0))
+
+
+def pbarl_values(prop, dim) -> tuple[float, float, float, float]:
+    """A, I1, I2, J of a PBARL/PBEAML shape at dimensions ``dim`` (InputError naming the
+    card if they make no section)."""
+    shape = prop.Type
+    try:
+        if shape in sections.THIN_WALLED:
+            A, i1, i2, _ = sections.thin_walled_section(shape, dim)
+        else:
+            A, i1, i2 = sections.solid_section(shape, dim)
+        j = sections.torsion_constant(shape, dim)
+    except InputError as exc:
+        raise InputError(f"{prop.type} {prop.pid}: {exc}") from None
+    return A, i1, i2, j
 
 
 def _nonlinear_elements(deriv, pindex, pkeys, label, shear, in_phi) -> np.ndarray:

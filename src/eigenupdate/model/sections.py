@@ -209,6 +209,27 @@ def section_properties(shape: str, dim: np.ndarray) -> tuple:
     return a, i1, i2, _torsion(shape, d)
 
 
+SHEAR_SHAPES = ("TUBE", "BOX")
+"""Shapes whose shear factors :func:`shear_factors` gives (ROD's and BAR's are constants
+in io/nastran_lines.py)."""
+
+
+def shear_factors(shape: str, d: np.ndarray, area):
+    """K1, K2 of a TUBE or BOX section as MSC Nastran gives them (the equivalent PBEAMs
+    MSC Nastran 2005 wrote into the fmondsp deck's .op2): TUBE 0.5; BOX the walls
+    parallel to the shear over the area, 2 (DIM2 - 2 DIM3) DIM4 / A in plane 1 and
+    2 (DIM1 - 2 DIM4) DIM3 / A in plane 2 (complex-step safe).
+
+    >>> k1, k2 = shear_factors("BOX", np.array([0.6, 0.2, 0.0025, 0.0025]), 0.003975)
+    >>> round(float(k1), 6), round(float(k2), 7)      # fmondsp.op2's PBEAM 5
+    (0.245283, 0.7484277)
+    """
+    if shape == "TUBE":
+        return 0.5, 0.5
+    b, h, t1, t2 = d
+    return 2 * (h - 2 * t1) * t2 / area, 2 * (b - 2 * t2) * t1 / area
+
+
 # the part coefficients of a frame element (model/frame3d.py parts), from its quantities
 PARTS = ("k_axial", "k_torsion", "k_bend1", "k_bend2", "m_translation", "m_torsion")
 
@@ -257,8 +278,12 @@ class SectionPart:
         g = q["G"] * e / e0 if self.tied else q["G"]
         w = self.wtmass
         if self.shear:  # Timoshenko bending, phi = 12 E I / (K A G L^2)
-            ei = e * q["I1" if self.part == "k_bend1" else "I2"]
-            phi = 12 * ei / (self.shear * q["A"] * g * self.length**2)
+            plane = 0 if self.part == "k_bend1" else 1
+            ei = e * q["I1" if plane == 0 else "I2"]
+            k = self.shear
+            if self.shape in SHEAR_SHAPES:  # BOX's K follows its dimensions
+                k = shear_factors(self.shape, d, q["A"])[plane]
+            phi = 12 * ei / (k * q["A"] * g * self.length**2)
             return ei * (phi if self.which else 1.0) / (1 + phi)
         return {"k_axial": lambda: e * q["A"], "k_torsion": lambda: g * q["J"],
                 "k_bend1": lambda: e * q["I1"], "k_bend2": lambda: e * q["I2"],

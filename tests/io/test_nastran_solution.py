@@ -47,6 +47,16 @@ def _deck(tmp_path, executive: str, case: str = "", bulk_extra: str = ""):
     ("SOL 101", "ANALYSIS = HEAT\n", "", 5, "heat transfer"),
     ("SOL 153", "", "", 1, "heat transfer"),
     ("SOL 400", "ANALYSIS = NLSTAT\n", "", 5, "nonlinear step"),
+    # review6: Autodesk Nastran's prestress solutions by name and number (its reference
+    # lists LINEAR PRESTRESS MODAL 182 ... NONLINEAR PRESTRESS COMPLEX EIGENVALUE 189), its
+    # heat transfer names, NX's sequential SOL 401 subcases, a tab after SOL
+    ("SOL LINEAR PRESTRESS MODAL", "", "", 1, "prestress"),
+    ("SOL 185", "", "", 1, "prestress"),
+    ("SOL NONLINEAR STEADY STATE HEAT TRANSFER", "", "", 1, "heat transfer"),
+    ("SOL 401", "SUBCASE 1\nANALYSIS = STATICS\nSUBCASE 2\nANALYSIS = MODES\n", "", 8,
+     "STATICS subcase of line 6"),
+    ("SOL\t13", "", "", 1, "differential stiffness"),
+    ("SOL 200", "SUBCASE 1\nANALYSIS = MODES\nSTATSUB = 2\n", "", 7, "STATSUB"),
 ])
 def test_refused(tmp_path, executive, case, extra, line, words):
     path = _deck(tmp_path, executive, case, extra)
@@ -60,6 +70,11 @@ def test_refused(tmp_path, executive, case, extra, line, words):
     ("SOL 103", ""), ("SOL SEMODES", ""), ("APP DISPLACEMENT\nSOL 3,1", ""),
     ("SOL 105", "STATSUB = 2\n"),  # STATSUB there selects the buckling load: K, M as given
     ("SOL 106", ""), ("SOL 400", "ANALYSIS = MODES\n"), ("SOL 111", ""),
+    # review6: a SOL 200 buckling response's STATSUB selects its load, as in SOL 105
+    ("SOL 200", "SUBCASE 1\nANALYSIS = MODES\nSUBCASE 2\nANALYSIS = BUCK\nSTATSUB = 3\n"),
+    ("SOL 103", "SUBCASE 1\nSTATSUB(BUCKLING) = 2\n"),
+    ("SOL 401", "SUBCASE 1\nANALYSIS = MODES\nSUBCASE 2\nANALYSIS = STATICS\n"),
+    ("SOL 187", ""),  # MSC's and NX's DDAM: the structure's modes (Autodesk's 187 is not)
 ])
 def test_accepted(tmp_path, executive, case):
     """The same cantilever as K and M: the first bending frequency of its two-element

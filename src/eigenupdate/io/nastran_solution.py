@@ -9,10 +9,17 @@ would differ from what this reader gives, so such a deck is refused, naming the 
 * modes with differential stiffness (a preload): NASTRAN-95's rigid format 13, MSC/NX
   SOL 103 with STATSUB in the case control (in SOL 105 it selects the buckling load),
   SOL 106/129 with PARAM NMLOOP, SOL 400 modes after a nonlinear step (ANALYSIS = NLSTAT
-  or NLTRAN);
+  or NLTRAN), NX's SOL 401/402 modes after a static or transient subcase (sequential
+  subcases: each starts from the state the previous one ended in), Autodesk Nastran's
+  prestress solutions (``SOL LINEAR PRESTRESS MODAL``..., SOL 182-186, 188, 189; its 187
+  is MSC's and NX's DDAM, whose modes are the structure's, so that number stays read);
 * cyclic symmetry, where the bulk data is one segment: NASTRAN-95's rigid formats 14 and
   15, MSC/NX SOL 114-118 (CYCSTATX, CYCMODE, CYCBUCKL, CYCFREQ);
-* heat transfer (APP HEAT, ANALYSIS = HEAT, SOL 153 and 159): K is a conductance.
+* heat transfer (APP HEAT, ANALYSIS = HEAT, SOL 153 and 159, Autodesk's ``... HEAT
+  TRANSFER``): K is a conductance.
+
+STATSUB in a subcase with ANALYSIS = BUCK (SOL 200) or written STATSUB(BUCKLING) selects
+a buckling load, as in SOL 105: the deck's modes stay those of its K and M.
 """
 
 from __future__ import annotations
@@ -22,19 +29,26 @@ from pathlib import Path
 
 from eigenupdate.errors import InputError
 
-_SOL = re.compile(r"^\s*SOL\s*[ ,]\s*([A-Z0-9]+)", re.IGNORECASE)
-_APP = re.compile(r"^\s*APP\w*\s*[ ,]\s*(\w+)", re.IGNORECASE)
-_STATSUB = re.compile(r"^\s*STATSUB\b", re.IGNORECASE)
+_SOL = re.compile(r"^\s*SOL(?:\s*,\s*|\s+)([A-Z0-9][A-Z0-9 \t]*)", re.IGNORECASE)
+_APP = re.compile(r"^\s*APP\w*(?:\s*,\s*|\s+)(\w+)", re.IGNORECASE)
+_STATSUB = re.compile(r"^\s*STATSUB\s*(\(\s*BUCK)?", re.IGNORECASE)
+_SUBCASE = re.compile(r"^\s*SUBCASE\b", re.IGNORECASE)
 _NMLOOP = re.compile(r"^\s*PARAM\s*[ ,*]\s*NMLOOP\b", re.IGNORECASE)
-_ANALYSIS = re.compile(r"^\s*ANALYSIS\s*=\s*(NLSTAT|NLTRAN|HEAT)", re.IGNORECASE)
+_ANALYSIS = re.compile(r"^\s*ANALYSIS\s*=\s*(\w+)", re.IGNORECASE)
 
 _NAMES = {"SEMODES": "103", "MODES": "103", "SEBUCKL": "105", "NLSTATIC": "106",
           "CYCSTATX": "114", "CYCMODE": "115", "CYCBUCKL": "116", "CYCFREQ": "118",
           "NLTRAN": "129", "NLSCSH": "153", "NLTCSH": "159", "NONLIN": "400",
-          "SEMFREQ": "111", "SEMTRAN": "112", "SEMCEIG": "110", "DESOPT": "200"}
+          "SEMFREQ": "111", "SEMTRAN": "112", "SEMCEIG": "110", "DESOPT": "200",
+          # Autodesk Nastran's names (its solution numbers beside them)
+          "LINEAR STATIC": "101", "MODAL": "103", "LINEAR BUCKLING": "105",
+          "NONLINEAR STATIC": "106", "NONLINEAR TRANSIENT RESPONSE": "129",
+          "NONLINEAR BUCKLING": "180", "PRESTRESS STATIC": "181"}
+_PRESTRESS = {"182", "183", "184", "185", "186", "188", "189"}  # Autodesk's (not 187)
+_SEQUENTIAL = {"401", "402"}  # NX: a subcase starts from the previous one's state
 _CYCLIC = {"114", "115", "116", "118"}
 _HEAT = {"153", "159"}
-BUCKLING = {"105", "5"}  # their eigenvalues are load factors, not frequencies
+BUCKLING = {"105", "5", "180"}  # their eigenvalues are load factors, not frequencies
 
 
 def solution(lines: list[str], cend: int) -> tuple[str | None, int | None, int | None]:
@@ -49,7 +63,9 @@ def solution(lines: list[str], cend: int) -> tuple[str | None, int | None, int |
     sol, at, heat = None, None, None
     for i, text in enumerate(lines[:max(cend, 0)]):
         if (m := _SOL.match(text)) and sol is None:
-            sol, at = _NAMES.get(m.group(1).upper(), m.group(1).upper()), i
+            words = m.group(1).upper().split()  # "SOL 3,1", "SOL LINEAR PRESTRESS MODAL"
+            name = words[0] if words[0].isdigit() else " ".join(words)
+            sol, at = _NAMES.get(name, name), i
         elif (m := _APP.match(text)) and m.group(1).upper() == "HEAT":
             heat = i
     return sol, at, heat
@@ -69,6 +85,11 @@ def check(lines: list[str], origin: list, cend: int, bulk: int, path: Path) -> s
         raise InputError(f"{where}: {what}, not the modes of the deck's K and M that this "
                          f"reader builds", source=str(path))
 
+    if sol in _PRESTRESS or (sol is not None and "PRESTRESS" in sol):
+        refuse(at, f"SOL {sol} (Autodesk Nastran's prestress solution) computes the modes "
+                   f"of a preloaded structure")
+    if sol is not None and "HEAT TRANSFER" in sol:
+        refuse(at, f"SOL {sol} is a heat transfer analysis")
     if heat is not None:
         refuse(heat, "APP HEAT makes it a heat transfer analysis")
     if sol in _HEAT:
@@ -78,15 +99,32 @@ def check(lines: list[str], origin: list, cend: int, bulk: int, path: Path) -> s
                    "computes the modes of a preloaded structure")
     if sol in _CYCLIC or sol in ("14", "15"):
         refuse(at, f"SOL {sol} is a cyclic symmetry analysis of one segment")
-    case = range(cend + 1, bulk) if cend >= 0 else range(0)
-    for i in case:
-        if _STATSUB.match(lines[i]) and sol not in BUCKLING:
-            refuse(i, "STATSUB asks for the modes of a preloaded structure (differential "
-                      "stiffness)")
-        if (m := _ANALYSIS.match(lines[i])) and m.group(1).upper() == "HEAT":
+    case = list(range(cend + 1, bulk) if cend >= 0 else range(0))
+    statsub, loaded = None, None  # the current subcase's STATSUB line; the first load step
+    buckling = False  # the current subcase's ANALYSIS is BUCK (SOL 200)
+    for i in [*case, None]:  # None closes the last subcase
+        if i is None or _SUBCASE.match(lines[i]):
+            if statsub is not None and not buckling and sol not in BUCKLING:
+                refuse(statsub, "STATSUB asks for the modes of a preloaded structure "
+                                "(differential stiffness)")
+            statsub, buckling = None, False
+            if i is None:
+                break
+        if (m := _STATSUB.match(lines[i])) and m.group(1) is None:
+            statsub = i  # STATSUB(BUCKLING) selects a buckling load, as in SOL 105
+        if not (m := _ANALYSIS.match(lines[i])):
+            continue
+        kind = m.group(1).upper()
+        buckling = buckling or kind.startswith("BUCK")
+        if kind == "HEAT":
             refuse(i, "ANALYSIS = HEAT is a heat transfer analysis")
-        if m and sol == "400":
+        if sol == "400" and kind in ("NLSTAT", "NLTRAN"):
             refuse(i, "SOL 400 modes after a nonlinear step include its stiffness")
+        if sol in _SEQUENTIAL and kind != "MODES" and loaded is None:
+            loaded = (kind, origin[i][1])
+        if sol in _SEQUENTIAL and kind == "MODES" and loaded is not None:
+            refuse(i, f"SOL {sol} modes after the ANALYSIS = {loaded[0]} subcase of line "
+                      f"{loaded[1]} include its preload (NX's sequential subcases)")
     if sol in ("106", "129"):
         for i, text in enumerate(lines):
             if _NMLOOP.match(text):

@@ -55,6 +55,8 @@ def _deck(tmp_path, executive: str, case: str = "", bulk_extra: str = ""):
     ("SOL NONLINEAR STEADY STATE HEAT TRANSFER", "", "", 1, "heat transfer"),
     ("SOL 401", "SUBCASE 1\nANALYSIS = STATICS\nSUBCASE 2\nANALYSIS = MODES\n", "", 8,
      "STATICS subcase of line 6"),
+    ("SOL 401", "SUBCASE 1\nLOAD = 1\nSUBCASE 2\nANALYSIS = MODES\n", "", 8,
+     "STATICS subcase of line 5"),  # a subcase without ANALYSIS is static (SOL 401's default)
     ("SOL\t13", "", "", 1, "differential stiffness"),
     ("SOL 200", "SUBCASE 1\nANALYSIS = MODES\nSTATSUB = 2\n", "", 7, "STATSUB"),
 ])

@@ -10,7 +10,8 @@ would differ from what this reader gives, so such a deck is refused, naming the 
   SOL 103 with STATSUB in the case control (in SOL 105 it selects the buckling load),
   SOL 106/129 with PARAM NMLOOP, SOL 400 modes after a nonlinear step (ANALYSIS = NLSTAT
   or NLTRAN), NX's SOL 401/402 modes after a static or transient subcase (sequential
-  subcases: each starts from the state the previous one ended in), Autodesk Nastran's
+  subcases: each starts from the state the previous one ended in; a subcase naming no
+  ANALYSIS is taken as static, SOL 401's default), Autodesk Nastran's
   prestress solutions (``SOL LINEAR PRESTRESS MODAL``..., SOL 182-186, 188, 189; its 187
   is MSC's and NX's DDAM, whose modes are the structure's, so that number stays read);
 * cyclic symmetry, where the bulk data is one segment: NASTRAN-95's rigid formats 14 and
@@ -48,7 +49,7 @@ _PRESTRESS = {"182", "183", "184", "185", "186", "188", "189"}  # Autodesk's (no
 _SEQUENTIAL = {"401", "402"}  # NX: a subcase starts from the previous one's state
 _CYCLIC = {"114", "115", "116", "118"}
 _HEAT = {"153", "159"}
-BUCKLING = {"105", "5", "180"}  # their eigenvalues are load factors, not frequencies
+BUCKLING = {"105", "5", "180"}  # load factors, not frequencies (180: Autodesk's nonlinear)
 
 
 def solution(lines: list[str], cend: int) -> tuple[str | None, int | None, int | None]:
@@ -99,35 +100,49 @@ def check(lines: list[str], origin: list, cend: int, bulk: int, path: Path) -> s
                    "computes the modes of a preloaded structure")
     if sol in _CYCLIC or sol in ("14", "15"):
         refuse(at, f"SOL {sol} is a cyclic symmetry analysis of one segment")
-    case = list(range(cend + 1, bulk) if cend >= 0 else range(0))
-    statsub, loaded = None, None  # the current subcase's STATSUB line; the first load step
-    buckling = False  # the current subcase's ANALYSIS is BUCK (SOL 200)
-    for i in [*case, None]:  # None closes the last subcase
-        if i is None or _SUBCASE.match(lines[i]):
-            if statsub is not None and not buckling and sol not in BUCKLING:
-                refuse(statsub, "STATSUB asks for the modes of a preloaded structure "
-                                "(differential stiffness)")
-            statsub, buckling = None, False
-            if i is None:
-                break
-        if (m := _STATSUB.match(lines[i])) and m.group(1) is None:
-            statsub = i  # STATSUB(BUCKLING) selects a buckling load, as in SOL 105
-        if not (m := _ANALYSIS.match(lines[i])):
-            continue
-        kind = m.group(1).upper()
-        buckling = buckling or kind.startswith("BUCK")
-        if kind == "HEAT":
-            refuse(i, "ANALYSIS = HEAT is a heat transfer analysis")
-        if sol == "400" and kind in ("NLSTAT", "NLTRAN"):
-            refuse(i, "SOL 400 modes after a nonlinear step include its stiffness")
-        if sol in _SEQUENTIAL and kind != "MODES" and loaded is None:
-            loaded = (kind, origin[i][1])
-        if sol in _SEQUENTIAL and kind == "MODES" and loaded is not None:
-            refuse(i, f"SOL {sol} modes after the ANALYSIS = {loaded[0]} subcase of line "
-                      f"{loaded[1]} include its preload (NX's sequential subcases)")
+    _case_control(lines, origin, range(cend + 1, bulk) if cend >= 0 else range(0), sol,
+                  refuse)
     if sol in ("106", "129"):
         for i, text in enumerate(lines):
             if _NMLOOP.match(text):
                 refuse(i, f"SOL {sol} with PARAM NMLOOP computes modes of the loaded, "
                           f"deformed structure")
     return sol
+
+
+def _case_control(lines: list[str], origin: list, case: range, sol: str | None,
+                  refuse) -> None:
+    """The case control's refusals, subcase by subcase (a SUBCASE line opens one; the
+    lines above the first give every subcase's defaults)."""
+    blocks: list[tuple[int | None, list[int]]] = []  # (its SUBCASE line, its lines)
+    for i in case:
+        if _SUBCASE.match(lines[i]) or not blocks:
+            blocks.append((i if _SUBCASE.match(lines[i]) else None, []))
+        blocks[-1][1].append(i)
+    default = None  # the ANALYSIS above the subcases
+    loaded = None  # NX SOL 401/402: the first static or transient subcase (kind, line)
+    for head, rows in blocks:
+        kinds = [(i, m.group(1).upper()) for i in rows if (m := _ANALYSIS.match(lines[i]))]
+        for i, kind in kinds:
+            if kind == "HEAT":
+                refuse(i, "ANALYSIS = HEAT is a heat transfer analysis")
+            if sol == "400" and kind in ("NLSTAT", "NLTRAN"):
+                refuse(i, "SOL 400 modes after a nonlinear step include its stiffness")
+        if head is None:
+            default = kinds[0][1] if kinds else None
+        own = [k for _, k in kinds] or [default or ""]
+        # STATSUB(BUCKLING), or STATSUB in a buckling subcase, selects a buckling load
+        statsub = next((i for i in rows if (m := _STATSUB.match(lines[i]))
+                        and m.group(1) is None), None)
+        if statsub is not None and sol not in BUCKLING and not any(
+                k.startswith("BUCK") for k in own):
+            refuse(statsub, "STATSUB asks for the modes of a preloaded structure "
+                            "(differential stiffness)")
+        if sol in _SEQUENTIAL and head is not None:  # STATICS when a subcase names none
+            kind, at = (kinds[0][1], kinds[0][0]) if kinds else (default or "STATICS", head)
+            if kind == "MODES" and loaded is not None:
+                refuse(at, f"SOL {sol} modes after the ANALYSIS = {loaded[0]} subcase of "
+                           f"line {loaded[1]} include its preload (NX's sequential "
+                           f"subcases)")
+            if kind != "MODES" and loaded is None:
+                loaded = (kind, origin[at][1])

@@ -124,3 +124,20 @@ def test_massless_omitted_coordinates_have_no_modes_to_give():
     with pytest.raises(InputError, match="have 1 fixed-interface mode.s. with mass, fewer "
                                          "than the 2"):
         craig_bampton(k, m, np.array([0]), 2)
+
+
+
+def _indefinite(n: int) -> sp.csr_array:
+    """Boundary 0 on a unit spring; the omitted K_oo regular but indefinite: [[1, 2],
+    [2, 1]] (eigenvalues 3 and -1 by hand) for n = 3, else diag(-1, 1, 2, ...)."""
+    if n == 3:
+        return sp.csr_array([[3.0, -1.0, 0.0], [-1.0, 1.0, 2.0], [0.0, 2.0, 1.0]])
+    return sp.csr_array(sp.diags_array(np.r_[1.0, -1.0, np.arange(1.0, n - 1)]))
+
+
+@pytest.mark.parametrize("n", [3, 2003])  # the dense path, and ARPACK's beyond 2000 rows
+def test_an_indefinite_omitted_stiffness_refused(n):
+    """review6: the dense path's Cholesky of K_oo failed with a LinAlgError traceback;
+    the sparse one returned a negative fixed-interface eigenvalue."""
+    with pytest.raises(InputError, match="K_oo is not positive definite"):
+        craig_bampton(_indefinite(n), sp.eye_array(n, format="csr"), np.array([0]), 1)

@@ -73,7 +73,8 @@ def craig_bampton(k: sp.spmatrix, m: sp.spmatrix, boundary: np.ndarray, n_modes:
     Raises
     ------
     InputError
-        ``n_modes`` outside 1 to the number of omitted rows, K_oo singular, or the mode
+        ``n_modes`` outside 1 to the number of omitted rows, K_oo singular or not
+        positive definite, or the mode
         ``n_modes`` repeated by the next (the kept subspace would be arbitrary).
 
     Examples
@@ -131,6 +132,11 @@ def _static_modes(koo: sp.csr_array, koa: np.ndarray, n_omit: int) -> np.ndarray
     return g
 
 
+_INDEFINITE = ("the omitted coordinates' stiffness K_oo is not positive definite (a "
+               "negative stiffness among them): their fixed-interface modes are not "
+               "those of a structure held at the boundary (QSET)")
+
+
 def _lowest_modes(koo: sp.csr_array, moo: sp.csr_array, n: int
                   ) -> tuple[np.ndarray, np.ndarray]:
     """The ``n`` lowest eigenpairs of K_oo phi = lam M_oo phi, phi^T M_oo phi = I (lam
@@ -139,7 +145,11 @@ def _lowest_modes(koo: sp.csr_array, moo: sp.csr_array, n: int
     if size <= 2000 or n >= size // 2:  # dense is quicker than ARPACK at this size
         # M phi = mu K phi with K_oo definite: massless rows (rotations of a lumped mass
         # model) are mu = 0, infinite lam, instead of a singular M_oo that eigh refuses
-        mu, phi = sl.eigh(moo.toarray(), koo.toarray(), subset_by_index=[size - n, size - 1])
+        try:
+            mu, phi = sl.eigh(moo.toarray(), koo.toarray(),
+                              subset_by_index=[size - n, size - 1])
+        except np.linalg.LinAlgError:  # K_oo not definite: eigh's Cholesky of it fails
+            raise InputError(_INDEFINITE) from None
         mu, phi = mu[::-1], phi[:, ::-1]
         heavy = mu > 1e-12 * max(mu[0], 0.0)
         lam = np.where(heavy, 1.0 / np.where(heavy, mu, 1.0), np.inf)
@@ -148,5 +158,7 @@ def _lowest_modes(koo: sp.csr_array, moo: sp.csr_array, n: int
                               which="LM")
         order = np.argsort(lam)
         lam, phi = lam[order], phi[:, order]
+        if lam[0] <= 0:
+            raise InputError(_INDEFINITE)
     norm = np.sqrt(np.einsum("ij,ij->j", phi, moo @ phi))
     return lam, phi / np.where(np.isfinite(lam), norm, 1.0)

@@ -57,6 +57,23 @@ def test_spc_on_a_scalar_point(tmp_path, spc):
     assert got == pytest.approx([np.sqrt(200.0) / (2 * np.pi)], rel=1e-12)
 
 
+def test_spc_component_0_on_a_grid_is_named(tmp_path):
+    """QRG SPC1: a grid's components are 1-6; 0 or blank (a scalar point's) on a grid
+    restrains nothing, which was silent."""
+    import warnings
+
+    from eigenupdate.errors import EigenupdateWarning
+
+    path = _deck(tmp_path, "GRID,1,,0.,0.,0.\nSPOINT,6\nCELAS2,1,100.,1,3,6,0\n"
+                 "CELAS2,2,100.,6,0\nCONM2,3,1,,1.\nCMASS2,4,1.,6,0\nSPC1,1,0,1\n")
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always", EigenupdateWarning)
+        nm = read_nastran(path)
+    assert any("SPC1 1: GRID 1 with component 0 or blank restrains nothing" in str(w.message)
+               for w in got)
+    assert not nm.restrained
+
+
 ROT = "CORD2R,4,,0.,0.,0.,0.,0.,1.\n,0.,1.,0.\n"  # x' = y, y' = -x: 90 degrees about z
 
 

@@ -548,8 +548,12 @@ def _spc_rows(bdf, where, sid: int, seen: set) -> list[int]:
             if n not in where:
                 raise InputError(f"{card.type} {sid}: GRID {n} is referenced but not defined")
             rows += [6 * where[n] + int(c) - 1 for c in str(comps) if c != "0"]
-            if n not in bdf.nodes and str(comps or "").strip() in ("", "0"):
-                rows.append(6 * where[n])  # a scalar point's component is 0 or blank
+            if str(comps or "").strip() in ("", "0"):
+                if n not in bdf.nodes:
+                    rows.append(6 * where[n])  # a scalar point's component is 0 or blank
+                else:  # QRG SPC/SPC1: a grid's components are 1-6
+                    warnings.warn(f"{card.type} {sid}: GRID {n} with component 0 or blank "
+                                  f"restrains nothing", EigenupdateWarning, stacklevel=2)
     return rows
 
 

@@ -22,10 +22,11 @@ from pathlib import Path
 
 from eigenupdate.errors import InputError
 
-_SOL = re.compile(r"^\s*SOL\s*[ ,]\s*([A-Z0-9]+)", re.IGNORECASE)
-_APP = re.compile(r"^\s*APP\w*\s*[ ,]\s*(\w+)", re.IGNORECASE)
+# a tab separates as a blank does (pyNastran reads ``SOL<tab>13`` and ``SOL 013`` as 13)
+_SOL = re.compile(r"^\s*SOL\s*[\s,]\s*([A-Z0-9]+)", re.IGNORECASE)
+_APP = re.compile(r"^\s*APP\w*\s*[\s,]\s*(\w+)", re.IGNORECASE)
 _STATSUB = re.compile(r"^\s*STATSUB\b", re.IGNORECASE)
-_NMLOOP = re.compile(r"^\s*PARAM\s*[ ,*]\s*NMLOOP\b", re.IGNORECASE)
+_NMLOOP = re.compile(r"^\s*PARAM\s*[\s,*]\s*NMLOOP\b", re.IGNORECASE)
 _ANALYSIS = re.compile(r"^\s*ANALYSIS\s*=\s*(NLSTAT|NLTRAN|HEAT)", re.IGNORECASE)
 
 _NAMES = {"SEMODES": "103", "MODES": "103", "SEBUCKL": "105", "NLSTATIC": "106",
@@ -49,10 +50,17 @@ def solution(lines: list[str], cend: int) -> tuple[str | None, int | None, int |
     sol, at, heat = None, None, None
     for i, text in enumerate(lines[:max(cend, 0)]):
         if (m := _SOL.match(text)) and sol is None:
-            sol, at = _NAMES.get(m.group(1).upper(), m.group(1).upper()), i
+            sol, at = _number(m.group(1)), i
         elif (m := _APP.match(text)) and m.group(1).upper() == "HEAT":
             heat = i
     return sol, at, heat
+
+
+def _number(name: str) -> str:
+    """A SOL's number as a string: a name's (``SEMODES``: 103), digits without leading
+    zeros (``013``: 13)."""
+    name = name.upper()
+    return str(int(name)) if name.isdigit() else _NAMES.get(name, name)
 
 
 def check(lines: list[str], origin: list, cend: int, bulk: int, path: Path) -> str | None:
@@ -71,15 +79,11 @@ def check(lines: list[str], origin: list, cend: int, bulk: int, path: Path) -> s
 
     if heat is not None:
         refuse(heat, "APP HEAT makes it a heat transfer analysis")
-    if sol in _HEAT:
-        refuse(at, f"SOL {sol} is a heat transfer analysis")
-    if sol == "13":
-        refuse(at, "SOL 13 (NASTRAN-95's normal modes with differential stiffness) "
-                   "computes the modes of a preloaded structure")
-    if sol in _CYCLIC or sol in ("14", "15"):
-        refuse(at, f"SOL {sol} is a cyclic symmetry analysis of one segment")
+    _refuse_sol(sol, at, refuse)
     case = range(cend + 1, bulk) if cend >= 0 else range(0)
     for i in case:
+        if m := _SOL.match(lines[i]):  # misplaced after CEND: judged as if before it
+            _refuse_sol(_number(m.group(1)), i, refuse, " (after CEND)")
         if _STATSUB.match(lines[i]) and sol not in BUCKLING:
             refuse(i, "STATSUB asks for the modes of a preloaded structure (differential "
                       "stiffness)")
@@ -93,3 +97,14 @@ def check(lines: list[str], origin: list, cend: int, bulk: int, path: Path) -> s
                 refuse(i, f"SOL {sol} with PARAM NMLOOP computes modes of the loaded, "
                           f"deformed structure")
     return sol
+
+
+def _refuse_sol(sol: str | None, at: int | None, refuse, where: str = "") -> None:
+    """Refuse the solution sequences whose modes are not those of K and M."""
+    if sol in _HEAT:
+        refuse(at, f"SOL {sol}{where} is a heat transfer analysis")
+    if sol == "13":
+        refuse(at, f"SOL 13{where} (NASTRAN-95's normal modes with differential stiffness) "
+                   "computes the modes of a preloaded structure")
+    if sol in _CYCLIC or sol in ("14", "15"):
+        refuse(at, f"SOL {sol}{where} is a cyclic symmetry analysis of one segment")

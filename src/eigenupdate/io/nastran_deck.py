@@ -260,6 +260,7 @@ def load_deck(path: str | Path) -> Deck:
                   or x.startswith("BEGIN,BULK")), None)
     first = 0
     if not has_cend and begin is not None:  # bulk data only, after BEGIN BULK
+        nastran_solution.check(lines, origin, begin, begin, path)  # a SOL line before it
         first = begin + 1
         lines, origin = lines[first:], origin[first:]
     cend = next((i for i, x in enumerate(lines) if x.upper().strip().startswith("CEND")), -1)

@@ -72,6 +72,9 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
                                                  "PBEAM": ("PBEAM", "PBEAML")}[ptype]:
                 raise InputError(f"{lab}: property {ptype} {e.pid} is not defined")
             offt = "GGG" if str(e.offt) == "1" else str(e.offt)  # NASTRAN-95's F = 1
+            if e.offt is None and getattr(e, "bit", None) is not None:  # a real in field 9
+                raise InputError(f"{lab}: field 9 = {e.bit:g} is BIT (built-in twist, QRG "
+                                 f"CBEAM: beam p-elements), not an OFFT code: not supported")
             if not re.fullmatch("[GB][GO][GO]", offt):
                 raise InputError(f"{lab}: OFFT {e.offt} is not one of GGG, BGG, GGO, BGO, "
                                  f"GOG, BOG, GOO, BOO (QRG CBAR)")

@@ -23,6 +23,7 @@ checks) is the PSHELL one, and messages name the deck's card and id.
 from __future__ import annotations
 
 from eigenupdate.errors import InputError
+from eigenupdate.io.nastran_fields import in_range
 
 # element card -> (its property card, corners, the card it is read as)
 ELEMENTS = {"CQUAD1": ("PQUAD1", 4, "CQUAD4"), "CQUAD2": ("PQUAD2", 4, "CQUAD4"),
@@ -76,6 +77,7 @@ def _pshell(c: _Card, base: int):
 
     pid = c.get("integer", base, "PID")
     c.label = f"{c.name} {pid}"
+    _positive(c, pid, "PID")
     if c.name in ("PQUAD2", "PTRIA2"):
         mid = c.get("integer", base + 1, "MID")
         t = c.get("double", base + 2, "T")
@@ -94,6 +96,7 @@ def _pshell(c: _Card, base: int):
     for value, what in ((inertia, "I"), (t3, "T3")):
         if not value >= 0:
             raise InputError(f"{c.label}: {what} = {value:g} must be >= 0")
+        in_range(value, f"{c.label}: {what}")  # 12 I / T1^3 and T3 / T1 stay finite
     if inertia > 0 and mid2 <= 0:
         raise InputError(f"{c.label}: I = {inertia:g} needs MID2 (bending material)")
     bending = inertia > 0  # I = 0: no plate part (NASTRAN-95's KTRIQD)
@@ -106,6 +109,7 @@ def _pshell(c: _Card, base: int):
 def _positive(c: _Card, value: float, what: str) -> None:
     if not value > 0:
         raise InputError(f"{c.label}: {what} = {value:g} must be > 0")
+    in_range(value, f"{c.label}: {what}")  # T1^3 neither overflows nor underflows to 0
 
 
 def _plane_shear(c: _Card, bdf, p) -> None:
@@ -144,9 +148,12 @@ def _element(c: _Card):
     prop, n, _ = ELEMENTS[c.name]
     eid = c.get("integer", 1, "EID")
     c.label = f"{c.name} {eid}"
+    _positive(c, eid, "EID")
     pid = c.get("integer_or_blank", 2, "PID", eid)  # blank: EID (User's Manual)
+    _positive(c, pid, "PID")
     nids = [c.get("integer", 3 + k, f"G{k + 1}") for k in range(n)]
     theta = c.get("double_or_blank", 3 + n, "TH", 0.0)
+    in_range(theta, f"{c.label}: TH")  # pyNastran's parser reads nan, CQUAD4's does not
     cls = CQUAD4 if n == 4 else CTRIA3
     return cls(eid, pid, nids, theta_mcid=theta), prop
 
@@ -159,10 +166,18 @@ def read_plates(deck) -> None:
     cards = []
     for raw in getattr(bdf, "reject_lines", []):
         lines = [x for x in raw if x.strip() and not x.startswith("$")]
-        name = lines[0][:8].split(",")[0].strip().rstrip("*").upper() if lines else ""
+        # tabs expanded as card_fields does: ``CQUAD1<tab>2`` is a CQUAD1
+        name = lines[0].expandtabs(8)[:8].split(",")[0].strip().rstrip("*").upper() \
+            if lines else ""
         if name in CARDS:
             cards.append(_Card(name, card_fields(lines)))
             _no_extra_fields(cards[-1])
+    counted = {n: bdf.card_count.get(n, 0) for n in CARDS}
+    for n, count in counted.items():  # a card not recognised above would be lost
+        if count != sum(c.name == n for c in cards):
+            raise InputError(f"{n}: {count} cards in the deck but "
+                             f"{sum(c.name == n for c in cards)} read (an unusual form of "
+                             f"the card's name field?)")
     props: dict = {}
     for c in (c for c in cards if c.name in PROPERTIES):
         two = c.name in ("PQUAD2", "PTRIA2") and any(not c.blank(i) for i in (5, 6, 7, 8))

@@ -76,6 +76,9 @@ def q_set(bdf, where, n_grids: int) -> np.ndarray:
     """Rows of the QSET/QSET1 scalar points, ascending (empty without such cards)."""
     qsets = list(bdf.qsets)
     for card in qsets:
+        if not card.ids:  # pyNastran keeps ``QSET1,0`` and ``QSET1,0,THRU,4`` as no point
+            raise InputError(f"{card.type}: a card that names no SPOINT (a q-set card "
+                             f"lists at least one point)")
         for n, c in zip(card.ids, _components(card), strict=True):
             if n in where and where[n] < n_grids:
                 raise InputError(f"{card.type}: GRID {n}: the q-set (generalized "
@@ -116,6 +119,10 @@ def reduce(bdf, where, n_grids: int, ndof: int, k: sp.csr_array, m: sp.csr_array
         analysis = np.zeros(ndof, bool)
         analysis[set_rows(bdf, bdf.suport, where, "SUPORT")] = True
     ids = nids[q // 6]
+    if analysis[q].any():
+        n = ids[np.flatnonzero(analysis[q])[0]]
+        raise InputError(f"QSET: SPOINT {n} is also in the a-set (ASET): NASTRAN's sets "
+                         f"are exclusive")
     _check_q(q, ids, keep, rows_ind, restrained)
     analysis = analysis[rows_ind]
     kept = analysis[keep]
@@ -172,6 +179,10 @@ def _eigrl(bdf, n_q: int) -> tuple[float, float]:
         raise InputError(f"EIGRL {sid}: ND {nd} is below the {n_q} q-set coordinates: "
                          f"NASTRAN would fill the rest with residual vectors, which are not "
                          f"built")
+    for value, what in ((card.v1, "V1"), (card.v2, "V2")):
+        if value is not None and not math.isfinite(float(value)):  # pyNastran reads nan
+            raise InputError(f"EIGRL {sid}: {what} = {float(value):g} bounds the "
+                             f"fixed-interface modes of the QSET reduction: give a number")
     v1 = -math.inf if card.v1 is None else float(card.v1)
     v2 = math.inf if card.v2 is None else float(card.v2)
     return v1, v2

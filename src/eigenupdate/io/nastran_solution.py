@@ -30,11 +30,12 @@ from pathlib import Path
 
 from eigenupdate.errors import InputError
 
+# a tab separates as a blank does (pyNastran reads ``SOL<tab>13`` and ``SOL 013`` as 13)
 _SOL = re.compile(r"^\s*SOL(?:\s*,\s*|\s+)([A-Z0-9][A-Z0-9 \t]*)", re.IGNORECASE)
 _APP = re.compile(r"^\s*APP\w*(?:\s*,\s*|\s+)(\w+)", re.IGNORECASE)
 _STATSUB = re.compile(r"^\s*STATSUB\s*(\(\s*BUCK)?", re.IGNORECASE)
 _SUBCASE = re.compile(r"^\s*SUBCASE\b", re.IGNORECASE)
-_NMLOOP = re.compile(r"^\s*PARAM\s*[ ,*]\s*NMLOOP\b", re.IGNORECASE)
+_NMLOOP = re.compile(r"^\s*PARAM\s*[\s,*]\s*NMLOOP\b", re.IGNORECASE)
 _ANALYSIS = re.compile(r"^\s*ANALYSIS\s*=\s*(\w+)", re.IGNORECASE)
 
 _NAMES = {"SEMODES": "103", "MODES": "103", "SEBUCKL": "105", "NLSTATIC": "106",
@@ -64,12 +65,22 @@ def solution(lines: list[str], cend: int) -> tuple[str | None, int | None, int |
     sol, at, heat = None, None, None
     for i, text in enumerate(lines[:max(cend, 0)]):
         if (m := _SOL.match(text)) and sol is None:
-            words = m.group(1).upper().split()  # "SOL 3,1", "SOL LINEAR PRESTRESS MODAL"
-            name = words[0] if words[0].isdigit() else " ".join(words)
-            sol, at = _NAMES.get(name, name), i
+            sol, at = _number(m.group(1)), i
         elif (m := _APP.match(text)) and m.group(1).upper() == "HEAT":
             heat = i
     return sol, at, heat
+
+
+def _number(text: str) -> str:
+    """A SOL's number as a string: a name's (``SEMODES``: 103), digits without leading
+    zeros (``013``: 13), ``SOL 3,1``'s 3; an unknown name as it is written.
+
+    >>> _number("013"), _number("LINEAR  PRESTRESS MODAL"), _number("3")
+    ('13', 'LINEAR PRESTRESS MODAL', '3')
+    """
+    words = text.upper().split()
+    return str(int(words[0])) if words[0].isdigit() else _NAMES.get(" ".join(words),
+                                                                      " ".join(words))
 
 
 def check(lines: list[str], origin: list, cend: int, bulk: int, path: Path) -> str | None:
@@ -86,20 +97,12 @@ def check(lines: list[str], origin: list, cend: int, bulk: int, path: Path) -> s
         raise InputError(f"{where}: {what}, not the modes of the deck's K and M that this "
                          f"reader builds", source=str(path))
 
-    if sol in _PRESTRESS or (sol is not None and "PRESTRESS" in sol):
-        refuse(at, f"SOL {sol} (Autodesk Nastran's prestress solution) computes the modes "
-                   f"of a preloaded structure")
-    if sol is not None and "HEAT TRANSFER" in sol:
-        refuse(at, f"SOL {sol} is a heat transfer analysis")
     if heat is not None:
         refuse(heat, "APP HEAT makes it a heat transfer analysis")
-    if sol in _HEAT:
-        refuse(at, f"SOL {sol} is a heat transfer analysis")
-    if sol == "13":
-        refuse(at, "SOL 13 (NASTRAN-95's normal modes with differential stiffness) "
-                   "computes the modes of a preloaded structure")
-    if sol in _CYCLIC or sol in ("14", "15"):
-        refuse(at, f"SOL {sol} is a cyclic symmetry analysis of one segment")
+    _refuse_sol(sol, at, refuse)
+    for i in range(cend + 1, bulk) if cend >= 0 else range(0):
+        if m := _SOL.match(lines[i]):  # misplaced after CEND: judged as if before it
+            _refuse_sol(_number(m.group(1)), i, refuse, " (after CEND)")
     _case_control(lines, origin, range(cend + 1, bulk) if cend >= 0 else range(0), sol,
                   refuse)
     if sol in ("106", "129"):
@@ -146,3 +149,17 @@ def _case_control(lines: list[str], origin: list, case: range, sol: str | None,
                            f"subcases)")
             if kind != "MODES" and loaded is None:
                 loaded = (kind, origin[at][1])
+
+
+def _refuse_sol(sol: str | None, at: int | None, refuse, where: str = "") -> None:
+    """Refuse the solution sequences whose modes are not those of K and M."""
+    if sol in _PRESTRESS or (sol is not None and "PRESTRESS" in sol):
+        refuse(at, f"SOL {sol}{where} (Autodesk Nastran's prestress solution) computes "
+                   f"the modes of a preloaded structure")
+    if sol in _HEAT or (sol is not None and "HEAT TRANSFER" in sol):
+        refuse(at, f"SOL {sol}{where} is a heat transfer analysis")
+    if sol == "13":
+        refuse(at, f"SOL 13{where} (NASTRAN-95's normal modes with differential stiffness) "
+                   "computes the modes of a preloaded structure")
+    if sol in _CYCLIC or sol in ("14", "15"):
+        refuse(at, f"SOL {sol}{where} is a cyclic symmetry analysis of one segment")

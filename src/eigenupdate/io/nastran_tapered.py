@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.io.nastran_fields import in_range
 from eigenupdate.model import tapered
 
 STIFFNESS_POINTS = 3  # MSC Nastran's (module docstring)
@@ -86,6 +87,8 @@ def pbeam_taper(prop) -> Taper | None:
         if np.any(ends[:, k] < 0) or (k < 3 and np.any(ends[:, k] <= 0)):
             raise InputError(f"{where}: {name.upper()} = {ends[:, k].tolist()} at the ends "
                              f"must be > 0")
+        for end, v in zip("AB", ends[:, k], strict=True):  # as a constant section's
+            in_range(v, f"{where}: {name.upper()} at end {end}")
     return Taper(where, ends)
 
 

@@ -210,7 +210,10 @@ def local_axes(xa: np.ndarray, xb: np.ndarray, v: np.ndarray,
     short = np.flatnonzero(L <= 1e-12 * scale)
     if short.size:
         what = labels[short[0]] if labels else f"element {short[0]}"
-        raise InputError(f"{what}: zero-length element")
+        # a huge coordinate or offset elsewhere makes a sound element relatively zero
+        far = f" (length {L[short[0]]:g} against coordinates up to {scale:g})" \
+            if L[short[0]] > 0 else ""
+        raise InputError(f"{what}: zero-length element{far}")
     ex = d / L[:, None]
     v = np.asarray(v, float)
     vy = v - np.sum(v * ex, axis=1)[:, None] * ex

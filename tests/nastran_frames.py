@@ -23,6 +23,18 @@ def need(module: str):
     return pytest.importorskip(module)
 
 
+def read_quiet(path, parameters=()):
+    """``read_nastran`` with its notes (skipped cards, ...) silenced."""
+    import warnings
+
+    from eigenupdate.errors import EigenupdateWarning
+    from eigenupdate.io.nastran import read_nastran
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EigenupdateWarning)
+        return read_nastran(path, parameters)
+
+
 def opensees():
     """openseespy's module. Its Linux wheel ships BLAS/LAPACK/gfortran beside the
     extension without an rpath to them: load them first, by path."""

@@ -12,7 +12,7 @@ import warnings
 import numpy as np
 import pytest
 from conftest import ROOT
-from nastran_frames import need
+from nastran_frames import need, read_quiet
 from refusals import one_line
 
 from eigenupdate.errors import EigenupdateWarning, InputError
@@ -21,15 +21,12 @@ from eigenupdate.solve.eigen import solve_elastic
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
-from eigenupdate.io.nastran import CardField, read_nastran  # noqa: E402
+from eigenupdate.io.nastran import CardField  # noqa: E402
 
 DATA = ROOT / "tests" / "data" / "nastran_published"
 
 
-def _read(path, parameters=()):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EigenupdateWarning)
-        return read_nastran(path, parameters)
+_read = read_quiet
 
 
 def _msc(name: str, table: int) -> np.ndarray:

@@ -8,12 +8,11 @@ Run for real in .venv-nastran (``make test``); skipped in the core environment."
 from __future__ import annotations
 
 import math
-import warnings
 
 import numpy as np
 import pytest
 from conftest import ROOT
-from nastran_frames import need
+from nastran_frames import need, read_quiet
 
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.model.parameters import Parameter
@@ -27,10 +26,7 @@ from eigenupdate.io.nastran import CardField, read_nastran  # noqa: E402
 DATA = ROOT / "tests" / "data" / "nastran_published"
 
 
-def _read(path, parameters=()):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EigenupdateWarning)
-        return read_nastran(path, parameters)
+_read = read_quiet
 
 
 def _fmondsp_hz() -> np.ndarray:

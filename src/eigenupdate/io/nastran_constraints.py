@@ -7,20 +7,8 @@ import numpy as np
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_deck import case_value, modal_subcases
+from eigenupdate.io.nastran_rejected import card_fields, card_name
 from eigenupdate.model import constraints
-
-
-def _fields(lines: list[str]) -> list[str]:
-    """The fields 2.. of a fixed-format card and its continuations (8-character fields;
-    free-field commas too), as NASTRAN-95's cards pyNastran does not read arrive."""
-    out = []
-    for line in lines:
-        if "," in line:
-            out += [x.strip() for x in line.split(",")[1:]]
-            continue
-        body = line[8:72].ljust(64)
-        out += [body[i:i + 8].strip() for i in range(0, 64, 8)]
-    return out
 
 
 def _ints(fields: list[str], label: str) -> list[int]:
@@ -105,9 +93,9 @@ def constraint_equations(bdf, grid, point, xyz, frames) -> list:
         else:
             raise InputError(f"{label}: rigid element {e.type} is not supported")
     for card in getattr(bdf, "reject_lines", []):
-        lines = [x for x in card if x.strip()]
-        name = lines[0][:8].split(",")[0].strip().upper()
-        f = _fields(lines)
+        lines = [x for x in card if x.strip() and not x.startswith("$")]
+        name = card_name(lines[0])
+        f = card_fields(lines)
         label = f"{name} {f[0]}"
         if name in ("CRIGD1", "CRIGD2", "CRIGD3", "CRIGDR"):
             f = [x for x in f[1:] if x]

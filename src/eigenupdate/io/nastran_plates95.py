@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range
+from eigenupdate.io.nastran_rejected import card_fields, card_name
 
 # element card -> (its property card, corners, the card it is read as)
 ELEMENTS = {"CQUAD1": ("PQUAD1", 4, "CQUAD4"), "CQUAD2": ("PQUAD2", 4, "CQUAD4"),
@@ -31,23 +32,6 @@ ELEMENTS = {"CQUAD1": ("PQUAD1", 4, "CQUAD4"), "CQUAD2": ("PQUAD2", 4, "CQUAD4")
 PROPERTIES = ("PQUAD1", "PQUAD2", "PTRIA1", "PTRIA2")
 CARDS = frozenset(ELEMENTS) | frozenset(PROPERTIES)
 READ_AS = {**{k: v[2] for k, v in ELEMENTS.items()}, **dict.fromkeys(PROPERTIES, "PSHELL")}
-
-
-def card_fields(lines: list[str]) -> list[str]:
-    """Fields 2.. of a card and its continuations as written: 8-character small fields,
-    16-character large ones (``CARD*``, ``*`` continuations) or free-field commas; a
-    line's continuation field (10) is not data."""
-    out = []
-    for line in lines:
-        body = line.split("$")[0].expandtabs(8)
-        if "," in body[:10]:
-            out += ([x.strip() for x in body.split(",")[1:9]] + [""] * 8)[:8]
-            continue
-        wide = body[:8].strip().endswith("*") or body.startswith("*")
-        width = 16 if wide else 8
-        body = body[8:72].ljust(64)
-        out += [body[i:i + width].strip() for i in range(0, 64, width)]
-    return out
 
 
 class _Card:
@@ -166,9 +150,7 @@ def read_plates(deck) -> None:
     cards = []
     for raw in getattr(bdf, "reject_lines", []):
         lines = [x for x in raw if x.strip() and not x.startswith("$")]
-        # tabs expanded as card_fields does: ``CQUAD1<tab>2`` is a CQUAD1
-        name = lines[0].expandtabs(8)[:8].split(",")[0].strip().rstrip("*").upper() \
-            if lines else ""
+        name = card_name(lines[0]) if lines else ""
         if name in CARDS:
             cards.append(_Card(name, card_fields(lines)))
             _no_extra_fields(cards[-1])

@@ -21,15 +21,10 @@ from eigenupdate.model.sections import PARTS, SectionPart
 # torsion constant (BAR, BOX), or all from model/sections.py (I, T, CHAN)
 PBARL_SHAPES = ("ROD", "TUBE", "BAR", "BOX", *sections.THIN_WALLED)
 
-# shear factors NASTRAN gives the PBARL/PBEAML sections: circle 0.9 (NASTRAN's
-# documentation; Simcenter's frequencies of the shared pyn_beam_modes deck agree to 1e-7,
-# NASTRAN_CoFE's 0.85716 would be 0.96 % off), solid rectangle 5/6 (NASTRAN_CoFE's PBEAML)
 ROUNDING = 1e-4
 """Relative spread of a PBEAM's station values taken as the rounding of one value (the
 first station's is used): the shared pyn_solid_shell_bar deck writes I1 as .0052083 at
 end A and .005208 at end B (6e-5 apart); a real taper is larger and refused."""
-SHEAR_FACTORS = {"BAR": (5.0 / 6.0, 5.0 / 6.0), "ROD": (0.9, 0.9)}
-# TUBE 0.5 and BOX's walls: model/sections.py shear_factors (MSC's equivalent PBEAMs)
 
 
 def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
@@ -431,7 +426,7 @@ def pbarl_section(prop) -> tuple:
         rows = np.atleast_2d(np.asarray(dim, float))  # are read by nastran_tapered)
         dim, nsm = rows[0], float(np.ravel(nsm)[0])
     A, i1, i2, j = pbarl_values(prop, dim)
-    if shape not in SHEAR_FACTORS and shape not in sections.SHEAR_SHAPES:
+    if shape not in sections.SHEAR_SHAPES:
         warnings.warn(f"{where}: NASTRAN gives section {shape} shear flexibility with factors "
                       f"not modelled here (Euler-Bernoulli); stubby members will differ",
                       EigenupdateWarning, stacklevel=2)
@@ -450,10 +445,9 @@ def pbarl_section(prop) -> tuple:
 
 def _shear_factors(shape: str, dim, area: float) -> tuple[float, float]:
     """NASTRAN's K1, K2 of a PBARL/PBEAML section; (0, 0): none modelled."""
-    if shape in sections.SHEAR_SHAPES:
-        return tuple(float(k) for k in sections.shear_factors(shape, np.asarray(dim, float),
-                                                              area))
-    return SHEAR_FACTORS.get(shape, (0.0, 0.0))
+    if shape not in sections.SHEAR_SHAPES:
+        return 0.0, 0.0
+    return tuple(float(k) for k in sections.shear_factors(shape, np.asarray(dim, float), area))
 
 
 def pbarl_values(prop, dim) -> tuple[float, float, float, float]:

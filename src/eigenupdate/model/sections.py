@@ -209,25 +209,32 @@ def section_properties(shape: str, dim: np.ndarray) -> tuple:
     return a, i1, i2, _torsion(shape, d)
 
 
-SHEAR_SHAPES = ("TUBE", "BOX")
-"""Shapes whose shear factors :func:`shear_factors` gives (ROD's and BAR's are constants
-in io/nastran_lines.py)."""
+SHEAR_SHAPES = ("BAR", "ROD", "TUBE", "BOX")
+"""Shapes whose shear factors :func:`shear_factors` gives (NASTRAN gives the others
+factors not modelled here)."""
 
 
 def shear_factors(shape: str, d: np.ndarray, area):
-    """K1, K2 of a TUBE or BOX section as MSC Nastran gives them (the equivalent PBEAMs
-    MSC Nastran 2005 wrote into the fmondsp deck's .op2): TUBE 0.5; BOX the walls
-    parallel to the shear over the area, 2 (DIM2 - 2 DIM3) DIM4 / A in plane 1 and
-    2 (DIM1 - 2 DIM4) DIM3 / A in plane 2 (complex-step safe).
+    """K1, K2 of a PBARL/PBEAML section as MSC Nastran gives them: BAR 5/6, ROD 0.9 (the
+    rectangle's and the circle's Timoshenko factors); TUBE 0.5 and BOX the walls parallel
+    to the shear over the area, 2 (DIM2 - 2 DIM3) DIM4 / A in plane 1 and
+    2 (DIM1 - 2 DIM4) DIM3 / A in plane 2, as the equivalent PBEAMs MSC Nastran 2005 wrote
+    into the fmondsp deck's .op2 (complex-step safe).
 
     >>> k1, k2 = shear_factors("BOX", np.array([0.6, 0.2, 0.0025, 0.0025]), 0.003975)
     >>> round(float(k1), 6), round(float(k2), 7)      # fmondsp.op2's PBEAM 5
     (0.245283, 0.7484277)
     """
-    if shape == "TUBE":
-        return 0.5, 0.5
+    if shape in _CONSTANT_SHEAR:
+        return _CONSTANT_SHEAR[shape]
     b, h, t1, t2 = d
     return 2 * (h - 2 * t1) * t2 / area, 2 * (b - 2 * t2) * t1 / area
+
+
+# circle 0.9 (NASTRAN's documentation; Simcenter's frequencies of the shared
+# pyn_beam_modes deck agree to 1e-7, NASTRAN_CoFE's 0.85716 would be 0.96 % off), solid
+# rectangle 5/6 (NASTRAN_CoFE's PBEAML), thin tube 0.5 (fmondsp.op2's PBEAMs)
+_CONSTANT_SHEAR = {"BAR": (5.0 / 6.0, 5.0 / 6.0), "ROD": (0.9, 0.9), "TUBE": (0.5, 0.5)}
 
 
 # the part coefficients of a frame element (model/frame3d.py parts), from its quantities
@@ -281,7 +288,7 @@ class SectionPart:
             plane = 0 if self.part == "k_bend1" else 1
             ei = e * q["I1" if plane == 0 else "I2"]
             k = self.shear
-            if self.shape in SHEAR_SHAPES:  # BOX's K follows its dimensions
+            if self.shape in SHEAR_SHAPES:  # a BOX's K follows its dimensions
                 k = shear_factors(self.shape, d, q["A"])[plane]
             phi = 12 * ei / (k * q["A"] * g * self.length**2)
             return ei * (phi if self.which else 1.0) / (1 + phi)

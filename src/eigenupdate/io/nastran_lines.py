@@ -21,11 +21,6 @@ from eigenupdate.model.sections import PARTS, SectionPart
 # torsion constant (BAR, BOX), or all from model/sections.py (I, T, CHAN)
 PBARL_SHAPES = ("ROD", "TUBE", "BAR", "BOX", *sections.THIN_WALLED)
 
-ROUNDING = 1e-4
-"""Relative spread of a PBEAM's station values taken as the rounding of one value (the
-first station's is used): the shared pyn_solid_shell_bar deck writes I1 as .0052083 at
-end A and .005208 at end B (6e-5 apart); a real taper is larger and refused."""
-
 
 def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
            k0, m0, kj, mj, extra) -> None:
@@ -354,7 +349,7 @@ def bar_section(prop, tapered: bool = False) -> tuple:
         for name in ("A", "i1", "i2", "i12", "j", "nsm") if not tapered else ():
             v = np.asarray(getattr(prop, name), float)
             # one value written twice to different digits (.0052083, .005208) is constant
-            if np.ptp(v) > ROUNDING * np.abs(v).max():
+            if np.ptp(v) > nastran_tapered.ROUNDING * np.abs(v).max():
                 raise InputError(f"{where}: {name.upper()} varies along the beam; only a "
                                  f"constant section is supported")
         # S1, S2 (shear relief of a taper) do nothing on a constant section

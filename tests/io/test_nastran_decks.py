@@ -112,6 +112,25 @@ def test_include_relative_to_the_including_file(tmp_path, monkeypatch):
     assert model.n == 6
 
 
+def test_nested_include_relative_to_the_main_deck(tmp_path, monkeypatch):
+    """A nested INCLUDE not beside the file holding it is looked up beside the main deck
+    (the job's directory): SimXpert's decks (pyNastran's models/Satellite_V02, JOBS/QS/
+    relative_path.bdf) include INCLUDE/x.dat, which includes '../../BULK/...' meant from
+    JOBS/QS."""
+    for folder in ("jobs/qs", "include", "bulk"):
+        (tmp_path / folder).mkdir(parents=True)
+    (tmp_path / "bulk" / "bar.bdf").write_text(BAR)
+    (tmp_path / "include" / "parts.dat").write_text("INCLUDE '../../bulk/bar.bdf'\n")
+    main = tmp_path / "jobs" / "qs" / "main.bdf"
+    main.write_text("BEGIN BULK\nINCLUDE '../../include/parts.dat'\nENDDATA\n")
+    monkeypatch.chdir(tmp_path)
+    assert read_nastran(main).model.n == 6
+    (tmp_path / "bulk" / "bar.bdf").unlink()  # neither folder has it: both are named
+    with pytest.raises(InputError, match=r"parts\.dat:1: INCLUDE file \.\./\.\./bulk/bar\.bdf "
+                       r"not found \(looked in .*include and .*qs\)"):
+        read_nastran(main)
+
+
 def test_missing_include_names_file_and_line(tmp_path):
     main = tmp_path / "main.bdf"
     main.write_text("BEGIN BULK\n$ comment\nINCLUDE 'nowhere.bdf'\nENDDATA\n")

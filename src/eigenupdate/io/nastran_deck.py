@@ -1,7 +1,8 @@
 """Reading a NASTRAN deck as NASTRAN reads it, through pyNastran.
 
-:func:`load_deck` expands every INCLUDE itself (a path is relative to the directory of
-the file that includes it, as NASTRAN resolves it, also in bulk-data-only files), hands
+:func:`load_deck` expands every INCLUDE itself (a relative path is looked up in the
+directory of the file that includes it, then in the main deck's, the job's directory where
+NASTRAN runs it: decks written by SimXpert nest INCLUDEs relative to the job), hands
 the text to pyNastran with its log silenced and stdout captured (no
 ``pyNastran_crash.bdf`` can be written: pyNastran never sees an INCLUDE), remembers where
 each card starts (``file:line``) for the messages, and sorts the cards into
@@ -195,8 +196,8 @@ _INCLUDE = re.compile(r"^\s*INCLUDE\s*(.*)$", re.IGNORECASE)
 def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tuple,
             included: list | None = None) -> None:
     """Append ``path``'s lines to ``out`` with every INCLUDE replaced by its file's lines
-    (relative to ``path``'s directory); ``origin[i]`` is where ``out[i]`` came from, and
-    ``included`` collects the files included."""
+    (relative to ``path``'s directory, else to the main deck's, ``stack[0]``);
+    ``origin[i]`` is where ``out[i]`` came from, and ``included`` collects the files included."""
     if path.exists() and not path.is_file():  # a directory, /dev/zero, a pipe: unbounded
         raise InputError(f"cannot read {path}: not a regular file")
     try:
@@ -222,7 +223,9 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
         name = spec.strip().strip("'").strip()
         if not name:
             raise InputError(f"{path.name}:{start + 1}: INCLUDE without a file name")
-        target = (path.parent / name).resolve()
+        folders = list(dict.fromkeys((path.parent, stack[0].parent)))
+        target = next(((f / name).resolve() for f in folders if (f / name).exists()),
+                      (path.parent / name).resolve())
         if target in stack:
             raise InputError(f"{path.name}:{start + 1}: INCLUDE {name} includes itself")
         if len(stack) > MAX_INCLUDE_DEPTH:
@@ -233,7 +236,7 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
                              f"file (a directory, device or FIFO)")
         if not target.is_file():
             raise InputError(f"{path.name}:{start + 1}: INCLUDE file {name} not found "
-                             f"(looked in {path.parent})")
+                             f"(looked in {' and '.join(str(f) for f in folders)})")
         if included is not None:
             included.append(target)
         _expand(target, out, origin, (*stack, target), included)

@@ -273,6 +273,7 @@ def load_deck(path: str | Path) -> Deck:
     lines = ["$" + x if i < cend and _APPROACH.match(x) else x for i, x in enumerate(lines)]
     lines, origin = _one_per_card(lines, origin)
     start = bulk + 1 if bulk < len(lines) else (len(lines) if cend >= 0 else 0)
+    lines[start:] = [_small_field_marker(x) for x in lines[start:]]
     _free_field_overflow(lines[start:], origin[start:], path)
     _blank_ids(lines[start:], origin[start:], path.name)
     bdf = _quiet_bdf()
@@ -332,6 +333,20 @@ def _one_per_card(lines: list[str], origin: list) -> tuple[list[str], list]:
         out.append(text)
         where.append(at)
     return out, where
+
+
+def _small_field_marker(line: str) -> str:
+    """A small-field line whose continuation field (columns 73-80) holds a ``*`` (the
+    marker of a large-field continuation that follows, NASTRAN-95's d11011a), with ``+``
+    there: pyNastran reads any line with a ``*`` anywhere as large field (16-column fields:
+    ``UD_1 = '1       3'``); NASTRAN takes field 1 alone to say so.
+
+    >>> _small_field_marker("+2      UD              1       1" + " " * 40 + "*30").strip()[-3:]
+    '+30'
+    """
+    if "*" not in line[72:80] or "*" in line[:72] or "," in line or "\t" in line:
+        return line
+    return line[:72] + line[72:80].replace("*", "+") + line[80:]
 
 
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD]?[-+]?\d+)?$")

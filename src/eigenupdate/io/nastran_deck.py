@@ -32,6 +32,7 @@ from typing import Any
 
 from eigenupdate.budget import require
 from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.io import nastran_genel as genel
 from eigenupdate.io import nastran_solution
 from eigenupdate.io.inputs import require_size
 from eigenupdate.io.nastran_blame import FIRST, blamed_card, card_in_traceback, card_starts, place
@@ -49,7 +50,7 @@ SUPPORTED = frozenset({
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
     "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "MAT2",
     "CHEXA", "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG", "CSHEAR", "PSHEAR", "CQUADR",
-    "CTRIAR", "QSET", "QSET1", *PLATES95,
+    "CTRIAR", "QSET", "QSET1", "GENEL", *PLATES95,
 })
 # cards that change neither K nor M of a normal-modes analysis
 SKIPPED = frozenset({
@@ -297,6 +298,8 @@ def load_deck(path: str | Path) -> Deck:
                      "(the Lagrange-multiplier form with both blank is not supported)")
         elif re.match(r"CORD1[RCS]\*?\s", first):  # its assert only echoes the card
             first = "G1, G2 and G3 must be three different grids (QRG CORD1R/C/S)"
+        elif re.search(r"GENEL \d+$", blamed or "") and genel.parse_error(exc):
+            first = genel.parse_error(exc)
         elif isinstance(exc, TypeError | AttributeError | IndexError):  # its own failure
             first = (f"pyNastran fails on the card ({type(exc).__name__}: {first}); a "
                      f"blank or invalid field?")
@@ -380,7 +383,7 @@ def _kinds(kind: str, cards: str) -> dict[str, str]:
 _ID_FIELD = {
     "GRID": "grid",
     **_kinds("element (EID)", "CBAR CBEAM CROD CONROD CTUBE CELAS1 CELAS2 CELAS3 CELAS4 "
-                              "CMASS1 CMASS2 CMASS3 CMASS4 CONM1 CONM2 CBUSH CQUAD4 CTRIA3 "
+                              "CMASS1 CMASS2 CMASS3 CMASS4 CONM1 CONM2 CBUSH GENEL CQUAD4 CTRIA3 "
                               "CQUAD8 CTRIA6 CHEXA CPENTA CTETRA CPYRAM CSHEAR RBE2 RBAR RBE3 "
                               "CRIGD1 CRIGD2 CRIGD3 CRIGDR CQUAD1 CQUAD2 CTRIA1 CTRIA2"),
     **_kinds("property (PID)", "PBAR PBARL PBEAM PBEAML PROD PTUBE PELAS PMASS PBUSH PSHELL "

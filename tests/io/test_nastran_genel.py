@@ -4,18 +4,21 @@ Independent sources: NASTRAN-95's printed eigenvalues of its demonstration probl
 D11-03-1A (a jet transport wing: a 10 x 10 flexibility GENEL with UD and S, CMASS2s with
 negative coupling terms, CONM1, an MPC) and D11-01-1A (a ten-cell beam: CBARs and a 6 x 6
 flexibility GENEL on large-field continuations); the element a GENEL replaces (a CELAS4
-spring, a CBAR with the closed-form stiffness and flexibility of a cantilever); a closed
-the one-line refusal standard (exit 2). Runs in .venv-nastran.
+spring, a CBAR with the closed-form stiffness and flexibility of a cantilever); the
+closed-form cantilever of NASTRAN-95's static GENEL beam D01-14-1A; the one-line refusal
+standard (exit 2). Runs in .venv-nastran.
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.sparse.linalg as sla
 from conftest import ROOT
 from nastran_frames import need, read_quiet
 from refusals import one_line
 
+from eigenupdate.errors import InputError
 from eigenupdate.solve.eigen import solve_elastic
 
 pytestmark = pytest.mark.nastran
@@ -224,3 +227,35 @@ def test_bad_genel_is_refused_in_one_line(tmp_path, run_cli, case, body, words):
     S m x n, S computed only for six UD; Z inverted; a coordinate once) and the bad-input
     standard: exit 2 and one line naming the file, the line and the card."""
     _refused(tmp_path, run_cli, body, *words)
+
+
+def test_nastran95_static_genel_beam_with_s_written_out(tmp_path):
+    """Source: NASTRAN-95's D01-14-1A (inp/d01141a.inp of nasa/NASTRAN-95 commit 65e29e9,
+    NASA Open Source Agreement 1.3), a cantilever of five GENELs (Z without UD; K 6 x 6; K
+    with UD and S; K with three UD and S omitted; Z with UD and S) and a CBAR, L = 6, E 6,
+    A 1, I 1/12, tip loads 1. GENEL 4's S computed from three UD is NASTRAN-95's code
+    (TA1CA), not its manual (six UD): refused in one line. With that S written out (a unit
+    offset along x, GENEL 3's), the displacements are the closed-form cantilever's:
+    u = F x / EA, v = P x^2 (3L - x) / 6EI, rz = P x (2L - x) / 2EI (NASTRAN-95 printed the
+    same, 1.440000E+02 and 3.600000E+01 at the tip, with its own S). Tolerance 1e-5: the
+    deck's six-digit .166666 (Z of GENEL 5) and .083333 (I of the CBAR) are 4e-6 off."""
+    text = (DATA / "d01141a.inp").read_text()
+    with pytest.raises(InputError, match="line 32: GENEL 4: S is omitted and UD lists 3"):
+        read_quiet(DATA / "d01141a.inp")
+    old = "+G42    K       6.      .0      .0      6.      3.      2.                      "
+    new = ("+G42    K       6.      .0      .0      6.      3.      2.              +G43\n"
+           "+G43    S       1.      .0      .0      .0      1.      -1.     .0      +G44\n"
+           "+G44    .0      1.")
+    assert old in text
+    path = tmp_path / "d01141a.inp"
+    path.write_text(text.replace(old, new))
+    model = read_quiet(path).model
+    coords = model.coordinates.tolist()
+    x = np.arange(1.0, 7.0)  # grids 2..7
+    for comp, want in ((1, {1: x / 6}), (2, {2: x * x * (18 - x) / 3, 6: x * (12 - x)})):
+        f = np.zeros(len(coords))
+        f[coords.index(70 + comp)] = 1.0
+        u = sla.spsolve(model.stiffness().tocsc(), f)
+        for c, closed in want.items():
+            got = np.array([u[coords.index(10 * g + c)] for g in range(2, 8)])
+            assert np.allclose(got, closed, rtol=1e-5, atol=0), (comp, c, got)

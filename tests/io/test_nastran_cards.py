@@ -215,3 +215,34 @@ def test_ctube_is_the_crod_of_its_annulus(tmp_path):
                              "rod.bdf")).model
     for x, y in ((tube.stiffness(), rod.stiffness()), (tube.mass(), rod.mass())):
         assert abs(x - y).max() <= 1e-13 * abs(x).max()
+
+
+def test_negative_coupling_mass_of_a_lumped_mass_matrix(tmp_path):
+    """Closed form: NASTRAN's CMASS M is any real number (NASTRAN-95 User's Manual CMASS2);
+    masses m on two scalar points and -c between them are M = [[m - c, c], [c, m - c]]
+    with eigenvalues m and m - 2c; springs k to ground give lambda = k / m and
+    k / (m - 2c): m 3, c 1, k 6 give 2 and 6 (exact: 1e-12)."""
+    path = _deck(tmp_path, "SPOINT,1,2\nCELAS4,1,6.,1\nCELAS4,2,6.,2\nCMASS4,3,3.,1\n"
+                           "CMASS4,4,3.,2\nCMASS4,5,-1.,1,2\n")
+    model = read_nastran(path).model
+    lam = solve_elastic(model.stiffness(), model.mass(), 2).eigenvalues
+    assert np.allclose(lam, [2.0, 6.0], rtol=1e-12)
+
+
+@pytest.mark.parametrize("body,words", [
+    # m 1 on each point, -2 between: M = [[-1, 2], [2, -1]], eigenvalues 1 and -3
+    ("SPOINT,1,2\nCELAS4,1,6.,1\nCMASS4,3,1.,1\nCMASS4,4,1.,2\nCMASS4,5,-2.,1,2\n",
+     "CMASS4 5: negative mass between two coordinates makes the scalar masses on them "
+     "indefinite"),
+    ("SPOINT,1\nCELAS4,1,6.,1\nCMASS4,3,-1.,1\n", "CMASS4 3: negative mass -1"),
+], ids=["coupling making M indefinite", "grounded"])
+def test_negative_mass_refused(tmp_path, body, words):
+    """Source: M must be positive semi-definite (a mass matrix); the scalar masses on the
+    coordinates a negative coupling mass joins are a principal block the other elements
+    can only add semi-definite terms to, and a grounded negative mass is a negative
+    diagonal term. The message names the line and the card."""
+    from eigenupdate.errors import InputError
+
+    with pytest.raises(InputError, match=words) as info:
+        read_nastran(_deck(tmp_path, body))
+    assert "deck.bdf: line " in str(info.value)

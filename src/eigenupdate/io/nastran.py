@@ -5,10 +5,11 @@ PBARL/PBEAML dimensions and products such as MAT1 E with PBAR A through their fo
 :class:`ParametricModel` whose parameters are named card fields (``MAT1 1 E``, see
 :mod:`eigenupdate.io.nastran_fields`): line elements in :mod:`eigenupdate.io.nastran_lines`
 (matrices of :mod:`eigenupdate.model.frame3d`), scalar elements, CONM1/2 and CBUSH in
-:mod:`eigenupdate.io.nastran_points`, rigid elements and MPCs in
-:mod:`eigenupdate.io.nastran_constraints` (eliminated by :mod:`eigenupdate.model.constraints`),
-ASET/OMIT/QSET by :mod:`eigenupdate.io.nastran_sets`. :mod:`eigenupdate.io.nastran_write`
-writes the deck back. pyNastran is an optional extra (``pip install eigenupdate[nastran]``).
+:mod:`eigenupdate.io.nastran_points`, GENEL in :mod:`eigenupdate.io.nastran_genel`, rigid
+elements and MPCs in :mod:`eigenupdate.io.nastran_constraints` (eliminated by
+:mod:`eigenupdate.model.constraints`), ASET/OMIT/QSET by :mod:`eigenupdate.io.nastran_sets`.
+:mod:`eigenupdate.io.nastran_write` writes the deck back. pyNastran is an optional extra
+(``pip install eigenupdate[nastran]``).
 
 Coordinates: the displacement ``component`` (1-6) of ``grid`` is coordinate
 ``10 * grid + component`` of the model, in the grid's displacement frame (CD).
@@ -43,6 +44,7 @@ from eigenupdate.io.nastran_fields import (
     set_field,
     stores,
 )
+from eigenupdate.io.nastran_genel import assemble_genel
 from eigenupdate.io.nastran_lines import assemble_lines
 from eigenupdate.io.nastran_plates95 import read_plates
 from eigenupdate.io.nastran_points import (
@@ -297,6 +299,7 @@ def _assemble(path: Path, bdf, specs) -> NastranModel:
     assemble_conm2(bdf, grid, xyz, frames, wtmass, pindex, values, m0, mj)
     assemble_conm1(bdf, grid, frames, wtmass, pindex, m0, mj)
     assemble_cbush(bdf, grid, xyz, frames, pindex, k0, kj)
+    assemble_genel(bdf, grid, point, xyz, frames, k0)
     assemble_dmig(bdf, point, lambda name, default: _param(bdf, name, default), k0, m0)
 
     restrained, spc_set = _spc(bdf, where)

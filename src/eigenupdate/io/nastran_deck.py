@@ -33,6 +33,7 @@ from typing import Any
 
 from eigenupdate.budget import require
 from eigenupdate.errors import EigenupdateWarning, InputError
+from eigenupdate.io import nastran_genel as genel
 from eigenupdate.io import nastran_solution
 from eigenupdate.io.inputs import require_size
 from eigenupdate.io.nastran_blame import FIRST, blamed_card, card_in_traceback, card_starts, place
@@ -50,7 +51,7 @@ SUPPORTED = frozenset({
     "SPOINT", "CELAS3", "CELAS4", "CMASS3", "CMASS4", "CONM1", "CBUSH", "PBUSH",
     "CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6", "PSHELL", "PCOMP", "PCOMPG", "MAT8", "MAT2",
     "CHEXA", "CPENTA", "CTETRA", "CPYRAM", "PSOLID", "MAT9", "DMIG", "CSHEAR", "PSHEAR", "CQUADR",
-    "CTRIAR", "QSET", "QSET1", *PLATES95,
+    "CTRIAR", "QSET", "QSET1", "GENEL", *PLATES95,
 })
 # cards that change neither K nor M of a normal-modes analysis
 SKIPPED = frozenset({
@@ -276,6 +277,7 @@ def load_deck(path: str | Path) -> Deck:
     lines = ["$" + x if i < cend and _APPROACH.match(x) else x for i, x in enumerate(lines)]
     lines, origin = _one_per_card(lines, origin)
     start = bulk + 1 if bulk < len(lines) else (len(lines) if cend >= 0 else 0)
+    lines[start:] = [_small_field_marker(x) for x in lines[start:]]
     _free_field_overflow(lines[start:], origin[start:], path)
     _blank_ids(lines[start:], origin[start:], path.name)
     bdf = _quiet_bdf()
@@ -299,6 +301,8 @@ def load_deck(path: str | Path) -> Deck:
                      "(the Lagrange-multiplier form with both blank is not supported)")
         elif re.match(r"CORD1[RCS]\*?\s", first):  # its assert only echoes the card
             first = "G1, G2 and G3 must be three different grids (QRG CORD1R/C/S)"
+        elif re.search(r"GENEL \d+$", blamed or "") and genel.parse_error(exc):
+            first = genel.parse_error(exc)
         elif isinstance(exc, TypeError | AttributeError | IndexError):  # its own failure
             first = (f"pyNastran fails on the card ({type(exc).__name__}: {first}); a "
                      f"blank or invalid field?")
@@ -337,6 +341,20 @@ def _one_per_card(lines: list[str], origin: list) -> tuple[list[str], list]:
     return out, where
 
 
+def _small_field_marker(line: str) -> str:
+    """A small-field line whose continuation field (columns 73-80) holds a ``*`` (the
+    marker of a large-field continuation that follows, NASTRAN-95's d11011a), with ``+``
+    there: pyNastran reads any line with a ``*`` anywhere as large field (16-column fields:
+    ``UD_1 = '1       3'``); NASTRAN takes field 1 alone to say so.
+
+    >>> _small_field_marker("+2      UD              1       1" + " " * 40 + "*30").strip()[-3:]
+    '+30'
+    """
+    if "*" not in line[72:80] or "*" in line[:72] or "," in line or "\t" in line:
+        return line
+    return line[:72] + line[72:80].replace("*", "+") + line[80:]
+
+
 _NUMBER = re.compile(r"^[-+]?(\d+\.?\d*|\.\d+)([eEdD]?[-+]?\d+)?$")
 
 
@@ -368,7 +386,7 @@ def _kinds(kind: str, cards: str) -> dict[str, str]:
 _ID_FIELD = {
     "GRID": "grid",
     **_kinds("element (EID)", "CBAR CBEAM CROD CONROD CTUBE CELAS1 CELAS2 CELAS3 CELAS4 "
-                              "CMASS1 CMASS2 CMASS3 CMASS4 CONM1 CONM2 CBUSH CQUAD4 CTRIA3 "
+                              "CMASS1 CMASS2 CMASS3 CMASS4 CONM1 CONM2 CBUSH GENEL CQUAD4 CTRIA3 "
                               "CQUAD8 CTRIA6 CHEXA CPENTA CTETRA CPYRAM CSHEAR RBE2 RBAR RBE3 "
                               "CRIGD1 CRIGD2 CRIGD3 CRIGDR CQUAD1 CQUAD2 CTRIA1 CTRIA2"),
     **_kinds("property (PID)", "PBAR PBARL PBEAM PBEAML PROD PTUBE PELAS PMASS PBUSH PSHELL "

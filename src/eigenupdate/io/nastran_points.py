@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse import csgraph
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import FIELDS, in_range, pbush_k
+from eigenupdate.io.numbers import printed_half_unit
 from eigenupdate.model import frame3d, point_elements
 
 
@@ -31,6 +34,7 @@ def assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj) -> None
         return out
 
     # (cards, with a property, property card, direct card, field, K or M, unit scale)
+    masses: list = []  # (rows, value, scale, label) of every scalar mass
     kinds = ((bdf.elements, ("CELAS1", "CELAS3"), bdf.properties, "PELAS", ("CELAS2", "CELAS4"),
               "K", k0, kj, 1.0),
              (bdf.masses, ("CMASS1", "CMASS3"), bdf.properties_mass, "PMASS",
@@ -50,13 +54,52 @@ def assemble_scalars(bdf, point, wtmass, pindex, values, k0, m0, kj, mj) -> None
             else:
                 continue
             value = in_range(value, f"{label}: {fld}")
-            if fld == "M" and value < 0:
-                raise InputError(f"{label}: negative mass {value:g}")
             dofs = dofs_of(e, label)
+            if fld == "M":
+                if value < 0 and len(dofs) == 1:
+                    raise InputError(f"{label}: negative mass {value:g}")
+                masses.append((dofs, value, scale, label))
             if j is None:
                 put(dest0, dofs, scale * value)
             else:
                 put(dests[j], dofs, scale)
+    _check_coupling_masses(masses)
+
+
+def _check_coupling_masses(masses: list) -> None:
+    """A negative scalar mass between two coordinates (NASTRAN's M is any real number: a
+    pair of grounded masses and a negative coupling one write a lumped mass matrix with an
+    off-diagonal term) is accepted where the scalar masses on the coordinates it joins stay
+    positive semi-definite, to within the rounding of their printed values; the other
+    elements' masses are semi-definite and can only add to them."""
+    if not any(value < 0 for _, value, _, _ in masses):
+        return
+    rows = sorted({d for dofs, *_ in masses for d in dofs})
+    at = {r: i for i, r in enumerate(rows)}
+    pairs = np.array([[at[d[0]], at[d[-1]]] for d, *_ in masses]).T
+    graph = sp.coo_array((np.ones(pairs.shape[1]), (pairs[0], pairs[1])),
+                         shape=(len(rows), len(rows)))
+    _, part = csgraph.connected_components(graph, directed=False)
+    for group in {int(part[at[d[0]]]) for d, value, *_ in masses if value < 0}:
+        mine = [x for x in masses if part[at[x[0][0]]] == group]
+        first = next(label for _, value, _, label in mine if value < 0)
+        local = {r: i for i, r in enumerate(sorted({d for dofs, *_ in mine for d in dofs}))}
+        if len(local) > 2000:
+            raise InputError(f"{first}: a negative coupling mass among {len(local)} coordinates "
+                             f"joined by scalar masses, too many to check it leaves their mass "
+                             f"positive semi-definite")
+        m, half = np.zeros((len(local),) * 2), np.zeros((len(local),) * 2)
+        for dofs, value, scale, _ in mine:
+            idx = [local[d] for d in dofs]
+            sign = np.array([[1.0, -1.0], [-1.0, 1.0]])[:len(idx), :len(idx)]
+            m[np.ix_(idx, idx)] += scale * value * sign
+            half[np.ix_(idx, idx)] += scale * printed_half_unit(value)
+        lam = np.linalg.eigvalsh(m)
+        # Weyl: the printed values' rounding moves the eigenvalues by at most ||half||_F
+        slack = np.linalg.norm(half) + len(local) * np.finfo(float).eps * np.abs(lam).max()
+        if lam[0] < -slack:
+            raise InputError(f"{first}: negative mass between two coordinates makes the scalar "
+                             f"masses on them indefinite (smallest eigenvalue {lam[0]:.4g})")
 
 
 def _rect_axes(bdf, cid, label: str) -> np.ndarray:

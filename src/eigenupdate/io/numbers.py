@@ -8,6 +8,7 @@ text is more likely corrupted than meant, so readers use these instead.
 from __future__ import annotations
 
 import re
+from decimal import Decimal
 
 _FLOAT = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
 _INT = re.compile(r"[+-]?\d+", re.ASCII)
@@ -44,3 +45,19 @@ def parse_int(text: str) -> int:
     if not _INT.fullmatch(s) or len(s) > 18:
         raise ValueError(f"{s!r} is not a plain integer")
     return int(s)
+
+
+def printed_half_unit(value: float) -> float:
+    """Half a unit in the last digit of ``value`` as written (its shortest decimal form,
+    which is how it was written when it was read from text; ``5757.`` counts to units): the
+    rounding a printed number carries.
+
+    >>> printed_half_unit(8.7172e-6), printed_half_unit(5757.0), printed_half_unit(-1.5)
+    (5e-11, 0.5, 0.05)
+    """
+    if value == 0:
+        return 0.0
+    text = repr(float(value))
+    if text.endswith(".0"):
+        text = text[:-2]
+    return 0.5 * 10.0 ** int(Decimal(text).as_tuple().exponent)

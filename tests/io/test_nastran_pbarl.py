@@ -28,9 +28,11 @@ def closed_form(shape: str, d: list[float]) -> tuple[float, float, float, float]
     """A, I1 (about the section's z axis, int y^2 dA), I2, J written out by hand.
 
     Sources: circle and annulus (J = I1 + I2 = 2 I); rectangle b h^3 / 12; box and
-    channel I1 as the bounding rectangle less the inner one; T and I by the parallel-axis
-    theorem from their strips; torsion: Roark's rectangle approximation (BAR), Bredt
-    (BOX), sum l t^3 / 3 over mid-lines (I, T, CHAN), as NASTRAN's PBARL tables."""
+    channel I1 as the bounding rectangle less the inner one; T (and T2, the same T upside
+    down) and I by the parallel-axis theorem from their strips; H's plates and web centred
+    on the axes (I2 the plates' outer rectangle less the gap); torsion: Roark's rectangle
+    approximation (BAR), Bredt (BOX), sum l t^3 / 3 over mid-lines (I, T, CHAN, T2, H), as
+    NASTRAN's PBARL tables."""
     if shape in ("ROD", "TUBE"):
         ro, ri = d[0], (d[1] if shape == "TUBE" else 0.0)
         i = math.pi * (ro**4 - ri**4) / 4
@@ -51,7 +53,7 @@ def closed_form(shape: str, d: list[float]) -> tuple[float, float, float, float]
         hw = h - 2 * tf
         return (2 * b * tf + hw * tw, (b * h**3 - (b - tw) * hw**3) / 12,
                 (2 * tf * b**3 + hw * tw**3) / 12, (2 * b * tf**3 + (h - tf) * tw**3) / 3)
-    if shape == "T":
+    if shape in ("T", "T2"):  # T2: a T upside down, the same A, I1, I2, J
         b, h, tf, tw = d
         hw = h - tf
         a = b * tf + hw * tw
@@ -59,6 +61,11 @@ def closed_form(shape: str, d: list[float]) -> tuple[float, float, float, float]
         i1 = (b * tf**3 / 12 + b * tf * (h - tf / 2 - y) ** 2 + tw * hw**3 / 12
               + hw * tw * (hw / 2 - y) ** 2)
         return a, i1, (tf * b**3 + hw * tw**3) / 12, (b * tf**3 + (h - tf / 2) * tw**3) / 3
+    if shape == "H":  # two plates DIM2 / 2 x DIM3, DIM1 apart, web DIM4 between them
+        gap, tt, h, tw = d
+        return (tt * h + gap * tw, tt * h**3 / 12 + gap * tw**3 / 12,
+                h * ((gap + tt) ** 3 - gap**3) / 12 + tw * gap**3 / 12,
+                (2 * h * (tt / 2) ** 3 + (gap + tt / 2) * tw**3) / 3)
     b, h, tw, tf = d  # CHAN
     bf = b - tw
     a = h * tw + 2 * bf * tf
@@ -73,6 +80,7 @@ SECTIONS = {  # pid: (shape, dims), metres
     1: ("ROD", [0.03]), 2: ("TUBE", [0.06, 0.05]), 3: ("BAR", [0.04, 0.1]),
     4: ("BOX", [0.12, 0.2, 0.008, 0.01]), 5: ("I", [0.3, 0.15, 0.15, 0.0071, 0.0107, 0.0107]),
     6: ("T", [0.15, 0.2, 0.012, 0.008]), 7: ("CHAN", [0.09, 0.26, 0.01, 0.014]),
+    8: ("T2", [0.12, 0.18, 0.01, 0.007]), 9: ("H", [0.1, 0.02, 0.16, 0.008]),
 }
 
 

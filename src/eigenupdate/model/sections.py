@@ -266,7 +266,7 @@ def _all(shape: str, d: np.ndarray) -> tuple:
         # exactly 0 for a section with an axis of symmetry (the sum leaves round-off)
         return a, i1, i2, (i12 if shape == "Z" else 0.0), library.torsion(shape, d)
     if shape == "HEXA":
-        return (*library.hexagon(d), 0.0, library.torsion(shape, d))
+        return (*library.hexagon(d), 0.0, _torsion("BAR", library.hexagon_bar(d)))
     if shape in THIN_WALLED:
         return (*_thin(shape, d)[:3], 0.0, _torsion(shape, d))
     return (*_solid(shape, d), 0.0, _torsion(shape, d))

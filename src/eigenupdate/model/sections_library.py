@@ -147,7 +147,7 @@ def hexagon(d: np.ndarray) -> tuple:
 
 
 def torsion(shape: str, d: np.ndarray):
-    """J of Z, CROSS, BOX1, HAT and HEXA (module docstring)."""
+    """J of Z, CROSS, BOX1 and HAT (module docstring)."""
     if shape == "Z":  # as CHAN1: flanges from the web's mid-line, web between flanges'
         b, tw, hw, h = d
         tf = (h - hw) / 2
@@ -162,11 +162,12 @@ def torsion(shape: str, d: np.ndarray):
         b, h, tt, tb, tr, tl = d
         bm, hm = b - (tr + tl) / 2, h - (tt + tb) / 2
         return 4 * (bm * hm) ** 2 / (hm * (1 / tl + 1 / tr) + bm * (1 / tt + 1 / tb))
-    # HEXA: the solid rectangle of its height and area (long side a, short side c)
-    t, w, h = d
-    avg = w - t
-    a, c = (avg, h) if np.real(avg) >= np.real(h) else (h, avg)
-    return a * c**3 * (1 / 3 - 0.21 * c / a * (1 - c**4 / (12 * a**4)))
+    raise ValueError(f"no torsion constant here for section {shape}")
+
+
+def hexagon_bar(d: np.ndarray) -> np.ndarray:
+    """The BAR (DIM1 width, DIM2 height) of HEXA's height and area, whose J is HEXA's."""
+    return _dims(d[1] - d[0], d[2])
 
 
 def shear_centre(shape: str, d: np.ndarray) -> tuple[float, float] | None:

@@ -323,3 +323,17 @@ def test_tapered_z_is_refused(tmp_path):
         warnings.simplefilter("ignore", EigenupdateWarning)
         with pytest.raises(InputError, match="PBEAML 1: a tapered section with I12 != 0"):
             read_nastran(path)
+
+
+def test_parameter_on_a_z_dimension_is_refused(tmp_path):
+    """A Z's I12 would change with its DIMs, and the I12 term is linear in E only: a DIM
+    parameter on it is refused, naming the element."""
+    from eigenupdate.errors import InputError
+
+    path = tmp_path / "z.bdf"
+    path.write_text(_bulk("PBARL,1,1,,Z\n,.05,.005,.11,.13"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EigenupdateWarning)
+        with pytest.raises(InputError, match=r"CBAR 1: I12 != 0 with parameters that enter "
+                           r"the element nonlinearly \(a section dimension"):
+            read_nastran(path, [(Parameter("d", 0.0), CardField("PBARL", 1, "DIM2"))])

@@ -245,7 +245,8 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     if np.any(nonlin & coupled):
         e = int(np.flatnonzero(nonlin & coupled)[0])
         raise InputError(f"{label[e]}: I12 != 0 with parameters that enter the element "
-                         f"nonlinearly (two in one quantity) is not supported")
+                         f"nonlinearly (a section dimension, or two in one quantity) is not "
+                         f"supported")
     for dj in deriv:  # those elements' parts all go to their function terms
         for arr in dj.values():
             arr[nonlin] = 0.0

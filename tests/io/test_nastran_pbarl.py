@@ -292,8 +292,8 @@ def test_z_section_is_the_pbar_with_its_i12(tmp_path):
 
 
 def test_library_caveats_are_named(tmp_path):
-    """What is not established is said once per property: Z's I12 sign, HEXA's J; a
-    PBEAML HAT's shear centre (not computed)."""
+    """What is not established is said once per property: Z's I12 sign, CHAN2's
+    orientation, HEXA's J; a PBEAML HAT's shear centre (not computed)."""
     def warned(card: str, element: str = "CBAR") -> list[str]:
         path = tmp_path / "one.bdf"
         path.write_text(_bulk(card).replace("CBAR,1,1,1,2", f"{element},1,1,1,2"))
@@ -306,6 +306,7 @@ def test_library_caveats_are_named(tmp_path):
         "PBARL 1: section Z: its I12 < 0 (top flange towards -z) follows MSC's figure as "
         "MYSTRAN and pyNastran read it, not checked against NASTRAN's output"]
     assert "torsion constant J" in warned("PBARL,1,1,,HEXA\n,3.,15.,20.")[0]
+    assert "exchanging I1 and I2" in warned("PBARL,1,1,,CHAN2\n,1.,1.5,12.,20.")[0]
     (msg,) = warned("PBEAML,1,1,,HAT\n,20.,2.,15.,5.", "CBEAM")
     assert msg.startswith("PBEAML 1: section HAT's shear centre is not computed here")
     assert not warned("PBARL,1,1,,T2\n,10.,24.,1.,1.")

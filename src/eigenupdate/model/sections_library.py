@@ -16,8 +16,8 @@ Most shapes are a base shape with other dimensions (:func:`as_base`), turned ove
 * I1 and CHAN1: an I and a channel given by the flange outstand DIM1, web DIM2, clear web
   height DIM3 and total height DIM4 (flanges (DIM4 - DIM3) / 2 thick);
 * CHAN2: a channel on its side, a U opening towards +y: base DIM4 wide and DIM2 thick,
-  legs DIM1 thick and DIM3 high (pyNastran's outline; MYSTRAN turns it the other way,
-  exchanging I1 and I2);
+  legs DIM1 thick and DIM3 high (pyNastran's drawing; MYSTRAN turns it the other way,
+  exchanging I1 and I2: :data:`CAVEATS`);
 * H: an I on its side: two vertical plates DIM2 / 2 thick and DIM3 high, DIM1 apart,
   joined at mid-height by a web DIM4 thick;
 * TUBE2: a TUBE given by its outer radius DIM1 and wall DIM2.
@@ -74,6 +74,9 @@ RECTANGLES = ("Z", "CROSS", "BOX1", "HAT")
 CAVEATS = {
     "Z": "its I12 < 0 (top flange towards -z) follows MSC's figure as MYSTRAN and "
          "pyNastran read it, not checked against NASTRAN's output",
+    "CHAN2": "drawn as a U opening towards +y (pyNastran's reading of MSC's figure); "
+             "MYSTRAN turns it on its side, exchanging I1 and I2: not checked against "
+             "NASTRAN's output",
     "HEXA": "its torsion constant J is the BAR formula on the rectangle of the hexagon's "
             "height and area (MYSTRAN's), not a formula NASTRAN documents",
 }

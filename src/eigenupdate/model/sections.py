@@ -14,7 +14,7 @@ I1 and I2 of ROD, TUBE, BAR and BOX (used as they are); here are
   walls' mid-lines (MSC/NX Nastran element library, PBARL section properties).
 
 The other shapes of MSC's library that are assemblies of rectangles or closed forms (T1,
-T2, I1, CHAN1, CHAN2, H, Z, CROSS, TUBE2, BOX1, HEXA) are in
+T2, I1, CHAN1, CHAN2, H, Z, CROSS, TUBE2, BOX1, HEXA, HAT) are in
 :mod:`~eigenupdate.model.sections_library`; :func:`section_values` and
 :func:`section_properties` give any of them.
 

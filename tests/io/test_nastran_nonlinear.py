@@ -43,7 +43,10 @@ SHEAR = [("rod_r", "PBARL", 1, "DIM1"), ("bar_h", "PBARL", 3, "DIM2"), ("E", "MA
 PRODUCTS = [("E", "MAT1", 1, "E"), ("A4", "PBAR", 4, "A"), ("I5", "PBAR", 5, "I1")]
 # the same on shear-flexible PBARs (K1, K2) with MAT1 G given apart from E: E, A and I1 are
 # all in phi = 12 E I / (K A G L^2)
-FIELDS = {"dims": DIMS, "shear": SHEAR, "products": PRODUCTS, "pbar_shear": PRODUCTS}
+# MSC library shapes (model/sections_library.py): T2's web and H's plate spacing
+LIBRARY = [("t2_web", "PBARL", 8, "DIM4"), ("h_gap", "PBARL", 9, "DIM1"), ("E", "MAT1", 1, "E")]
+FIELDS = {"dims": DIMS, "shear": SHEAR, "products": PRODUCTS, "pbar_shear": PRODUCTS,
+          "library": LIBRARY}
 
 
 def _spec(fields):
@@ -73,7 +76,7 @@ def _frame(path, which: str, values=None):
         else:
             frame.sections[cid][{"A": 0, "I1": 1}[f]] = float(v)
     text = frame.bdf()
-    if which in ("dims", "shear"):
+    if which in ("dims", "shear", "library"):
         lines = text.splitlines()
         kept = [x for i, x in enumerate(lines) if not x.startswith("PBAR*")
                 and not (i and lines[i - 1].startswith("PBAR*"))]
@@ -119,7 +122,7 @@ def ell(tmp_path):
     return _ell(tmp_path / "ell.bdf")
 
 
-@pytest.mark.parametrize("which", ["dims", "shear", "products", "pbar_shear"])
+@pytest.mark.parametrize("which", ["dims", "shear", "products", "pbar_shear", "library"])
 def test_model_at_new_values_is_the_hand_edited_deck(tmp_path, which):
     fields = FIELDS[which]
     nm = read_nastran(_frame(tmp_path / "a.bdf", which), _spec(fields))
@@ -132,7 +135,7 @@ def test_model_at_new_values_is_the_hand_edited_deck(tmp_path, which):
         assert abs(a - b).max() <= 1e-12 * abs(b).max()
 
 
-@pytest.mark.parametrize("which", ["dims", "shear", "products", "pbar_shear"])
+@pytest.mark.parametrize("which", ["dims", "shear", "products", "pbar_shear", "library"])
 def test_derivatives_match_central_differences(tmp_path, which):
     fields = FIELDS[which]
     model = read_nastran(_frame(tmp_path / "a.bdf", which), _spec(fields)).model

@@ -28,9 +28,11 @@ def closed_form(shape: str, d: list[float]) -> tuple[float, float, float, float]
     """A, I1 (about the section's z axis, int y^2 dA), I2, J written out by hand.
 
     Sources: circle and annulus (J = I1 + I2 = 2 I); rectangle b h^3 / 12; box and
-    channel I1 as the bounding rectangle less the inner one; T and I by the parallel-axis
-    theorem from their strips; torsion: Roark's rectangle approximation (BAR), Bredt
-    (BOX), sum l t^3 / 3 over mid-lines (I, T, CHAN), as NASTRAN's PBARL tables."""
+    channel I1 as the bounding rectangle less the inner one; T (and T2, the same T upside
+    down) and I by the parallel-axis theorem from their strips; H's plates and web centred
+    on the axes (I2 the plates' outer rectangle less the gap); torsion: Roark's rectangle
+    approximation (BAR), Bredt (BOX), sum l t^3 / 3 over mid-lines (I, T, CHAN, T2, H), as
+    NASTRAN's PBARL tables."""
     if shape in ("ROD", "TUBE"):
         ro, ri = d[0], (d[1] if shape == "TUBE" else 0.0)
         i = math.pi * (ro**4 - ri**4) / 4
@@ -51,7 +53,7 @@ def closed_form(shape: str, d: list[float]) -> tuple[float, float, float, float]
         hw = h - 2 * tf
         return (2 * b * tf + hw * tw, (b * h**3 - (b - tw) * hw**3) / 12,
                 (2 * tf * b**3 + hw * tw**3) / 12, (2 * b * tf**3 + (h - tf) * tw**3) / 3)
-    if shape == "T":
+    if shape in ("T", "T2"):  # T2: a T upside down, the same A, I1, I2, J
         b, h, tf, tw = d
         hw = h - tf
         a = b * tf + hw * tw
@@ -59,6 +61,11 @@ def closed_form(shape: str, d: list[float]) -> tuple[float, float, float, float]
         i1 = (b * tf**3 / 12 + b * tf * (h - tf / 2 - y) ** 2 + tw * hw**3 / 12
               + hw * tw * (hw / 2 - y) ** 2)
         return a, i1, (tf * b**3 + hw * tw**3) / 12, (b * tf**3 + (h - tf / 2) * tw**3) / 3
+    if shape == "H":  # two plates DIM2 / 2 x DIM3, DIM1 apart, web DIM4 between them
+        gap, tt, h, tw = d
+        return (tt * h + gap * tw, tt * h**3 / 12 + gap * tw**3 / 12,
+                h * ((gap + tt) ** 3 - gap**3) / 12 + tw * gap**3 / 12,
+                (2 * h * (tt / 2) ** 3 + (gap + tt / 2) * tw**3) / 3)
     b, h, tw, tf = d  # CHAN
     bf = b - tw
     a = h * tw + 2 * bf * tf
@@ -73,6 +80,7 @@ SECTIONS = {  # pid: (shape, dims), metres
     1: ("ROD", [0.03]), 2: ("TUBE", [0.06, 0.05]), 3: ("BAR", [0.04, 0.1]),
     4: ("BOX", [0.12, 0.2, 0.008, 0.01]), 5: ("I", [0.3, 0.15, 0.15, 0.0071, 0.0107, 0.0107]),
     6: ("T", [0.15, 0.2, 0.012, 0.008]), 7: ("CHAN", [0.09, 0.26, 0.01, 0.014]),
+    8: ("T2", [0.12, 0.18, 0.01, 0.007]), 9: ("H", [0.1, 0.02, 0.16, 0.008]),
 }
 
 
@@ -174,14 +182,17 @@ def test_material_parameter_on_pbarl_members(tmp_path):
 
 
 @pytest.mark.parametrize("card,message", [
-    ("PBARL,1,1,,HAT\n,.1,.05,.005,.02",
-     "PBARL 1: section type HAT (its section axes and shear centre are not established) is "
-     "not supported (supported: ROD, TUBE, BAR, BOX, I, T, CHAN)"),
+    ("PBARL,1,1,,HAT1\n,.1,.05,.04,.005,.01",
+     "PBARL 1: section type HAT1 (a closed cell with open flanges: its J is not modelled) is "
+     "not supported (supported: ROD, TUBE, BAR, BOX, I, T, CHAN, T1, T2, I1, CHAN1, CHAN2, "
+     "H, Z, CROSS, TUBE2, BOX1, HEXA, HAT)"),
     ("PBARL,1,1,,L\n,.1,.15,.01,.012",
      "PBARL 1: section type L (its section axes, which give I12's sign, are not established)"),
     ("PBARL,1,1,MYLIB,ROD\n,.03", "PBARL 1: GROUP MYLIB (a user section library)"),
     ("PBARL,1,1,,BOX\n,.1,.2,.01,.06", "PBARL 1: section BOX needs DIM1 > 2 DIM4"),
-], ids=["HAT", "L", "group", "BOX-dims"])
+    ("PBARL,1,1,,BOX1\n,.1,.2,.01,.012,.006,.008", "PBARL 1: section BOX1 needs DIM3 = DIM4 "
+     "or DIM5 = DIM6 (with both pairs unequal its I12's sign depends on axes not established"),
+], ids=["HAT1", "L", "group", "BOX-dims", "BOX1-I12"])
 def test_refused_sections_one_line(tmp_path, run_cli, card, message):
     """Exit 2, one line naming the file, the card, its id and the section type."""
     (tmp_path / "bad.bdf").write_text(_bulk(card))
@@ -225,3 +236,105 @@ def test_pbeaml_monosymmetric_shear_centre_is_named(tmp_path):
     assert msg.startswith("PBEAML 1: section T's shear centre is (0.0455") and "CBEAM" in msg
     assert not warned("PBARL,1,1,,T\n,.15,.2,.012,.008", "CBAR")
     assert not warned("PBEAML,1,1,,BAR\n,.15,.2", "CBEAM")
+
+
+# the dimensions of pyNastran's unit decks models/unit/bars/pbarl_<shape>.bdf (which the
+# reader refused before these shapes), and of the other new shapes
+LIBRARY = {"T1": "20.,20.,2.,4.", "T2": "10.,24.,1.,1.", "I1": "10.,1.,20.,25.",
+           "CHAN1": "8.,2.,30.,40.", "H": "5.,3.,20.,0.5", "Z": "10.,1.,22.,28.",
+           "HEXA": "3.,15.,20.", "HAT": "20.,2.,15.,5.", "CHAN2": "1.,1.5,12.,20.",
+           "CROSS": "8.,2.,12.,1.5", "TUBE2": "10.,1.5", "BOX1": "10.,20.,1.,1.5,.8,.8"}
+
+
+@pytest.mark.parametrize("shape", sorted(LIBRARY))
+def test_library_shapes_read_with_msc_areas(tmp_path, shape):
+    """Every new shape of MSC's library reads; its area is MSC's area formula for the shape
+    (as pyNastran 1.4's PBARL.Area() implements them, e.g. CHAN2 = 2 DIM1 DIM3 +
+    (DIM4 - 2 DIM1) DIM2), which fixes which DIM is which; the moments are those of
+    model/sections.py (Green's theorem in tests/model/test_sections_library.py)."""
+    from eigenupdate.model.sections import section_values
+
+    path = tmp_path / "one.bdf"
+    path.write_text(_bulk(f"PBARL,1,1,,{shape}\n,{LIBRARY[shape]}"))
+    prop = load_deck(path).bdf.properties[1]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EigenupdateWarning)
+        A, i1, i2, j, *_, i12 = pbarl_section(prop)
+        model = read_nastran(path).model
+    assert A == pytest.approx(prop.Area(), rel=1e-14)
+    dims = [float(x) for x in LIBRARY[shape].split(",")]
+    assert (A, i1, i2, i12, j) == section_values(shape, dims)
+    assert np.isfinite(model.stiffness().toarray()).all()
+
+
+def test_z_section_is_the_pbar_with_its_i12(tmp_path):
+    """A PBARL Z is the PBAR holding its A, I1, I2, J and I12 (I12 < 0 by the flanges'
+    parallel-axis terms, test_sections_library.py): the same K and M on a bent frame,
+    where I12 couples the planes (test_nastran_i12.py checks PBAR I12 against the
+    principal axes)."""
+    from eigenupdate.model.sections import section_values
+
+    a, i1, i2, i12, j = section_values("Z", [0.05, 0.005, 0.11, 0.13])
+    assert i12 < 0
+    paths = []
+    for name, card in (("pbar", f"PBAR,1,1,{a!r},{i1!r},{i2!r},{j!r}\n,,,,,,,,\n,,,{i12!r}"),
+                       ("pbarl", "PBARL,1,1,,Z\n,0.05,0.005,0.11,0.13")):
+        text = _bulk(card).replace("CBAR,1,1,1,2,0.,1.,0.",
+                                   "GRID,3,,1.,0.7,0.4\nCBAR,1,1,1,2,0.,1.,0.\n"
+                                   "CBAR,2,1,2,3,0.,0.,1.")
+        paths.append(tmp_path / f"{name}.bdf")
+        paths[-1].write_text(text)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EigenupdateWarning)
+        pbar, pbarl = (read_nastran(p).model for p in paths)
+    for x, y in ((pbar.stiffness(), pbarl.stiffness()), (pbar.mass(), pbarl.mass())):
+        assert abs(x - y).max() <= 1e-13 * abs(x).max()
+
+
+def test_library_caveats_are_named(tmp_path):
+    """What is not established is said once per property: Z's I12 sign, CHAN2's
+    orientation, HEXA's J; a PBEAML HAT's shear centre (not computed)."""
+    def warned(card: str, element: str = "CBAR") -> list[str]:
+        path = tmp_path / "one.bdf"
+        path.write_text(_bulk(card).replace("CBAR,1,1,1,2", f"{element},1,1,1,2"))
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            read_nastran(path)
+        return [str(w.message) for w in caught if "shear flexibility" not in str(w.message)]
+
+    assert warned("PBARL,1,1,,Z\n,10.,1.,22.,28.") == [
+        "PBARL 1: section Z: its I12 < 0 (top flange towards -z) follows MSC's figure as "
+        "MYSTRAN and pyNastran read it, not checked against NASTRAN's output"]
+    assert "torsion constant J" in warned("PBARL,1,1,,HEXA\n,3.,15.,20.")[0]
+    assert "exchanging I1 and I2" in warned("PBARL,1,1,,CHAN2\n,1.,1.5,12.,20.")[0]
+    (msg,) = warned("PBEAML,1,1,,HAT\n,20.,2.,15.,5.", "CBEAM")
+    assert msg.startswith("PBEAML 1: section HAT's shear centre is not computed here")
+    assert not warned("PBARL,1,1,,T2\n,10.,24.,1.,1.")
+
+
+def test_tapered_z_is_refused(tmp_path):
+    """A PBEAML Z whose dimensions change along the beam: its I12 would be lost by the
+    taper's integration, which holds A, I1, I2, J only: refused, naming the card."""
+    from eigenupdate.errors import InputError
+
+    card = "PBEAML,1,1,,Z\n,10.,1.,22.,28.,,NO,1.\n,12.,1.,22.,28."
+    path = tmp_path / "taper.bdf"
+    path.write_text(_bulk(card).replace("CBAR,1,1,1,2", "CBEAM,1,1,1,2"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EigenupdateWarning)
+        with pytest.raises(InputError, match="PBEAML 1: a tapered section with I12 != 0"):
+            read_nastran(path)
+
+
+def test_parameter_on_a_z_dimension_is_refused(tmp_path):
+    """A Z's I12 would change with its DIMs, and the I12 term is linear in E only: a DIM
+    parameter on it is refused, naming the element."""
+    from eigenupdate.errors import InputError
+
+    path = tmp_path / "z.bdf"
+    path.write_text(_bulk("PBARL,1,1,,Z\n,.05,.005,.11,.13"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", EigenupdateWarning)
+        with pytest.raises(InputError, match=r"CBAR 1: I12 != 0 with parameters that enter "
+                           r"the element nonlinearly \(a section dimension"):
+            read_nastran(path, [(Parameter("d", 0.0), CardField("PBARL", 1, "DIM2"))])

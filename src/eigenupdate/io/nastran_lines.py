@@ -14,12 +14,12 @@ from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io import nastran_tapered
 from eigenupdate.io.nastran_fields import in_range, tied_shear_modulus, undefined_material
 from eigenupdate.model import frame3d, sections
+from eigenupdate.model import sections_library as library
 from eigenupdate.model.parametric import FunctionTerm
 from eigenupdate.model.sections import PARTS, SectionPart
 
-# PBARL shapes read: pyNastran's A, I1, I2, J as they are (ROD, TUBE), or with NASTRAN's
-# torsion constant (BAR, BOX), or all from model/sections.py (I, T, CHAN)
-PBARL_SHAPES = ("ROD", "TUBE", "BAR", "BOX", *sections.THIN_WALLED)
+# PBARL shapes read (A, I1, I2, I12, J from model/sections.py and sections_library.py)
+PBARL_SHAPES = sections.SHAPES
 
 
 def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, values,
@@ -245,7 +245,8 @@ def assemble_lines(bdf, where, grid, xyz, frames, consistent, wtmass, pindex, va
     if np.any(nonlin & coupled):
         e = int(np.flatnonzero(nonlin & coupled)[0])
         raise InputError(f"{label[e]}: I12 != 0 with parameters that enter the element "
-                         f"nonlinearly (two in one quantity) is not supported")
+                         f"nonlinearly (a section dimension, or two in one quantity) is not "
+                         f"supported")
     for dj in deriv:  # those elements' parts all go to their function terms
         for arr in dj.values():
             arr[nonlin] = 0.0
@@ -401,10 +402,11 @@ def _check_shape(prop) -> None:
         raise InputError(f"{where}: GROUP {prop.group} (a user section library) is not "
                          f"supported; only the standard sections of MSCBML0")
     if shape not in PBARL_SHAPES:
-        # L and HAT: MSC's axes for them (I12's sign, where the shear centre sits) are
-        # only in its figures, and pyNastran's I1, I2 are wrong (L) or absent (HAT)
+        # L: MSC's axes for it (I12's sign) are only in its figure, which only pyNastran
+        # reads (its I1, I2 are wrong); HAT1 and DBOX are closed cells with open parts
         why = {"L": " (its section axes, which give I12's sign, are not established)",
-               "HAT": " (its section axes and shear centre are not established)"
+               "HAT1": " (a closed cell with open flanges: its J is not modelled)",
+               "DBOX": " (a two-cell box: its J is not modelled)",
                }.get(shape, "")
         raise InputError(f"{where}: section type {shape}{why} is not supported (supported: "
                          f"{', '.join(PBARL_SHAPES)})")
@@ -420,13 +422,20 @@ def pbarl_section(prop) -> tuple:
     if prop.type == "PBEAML":  # one row of dimensions per station: end A's (a taper's
         rows = np.atleast_2d(np.asarray(dim, float))  # are read by nastran_tapered)
         dim, nsm = rows[0], float(np.ravel(nsm)[0])
-    A, i1, i2, j = pbarl_values(prop, dim)
+    A, i1, i2, i12, j = _values(prop, dim)
     if shape not in sections.SHEAR_SHAPES:
         warnings.warn(f"{where}: NASTRAN gives section {shape} shear flexibility with factors "
                       f"not modelled here (Euler-Bernoulli); stubby members will differ",
                       EigenupdateWarning, stacklevel=2)
-    dy, dz = sections.shear_centre_offset(shape, dim) if shape in sections.THIN_WALLED \
-        else (0.0, 0.0)
+    if shape in library.CAVEATS:
+        warnings.warn(f"{where}: section {shape}: {library.CAVEATS[shape]}",
+                      EigenupdateWarning, stacklevel=2)
+    offset = sections.shear_centre_offset(shape, dim)
+    if prop.type == "PBEAML" and offset is None:
+        warnings.warn(f"{where}: section {shape}'s shear centre is not computed here; NASTRAN "
+                      f"puts it on the CBEAM's axis, this element the centroid: the member "
+                      f"may sit elsewhere", EigenupdateWarning, stacklevel=2)
+    dy, dz = offset or (0.0, 0.0)
     if prop.type == "PBEAML" and math.hypot(dy, dz) > 1e-6 * math.sqrt(A):
         # MSC's PBEAML figures put the shear centre at the element axis and offset the
         # neutral axis from it; a member's effective offset then differs by (dy, dz)
@@ -435,7 +444,7 @@ def pbarl_section(prop) -> tuple:
                       f"this element the centroid: the member sits that much elsewhere",
                       EigenupdateWarning, stacklevel=2)
     k1, k2 = _shear_factors(shape, dim, A)
-    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, 0.0
+    return A, i1, i2, j, nsm, prop.mid, (prop.type, prop.pid), k1, k2, 0.0, i12
 
 
 def _shear_factors(shape: str, dim, area: float) -> tuple[float, float]:
@@ -447,17 +456,20 @@ def _shear_factors(shape: str, dim, area: float) -> tuple[float, float]:
 
 def pbarl_values(prop, dim) -> tuple[float, float, float, float]:
     """A, I1, I2, J of a PBARL/PBEAML shape at dimensions ``dim`` (InputError naming the
-    card if they make no section)."""
-    shape = prop.Type
+    card if they make no section, or if it has an I12: a taper's stations)."""
+    A, i1, i2, i12, j = _values(prop, dim)
+    if i12 != 0:
+        raise InputError(f"{prop.type} {prop.pid}: a tapered section with I12 != 0 (section "
+                         f"{prop.Type}) is not supported")
+    return A, i1, i2, j
+
+
+def _values(prop, dim) -> tuple[float, ...]:
+    """A, I1, I2, I12, J (InputError naming the card if the dimensions make no section)."""
     try:
-        if shape in sections.THIN_WALLED:
-            A, i1, i2, _ = sections.thin_walled_section(shape, dim)
-        else:
-            A, i1, i2 = sections.solid_section(shape, dim)
-        j = sections.torsion_constant(shape, dim)
+        return sections.section_values(prop.Type, dim)
     except InputError as exc:
         raise InputError(f"{prop.type} {prop.pid}: {exc}") from None
-    return A, i1, i2, j
 
 
 def _nonlinear_elements(deriv, pindex, pkeys, label, shear, in_phi) -> np.ndarray:

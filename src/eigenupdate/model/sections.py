@@ -13,6 +13,11 @@ I1 and I2 of ROD, TUBE, BAR and BOX (used as they are); here are
   thin-walled formula, I, T and CHAN the open thin-walled ``sum b t^3 / 3`` over the
   walls' mid-lines (MSC/NX Nastran element library, PBARL section properties).
 
+The other shapes of MSC's library that are assemblies of rectangles or closed forms (T1,
+T2, I1, CHAN1, CHAN2, H, Z, CROSS, TUBE2, BOX1, HEXA, HAT) are in
+:mod:`~eigenupdate.model.sections_library`; :func:`section_values` and
+:func:`section_properties` give any of them.
+
 Dimensions are the card's DIM1, DIM2, ...; a dimension that makes no section (a wall
 thicker than its shape allows) is an :class:`~eigenupdate.errors.InputError`.
 """
@@ -25,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from eigenupdate.errors import InputError
+from eigenupdate.model import sections_library as library
 
 THIN_WALLED = ("I", "T", "CHAN")
 # DIM count, and the conditions that make a section (text for the message)
@@ -39,6 +45,14 @@ _SHAPES = {
     "CHAN": (4, (("DIM1 > DIM3", lambda d: d[0] > d[2]),
                  ("DIM2 > 2 DIM4", lambda d: d[1] > 2 * d[3]))),
 }
+_ALL = {**_SHAPES, **library.SHAPES}
+SHAPES = tuple(_ALL)
+"""Every PBARL/PBEAML shape read (the others of MSC's library are refused)."""
+
+
+def dimension_count(shape: str) -> int:
+    """How many DIMs a shape has."""
+    return _ALL[shape][0]
 
 
 def check_dimensions(shape: str, dim: Sequence[float]) -> np.ndarray:
@@ -50,7 +64,7 @@ def check_dimensions(shape: str, dim: Sequence[float]) -> np.ndarray:
     eigenupdate.errors.InputError: section BOX needs DIM1 > 2 DIM4, got DIM = [0.1, 0.2, 0.01, 0.06]
     """
     d = np.asarray(dim, dtype=float)
-    count, conditions = _SHAPES[shape]
+    count, conditions = _ALL[shape]
     shown = [float(x) for x in d]
     if d.size != count:
         raise InputError(f"section {shape} has {count} dimensions, got {d.size}")
@@ -95,28 +109,52 @@ def thin_walled_section(shape: str, dim: Sequence[float]) -> tuple[float, float,
 
 
 def _thin(shape: str, d: np.ndarray) -> tuple:
-    w, h, z, y = _rectangles(shape, d).T
+    return _sums(_rectangles(shape, d))
+
+
+def _sums(rows: np.ndarray) -> tuple:
+    """A, I1, I2, I12 about the centroid of rectangles (rows as :func:`_rectangles`)."""
+    w, h, z, y = rows.T
     area = w * h
     a = area.sum()
     zc, yc = (area @ z) / a, (area @ y) / a
     i1 = np.sum(w * h**3 / 12 + area * (y - yc) ** 2)
     i2 = np.sum(h * w**3 / 12 + area * (z - zc) ** 2)
-    i12 = np.sum(area * (y - yc) * (z - zc))  # 0: each shape is symmetric
+    i12 = np.sum(area * (y - yc) * (z - zc))
     return a, i1, i2, i12
 
 
-def shear_centre_offset(shape: str, dim: Sequence[float]) -> tuple[float, float]:
-    """(y, z) of the shear centre less the centroid of an I, T or CHAN section, thin-walled
+def shear_centre_offset(shape: str, dim: Sequence[float]) -> tuple[float, float] | None:
+    """(y, z) of the shear centre less the centroid of a section, thin-walled
     on the walls' mid-lines (0 for a doubly symmetric I): T at the flange's and web's
     junction; I between the flanges at h' I_top / (I_top + I_bot) from the bottom flange
     (I_flange = t w^3 / 12); CHAN e = 3 b'^2 tf / (6 b' tf + h' tw) behind the web's
     mid-line (b', h' the mid-line flange length and web height; Roark, Table 10.7).
 
+    The library's shapes turn their base shape's offset with it; 0 for the doubly
+    symmetric and point-symmetric shapes; None where it is not established
+    (:func:`~eigenupdate.model.sections_library.shear_centre`).
+
     >>> dy, dz = shear_centre_offset("T", [0.02, 0.03, 0.002, 0.0025])
     >>> print(f"{dy:.6f} {dz:g}")
     0.009545 0
+    >>> dy, dz = shear_centre_offset("T2", [0.02, 0.03, 0.002, 0.0025])   # T upside down
+    >>> print(f"{dy:.6f} {dz:g}")
+    -0.009545 0
     """
-    d = check_dimensions(shape, dim)
+    return _offset(shape, check_dimensions(shape, dim))
+
+
+def _offset(shape: str, d: np.ndarray) -> tuple[float, float] | None:
+    base = library.as_base(shape, d)
+    if base is not None:
+        name, bd, turn = base
+        dy, dz = _offset(name, bd)
+        return {"": (dy, dz), "flip": (-dy, dz), "swap": (dz, dy)}[turn]
+    if shape in library.SHAPES:
+        return library.shear_centre(shape, d)
+    if shape not in THIN_WALLED:
+        return 0.0, 0.0
     w, h, z, y = _rectangles(shape, d).T
     area = w * h
     yc, zc = (area @ y) / area.sum(), (area @ z) / area.sum()
@@ -126,11 +164,9 @@ def shear_centre_offset(shape: str, dim: Sequence[float]) -> tuple[float, float]
         hh, a, b, _, ta, tb = d
         bot, top = ta * a**3, tb * b**3
         return float(ta / 2 + (hh - (ta + tb) / 2) * top / (top + bot) - yc), 0.0
-    if shape == "CHAN":
-        b, hh, tw, tf = d
-        bm, hm = b - tw / 2, hh - tf
-        return 0.0, float(tw / 2 - 3 * bm**2 * tf / (6 * bm * tf + hm * tw) - zc)
-    return 0.0, 0.0
+    b, hh, tw, tf = d  # CHAN
+    bm, hm = b - tw / 2, hh - tf
+    return 0.0, float(tw / 2 - 3 * bm**2 * tf / (6 * bm * tf + hm * tw) - zc)
 
 
 def solid_section(shape: str, dim: Sequence[float]) -> tuple[float, float, float]:
@@ -156,7 +192,8 @@ def _solid(shape: str, d: np.ndarray) -> tuple:
 
 
 def torsion_constant(shape: str, dim: Sequence[float]) -> float:
-    """NASTRAN's torsion constant J of a BAR, BOX, I, T or CHAN PBARL section.
+    """NASTRAN's torsion constant J of a PBARL section (the library's shapes:
+    :mod:`~eigenupdate.model.sections_library`).
 
     Examples
     --------
@@ -168,7 +205,7 @@ def torsion_constant(shape: str, dim: Sequence[float]) -> float:
     >>> print(f"{torsion_constant('BOX', [0.1, 0.2, 0.01, 0.01]):.6g}")
     2.08864e-05
     """
-    return float(_torsion(shape, check_dimensions(shape, dim)))
+    return float(_all(shape, check_dimensions(shape, dim))[4])
 
 
 def _torsion(shape: str, d: np.ndarray):
@@ -193,6 +230,16 @@ def _torsion(shape: str, d: np.ndarray):
     raise InputError(f"no torsion constant for section {shape}")
 
 
+def section_values(shape: str, dim: Sequence[float]) -> tuple[float, ...]:
+    """A, I1, I2, I12, J of any PBARL shape read (:data:`SHAPES`), checked.
+
+    >>> a, i1, i2, i12, j = section_values("Z", [0.03, 0.004, 0.08, 0.1])
+    >>> print(f"{a:.6g} {i12:.6g}")    # I12 = -tf DIM1 (DIM1 + DIM2) (DIM3 + tf) / 2
+    0.001 -4.59e-07
+    """
+    return tuple(float(x) for x in _all(shape, check_dimensions(shape, dim)))
+
+
 def section_properties(shape: str, dim: np.ndarray) -> tuple:
     """A, I1, I2, J of a PBARL shape with NASTRAN's formulas, for real or complex
     ``dim`` (complex-step derivatives; no checks: :func:`check_dimensions` first).
@@ -201,15 +248,31 @@ def section_properties(shape: str, dim: np.ndarray) -> tuple:
     >>> float(a.imag / 1e-30), float(i1.imag / 1e-30)    # dA/dh = b, dI1/dh = b h^2 / 4
     (2.0, 4.5)
     """
-    d = np.asarray(dim)
+    a, i1, i2, _, j = _all(shape, np.asarray(dim))
+    return a, i1, i2, j
+
+
+def _all(shape: str, d: np.ndarray) -> tuple:
+    """A, I1, I2, I12, J of any shape (complex-step safe, unchecked)."""
+    base = library.as_base(shape, d)
+    if base is not None:
+        name, bd, turn = base
+        a, i1, i2, i12, j = _all(name, bd)
+        if turn == "swap":  # exchanging y and z keeps int y z dA
+            i1, i2 = i2, i1
+        return a, i1, i2, i12, j  # 0: every base shape has an axis of symmetry
+    if shape in library.RECTANGLES:
+        a, i1, i2, i12 = _sums(library.rectangles(shape, d))
+        # exactly 0 for a section with an axis of symmetry (the sum leaves round-off)
+        return a, i1, i2, (i12 if shape == "Z" else 0.0), library.torsion(shape, d)
+    if shape == "HEXA":
+        return (*library.hexagon(d), 0.0, _torsion("BAR", library.hexagon_bar(d)))
     if shape in THIN_WALLED:
-        a, i1, i2, _ = _thin(shape, d)
-    else:
-        a, i1, i2 = _solid(shape, d)
-    return a, i1, i2, _torsion(shape, d)
+        return (*_thin(shape, d)[:3], 0.0, _torsion(shape, d))
+    return (*_solid(shape, d), 0.0, _torsion(shape, d))
 
 
-SHEAR_SHAPES = ("BAR", "ROD", "TUBE", "BOX")
+SHEAR_SHAPES = ("BAR", "ROD", "TUBE", "TUBE2", "BOX")
 """Shapes whose shear factors :func:`shear_factors` gives (NASTRAN gives the others
 factors not modelled here)."""
 
@@ -219,7 +282,8 @@ def shear_factors(shape: str, d: np.ndarray, area):
     rectangle's and the circle's Timoshenko factors); TUBE 0.5 and BOX the walls parallel
     to the shear over the area, 2 (DIM2 - 2 DIM3) DIM4 / A in plane 1 and
     2 (DIM1 - 2 DIM4) DIM3 / A in plane 2, as the equivalent PBEAMs MSC Nastran 2005 wrote
-    into the fmondsp deck's .op2 (complex-step safe).
+    into the fmondsp deck's .op2 (complex-step safe). TUBE2, the TUBE given by its wall,
+    takes TUBE's (assumed: no NASTRAN output of a TUBE2 was at hand).
 
     >>> k1, k2 = shear_factors("BOX", np.array([0.6, 0.2, 0.0025, 0.0025]), 0.003975)
     >>> round(float(k1), 6), round(float(k2), 7)      # fmondsp.op2's PBEAM 5
@@ -234,7 +298,8 @@ def shear_factors(shape: str, d: np.ndarray, area):
 # circle 0.9 (NASTRAN's documentation; Simcenter's frequencies of the shared
 # pyn_beam_modes deck agree to 1e-7, NASTRAN_CoFE's 0.85716 would be 0.96 % off), solid
 # rectangle 5/6 (NASTRAN_CoFE's PBEAML), thin tube 0.5 (fmondsp.op2's PBEAMs)
-_CONSTANT_SHEAR = {"BAR": (5.0 / 6.0, 5.0 / 6.0), "ROD": (0.9, 0.9), "TUBE": (0.5, 0.5)}
+_CONSTANT_SHEAR = {"BAR": (5.0 / 6.0, 5.0 / 6.0), "ROD": (0.9, 0.9), "TUBE": (0.5, 0.5),
+                   "TUBE2": (0.5, 0.5)}
 
 
 # the part coefficients of a frame element (model/frame3d.py parts), from its quantities
@@ -278,7 +343,7 @@ class SectionPart:
         e0 = q["E"]
         q.update(zip(self.slots, x, strict=True))
         if self.shape is not None:
-            d = np.array([q[f"DIM{k + 1}"] for k in range(_SHAPES[self.shape][0])])
+            d = np.array([q[f"DIM{k + 1}"] for k in range(dimension_count(self.shape))])
             check_dimensions(self.shape, d.real)  # a step may leave the shape's domain
             q["A"], q["I1"], q["I2"], q["J"] = section_properties(self.shape, d)
         e = q["E"]

@@ -50,10 +50,15 @@ def profiles(elems, rows: list[dict], labels: list[str], pindex: dict, k: int
              for j, x in enumerate(given)]
         if any(x is not None and x < 0 for x in t):
             raise InputError(f"{where}: {given} must be >= 0")
+        if flag == 0 and None in t and ("T" in pindex.get(("PSHELL", e.pid), {})):
+            raise InputError(f"PSHELL {e.pid} field T: not a parameter of {lab}, whose "
+                             f"corner thicknesses are partly its own (T1-T4 with TFLAG 0) "
+                             f"and partly the PSHELL's (blank): its thickness is not "
+                             f"proportional to T (give all or none, or TFLAG 1)")
         T = p["T"]
         rel = np.array([1.0 if x is None else x if flag else x / T for x in t])
-        if not np.all(rel == 0) and np.allclose(rel, 1.0, rtol=1e-12, atol=0):
-            fixed[i] = flag == 0 and None not in t
+        fixed[i] = flag == 0 and None not in t
+        if np.allclose(rel, 1.0, rtol=1e-12, atol=0):
             continue  # the property's T at every corner, as read without them
         if k not in (3, 4) or e.type not in ("CQUAD4", "CTRIA3", "CQUADR", "CTRIAR"):
             raise InputError(f"{where}: differing from the property's T are supported on "
@@ -63,13 +68,7 @@ def profiles(elems, rows: list[dict], labels: list[str], pindex: dict, k: int
                              f"{T:g} (the sum of its plies) are not supported")
         if not np.any(rel > 0):
             raise InputError(f"{where}: all zero (NASTRAN: not all zero)")
-        if flag == 0 and None in t and ("T" in pindex.get(("PSHELL", e.pid), {})):
-            raise InputError(f"PSHELL {e.pid} field T: not a parameter of {lab}, whose "
-                             f"corner thicknesses are partly its own (T1-T4 with TFLAG 0) "
-                             f"and partly the PSHELL's (blank): its thickness is not "
-                             f"proportional to T (give all or none, or TFLAG 1)")
         out[i] = rel
-        fixed[i] = flag == 0 and None not in t
     tapered = np.array([not np.all(r == 1.0) for r in out], bool)
     return (out if tapered.any() else None), tapered, fixed
 

@@ -10,7 +10,10 @@ The thickness is interpolated from the corners by the element's shape functions 
 integration point (NASTRAN-95's quad4d.f: THK = sum SHP_i GPTH_i at each Gauss point,
 then I = 12I/T^3 THK^3 / 12 and TS/T THK there; NASTRAN CoFE's Cquad4.m the same), which
 :func:`eigenupdate.model.shells.local_parts` does with the corners' ``profile``, the
-thickness relative to the PSHELL's T.
+thickness relative to the PSHELL's T. The mass per area is RHO t at each point and NSM
+uniform (per area, as CoFE). The transverse shear's stabilisation (CTRIA3's, CQUAD4's
+residual bending flexibility: element-level corrections that vanish with the mesh size)
+takes the element's mean corner thickness, where NASTRAN-95 evaluates its own per point.
 
 A PSHELL's T as a parameter: under TFLAG 1 the element scales with T (membrane T,
 bending T^3, mass RHO T, the profile fixed); under TFLAG 0 with every Ti given it does

@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from eigenupdate.errors import InputError
+from eigenupdate.io import nastran_corners as corners
 from eigenupdate.io import nastran_offsets as offsets
 from eigenupdate.io import nastran_plates95 as plates95
 from eigenupdate.io.nastran_fields import in_range, mat9, tied_shear_modulus
@@ -120,6 +121,7 @@ class _Facet:
         self.zoffset, self.tflag, self.theta_mcid = e.zoffset, e.tflag, e.theta_mcid
         # a corner thickness differing from the property's is refused as for CTRIA6
         self.T1, self.T2, self.T3 = e.T1, e.T2, e.T3
+        self.T4 = None
 
 
 def _linear_in_e(mat, slots) -> None:
@@ -226,13 +228,10 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                              f"defined{have}")
         if e.pid not in props:
             props[e.pid] = pshell(bdf, prop) if kind == "PSHELL" else _pcomp(bdf, prop)
-        p = props[e.pid]
-        corner = [x for x in (e.T1, e.T2, e.T3, getattr(e, "T4", None)) if x is not None]
-        if e.tflag or any(not math.isclose(x, p["T"], rel_tol=1e-12) for x in corner):
-            raise InputError(f"{lab}: corner thicknesses T1-T4 (TFLAG {e.tflag}) differing "
-                             f"from the property's T are not supported")
-        rows.append(p)
+        rows.append(props[e.pid])
     n = len(elems)
+    # T1-T4: each corner's thickness over the property's T (nastran_corners)
+    profile, tapered, own = corners.profiles(elems, rows, labels, pindex, k)
     zo = offsets.element_offsets(elems, labels, rows)
     zk = zo.copy()  # the stiffness's offset: ZOFFS and a PCOMP stack's shift (Z0)
     T = np.array([p["T"] for p in rows])
@@ -278,6 +277,8 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
             cc[sel] = np.where(big[:, None, None], B / (Tp**2 * p["E1"]), 0.0)
             cs[sel] = H / (Tp * p["G3"])
     size = elem.stabilisation_size(xyz_e)
+    if profile is not None:  # the shear's stabilisation at the mean thickness T g
+        size = size / profile.mean(axis=1)
     if k == 6:  # the stabilisation relative to the section's bending (at the deck's values)
         e1 = E1[:, None, None]
         size = size * np.sqrt(quadratic.stabilisation_ratio(
@@ -286,6 +287,9 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
              "shear": G3 * shells.shear_thickness(T, size),
              shells.COUPLING: np.where(np.abs(cc).max(axis=(1, 2)) > 0, E1 * T**2, 0.0)}
     mass = offsets.mass_moments(rows, zo, wtmass)  # (3, n): m0, m1, m2
+    nsm = np.array([p["nsm"] for p in rows])
+    # a tapered element's NSM is per area, its rho t follows the profile: apart
+    area = offsets.at_height(wtmass * np.where(tapered, nsm, 0.0), zo)
     off = offsets.off_surface(rows, labels, xyz_e)
     deriv_k: list[dict] = [{} for _ in kj]
     deriv_m: list = [None for _ in mj]
@@ -323,27 +327,29 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                 deriv_m[slots["RHO"]] = d
     fixed_shear = np.zeros(n)
     thick = [(*t, None) for t in thickness_terms(elems, rows, pindex, size, wtmass,
-                                                   deriv_k, deriv_m, fixed_shear)]
+                                                   deriv_k, deriv_m, fixed_shear, own)]
     thick += ply_terms(elems, rows, pindex, phi, size, wtmass, deriv_k, deriv_m,
                        k == 4 and not drilling, k == 6)
     base = {part: tot - sum((values[j] * d[part] for j, d in enumerate(deriv_k) if part in d),
                             np.zeros(n)) for part, tot in total.items()}
-    mbase = mass - sum((values[j] * d for j, d in enumerate(deriv_m) if d is not None),
-                       np.zeros((3, n)))
-    if thick:  # those elements' parts are all in their terms, but NSM
-        on = np.isin([e.pid for e in elems], list({t[0] for t in thick}))
+    mbase = mass - area - sum((values[j] * d for j, d in enumerate(deriv_m)
+                               if d is not None), np.zeros((3, n)))
+    if thick:  # those elements' parts are all in their terms, but NSM (and T1-T4 their own)
+        on = np.isin([e.pid for e in elems], list({t[0] for t in thick})) & ~own
         for c in base.values():
             c[on] = 0.0
         base["shear"] += fixed_shear
         mbase[:, on] = offsets.at_height(wtmass * np.array(
-            [p["nsm"] + p.get("fixed_mass", 0.0) for p in rows]), zo)[:, on]
+            [p.get("fixed_mass", 0.0) for p in rows]) + wtmass * np.where(
+                tapered, 0.0, nsm), zo)[:, on]
     lumped = not consistent
 
     def blocks(s: slice) -> list:
         cpl = {"coupling": cc[s]} if np.any(total[shells.COUPLING][s]) else {}
         kap = {"curvature": curvature(nodes[s])} if curvature and elem is shells else {}
+        tap = {"profile": profile[s]} if tapered[s].any() else {}
         R, parts = offsets.stiffness_parts(elem, xyz_e[s], cm[s], cb[s], cs[s], k6rot,
-                                           labels[s], zk[s], **cpl | kap)
+                                           labels[s], zk[s], **cpl | kap | tap)
         hit = {p: c[s] for p, c in base.items() if np.any(c[s])}
         out = [_to_cd(shells.combine(R, parts, hit), frames, nodes[s], 6) if hit else None]
         for d in deriv_k:
@@ -352,13 +358,18 @@ def _shells(bdf, elems, k, grid, xyz, frames, n_nodes, consistent, wtmass, k6rot
                        if hit else None)
         # a node's lumped block m I is the same in any axes, but the coupled mass's
         # blocks between grids with different CD axes (cylindrical) are not
-        m = [_to_cd(x, frames, nodes[s], 6) for x in offsets.unit_masses(
-            elem, xyz_e[s], lumped, labels[s], zo[s], mass[:, s], bool(off[s].any()))]
+        def units(**t):  # the masses per unit m0, m1, m2
+            return [_to_cd(x, frames, nodes[s], 6) for x in offsets.unit_masses(
+                elem, xyz_e[s], lumped, labels[s], zo[s], mass[:, s], bool(off[s].any()), **t)]
 
-        def moved(c):  # sum of c[i] (n,) times the mass of moment i
+        m = units()  # per area (a tapered element's NSM)
+        mt = units(**tap) if tap else m  # per unit thickness T: the corners' profile
+
+        def moved(c, m=mt):  # sum of c[i] (n,) times the mass of moment i
             return sum(c[i][s, None, None] * m[i] for i in range(len(m)))
 
-        out.append(moved(mbase) if np.any(mbase[:, s]) else None)
+        out.append(None if not np.any(mbase[:, s]) and not np.any(area[:, s]) else
+                   moved(mbase) + moved(area, m))
         out += [None if d is None or not np.any(d[:, s]) else moved(d) for d in deriv_m]
         cache: dict = {}  # a PCOMP's basis moduli: their parts, once a chunk
         for _, part, mask, _, moduli in thick:

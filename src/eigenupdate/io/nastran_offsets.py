@@ -135,18 +135,20 @@ def _warn_warp(xyz: np.ndarray, R: np.ndarray, labels: list[str]) -> None:
 
 
 def unit_masses(elem, xyz: np.ndarray, lumped: bool, labels: list[str], zo: np.ndarray,
-                moments: np.ndarray, off_surface: bool = False) -> list:
+                moments: np.ndarray, off_surface: bool = False,
+                profile: np.ndarray | None = None) -> list:
     """The masses per unit m0, m1, m2 (:func:`mass_moments`; global axes): CQUAD4's and
-    CTRIA3's translation, first and second moment; a quadratic element's translation
-    on its reference surface, or with ``off_surface`` (a property's mass off it,
-    :func:`off_surface`) its three of :mod:`eigenupdate.model.shells_quadratic_mass`."""
+    CTRIA3's translation, first and second moment (per unit thickness with the corners'
+    ``profile``, :func:`eigenupdate.model.shells.shell_mass`); a quadratic element's
+    translation on its reference surface, or with ``off_surface`` (a property's mass off
+    it, :func:`off_surface`) its three of :mod:`eigenupdate.model.shells_quadratic_mass`."""
     if elem is quadratic and off_surface:
         return shells_quadratic_mass.unit_masses(xyz, lumped, labels, zo)
     if elem is quadratic:
         return [quadratic.shell_mass(xyz, lumped, labels, zo if np.any(zo) else None)]
-    out = [shells.shell_mass(xyz, lumped, labels)]
+    out = [shells.shell_mass(xyz, lumped, labels, profile)]
     if np.any(moments[1:]) or np.any(zo):  # a mass off the grid plane
-        out += list(shell_offsets.offset_mass(xyz, lumped, labels))
+        out += list(shell_offsets.offset_mass(xyz, lumped, labels, profile))
     return out
 
 

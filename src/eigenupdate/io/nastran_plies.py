@@ -313,7 +313,7 @@ def _linearised(what: str, sizes: int, T0: float) -> None:
 
 
 def thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m,
-                     fixed_shear: np.ndarray) -> list:
+                     fixed_shear: np.ndarray, own: np.ndarray | None = None) -> list:
     """(pid, part, element weights, term) of every PSHELL whose T is a parameter:
     membrane and drilling E1 T, bending E2 T^3 (12I/T^3 in the moduli), shear G3 s(T) (T
     on a CQUAD8, per size on a CQUAD4, CTRIA3, CTRIA6), mass WTMASS RHO1 T (NSM stays
@@ -324,11 +324,12 @@ def thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m,
     is s(T0) + s'(T0) (T - T0) per element, T0 the deck's T: exact value and derivative
     at the deck, second order in T - T0 elsewhere (a note says so; an update from the
     written BDF removes it). Its part without T is added to ``fixed_shear`` (G3 times it,
-    per element) where E is not a parameter too."""
+    per element) where E is not a parameter too. Elements ``own`` (n,) keep their own
+    thickness (T1-T4 given, TFLAG 0: :mod:`eigenupdate.io.nastran_corners`): no terms."""
     out = []
     pids = np.array([e.pid for e in elems])
     for (card, pid), slots in sorted(pindex.items()):
-        on = pids == pid
+        on = (pids == pid) & (True if own is None else ~own)
         if card not in ("PSHELL", "PQUAD2", "PTRIA2") or "T" not in slots or not on.any():
             continue
         p = rows[int(np.flatnonzero(on)[0])]

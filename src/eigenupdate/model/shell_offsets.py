@@ -42,12 +42,12 @@ import numpy as np
 from eigenupdate.model import shells
 
 
-def offset_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None
-                ) -> tuple[np.ndarray, np.ndarray]:
+def offset_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None,
+                profile: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """M_first and M_second (each (n, 6k, 6k), global axes) of CTRIA3 or CQUAD4 elements
     per unit first and second mass moment (m1, m2 per area about the grid plane): the
     offset terms of the rigidly moved translational mass of
-    :func:`eigenupdate.model.shells.shell_mass`.
+    :func:`eigenupdate.model.shells.shell_mass` (its ``profile`` too).
 
     Examples
     --------
@@ -62,7 +62,7 @@ def offset_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None
     xyz = np.asarray(xyz, float)
     n, k = xyz.shape[:2]
     R, _ = shells.shell_axes(xyz, labels)
-    m = shells.shell_mass(xyz, lumped, labels)[:, 0::6, 0::6]  # (n, k, k) per unit mass
+    m = shells.shell_mass(xyz, lumped, labels, profile)[:, 0::6, 0::6]  # (n, k, k)
     first = np.zeros((n, 6 * k, 6 * k))
     second = np.zeros((n, 6 * k, 6 * k))
     first[:, 0::6, 4::6] = m

@@ -313,11 +313,12 @@ def _expand(terms, n: int, m: int) -> np.ndarray:
 def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                  shear: np.ndarray, k6rot: float, labels: list[str] | None,
                  condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None,
-                 curvature: np.ndarray | None = None):
+                 curvature: np.ndarray | None = None, profile: np.ndarray | None = None):
     """Element axes R and the stiffness parts in element axes, each as its columns and
     its block on them (membrane: u, v; drilling: u, v, rz; bending: rx, ry; shear: w,
     rx, ry; coupling, when ``coupling`` moduli are given: u, v, rx, ry), all integration
-    points in one product. ``condense_with`` (CQUAD4): see :func:`local_parts`."""
+    points in one product. ``condense_with`` (CQUAD4), ``profile``: see
+    :func:`local_parts`."""
     xyz = np.asarray(xyz, float)
     n, k = xyz.shape[:2]
     R, xy = shell_axes(xyz, labels)
@@ -334,8 +335,8 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     cc = None if coupling is None else \
         np.broadcast_to(np.asarray(coupling, float), (n, 3, 3))
     kc = 0.0
-    if cc is not None and c0 is not None:
-        raise ValueError("coupling with condense_with is not formed")
+    if cc is not None and (c0 is not None or profile is not None):
+        raise ValueError("coupling with condense_with or a profile is not formed")
     rotations = cols["bending"]  # rx, ry: the coupling's bending columns
     curved = None
     if curvature is not None:
@@ -354,6 +355,7 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
         N, dn = shape(p, q)
         _, det, inv, g = _jacobian(dn, xy)
         w = (weight * det)[:, None, None]
+        t = 1.0 if profile is None else (np.asarray(profile, float) @ N)[:, None, None]
         bm = _b_membrane(g)[:, :, cols["membrane"]]
         if k == 4:
             # Wilson's modes 1 - xi^2, 1 - eta^2 in u and v, with Taylor's centre
@@ -369,12 +371,13 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
             if name != "membrane":
                 b = b[:, :, cols[name]]
             b_all[name].append(b)
-            db_all[name].append(np.einsum("nab,nbj->naj", d, b) * w)
+            db_all[name].append(np.einsum("nab,nbj->naj", d, b) * (
+                w * t ** THICKNESS_POWER[name]))
         if cc is not None:  # membrane (with Wilson's modes) x curvature: (n, 2k(+4), 2k)
             kc = kc + np.einsum("nai,nab,nbj->nij", bm * w, cc,
                                 _b_bending(g)[:, :, rotations])
         if c0 is not None:
-            db0.append(np.einsum("nab,nbj->naj", c0, bm) * w)
+            db0.append(np.einsum("nab,nbj->naj", c0, bm) * (w * t))
     out = {name: (cols[name], np.einsum("nai,naj->nij", np.concatenate(b_all[name], 1),
                                         np.concatenate(db_all[name], 1)))
            for name in STIFFNESS_PARTS}
@@ -404,7 +407,7 @@ def _local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None,
                 condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None,
-                curvature: np.ndarray | None = None):
+                curvature: np.ndarray | None = None, profile: np.ndarray | None = None):
     """Element axes R (n, 3, 3) and the stiffness parts per unit thickness power in
     element axes, compact: ``{part: (columns, (n, c, c) block)}``; :func:`combine` sums
     them with per-element factors and turns the sum to global axes (one rotation for
@@ -423,9 +426,14 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     ``curvature`` (n,): the facets' curvature from their grids' normals
     (:func:`eigenupdate.model.shell_normals.facet_curvature`); where it is not zero the
     part ``bending`` gains the drilling mismatch (``shell_normals.CURVED_DRILLING``) and
-    the columns u, v, rz."""
+    the columns u, v, rz.
+
+    ``profile`` (n, k): the thickness at each corner over the one the factors take
+    (CQUAD4/CTRIA3 T1-T4): interpolated by the shape functions to each integration
+    point, where each part takes it to its power (NASTRAN-95's quad4d.f, THK from the
+    grid thicknesses at each Gauss point); None: uniform."""
     return _local_parts(xyz, membrane, bending, shear, k6rot, labels, condense_with,
-                        coupling, curvature)
+                        coupling, curvature, profile)
 
 
 def combine(R: np.ndarray, parts: dict, factors: dict[str, np.ndarray]) -> np.ndarray:
@@ -452,10 +460,13 @@ def shell_stiffness_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.nda
     return {name: rotate(_expand([(c, b, one)], n, m), R) for name, (c, b) in parts.items()}
 
 
-def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None) -> np.ndarray:
+def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None,
+               profile: np.ndarray | None = None) -> np.ndarray:
     """Translational mass (n, 6k, 6k) per unit mass per area (rho T + NSM) of CTRIA3 or
     CQUAD4 elements: consistent (shape functions' products) or lumped (each shape
-    function's integral at its node). Rotations carry no mass.
+    function's integral at its node). Rotations carry no mass. ``profile`` (n, k): the
+    mass per area at the corners relative to the unit (:func:`local_parts`), interpolated
+    to the integration points.
 
     Examples
     --------
@@ -475,8 +486,8 @@ def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None) -
     m = np.zeros((n, k, k))
     for p, q, weight in points:
         N, dn = shape(p, q)
-        det = _jacobian(dn, xy)[1]
-        m += (weight * det)[:, None, None] * np.outer(N, N)
+        w = weight * _jacobian(dn, xy)[1] * (1.0 if profile is None else profile @ N)
+        m += w[:, None, None] * np.outer(N, N)
     if lumped:
         m = np.einsum("nij,ij->nij", np.broadcast_to(m.sum(axis=2)[:, :, None], m.shape),
                       np.eye(k))

@@ -83,43 +83,53 @@ def _rows(N, dn, dm, xy):
     return b, d, det
 
 
-def membrane_drilling(xy: np.ndarray, membrane: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def membrane_drilling(xy: np.ndarray, membrane: np.ndarray, profile: np.ndarray | None = None
+                      ) -> tuple[np.ndarray, np.ndarray]:
     """Membrane and drilling blocks (n, 3k, 3k) on ``[u, v, rz]`` of each node, element
     axes, of elements whose nodes lie at ``xy`` (n, k, 2) (counter-clockwise), per unit
-    thickness, with plane moduli ``membrane`` (n, 3, 3); gamma = its shear term."""
+    thickness, with plane moduli ``membrane`` (n, 3, 3); gamma = its shear term.
+    ``profile`` (n, k): the corners' thickness relative to the unit, interpolated to
+    each integration point (:func:`eigenupdate.model.shells.local_parts`)."""
     n, k = xy.shape[:2]
     cm = np.broadcast_to(np.asarray(membrane, float), (n, 3, 3))
     shape, points, centre, area = ((_quad, _QUAD_POINTS, (0.0, 0.0), 4.0) if k == 4 else
                                    (_tria, _TRIA_POINTS, (1 / 3, 1 / 3), 0.5))
+
+    def at(N):  # thickness (n,) at a point with corner functions N
+        return 1.0 if profile is None else np.asarray(profile, float) @ N
+
     km = np.zeros((n, 3 * k, 3 * k))
     for p, q, weight in points:
-        b, _, det = _rows(*shape(p, q), xy)
-        km += np.einsum("nai,nab,nbj->nij", b, cm, b) * (weight * det)[:, None, None]
-    _, d, det = _rows(*shape(*centre), xy)
-    kd = np.einsum("nai,naj->nij", d, d) * (area * det * cm[:, 2, 2])[:, None, None]
+        f = shape(p, q)
+        b, _, det = _rows(*f, xy)
+        km += np.einsum("nai,nab,nbj->nij", b, cm, b) * (weight * det * at(f[0]))[:, None, None]
+    f = shape(*centre)
+    _, d, det = _rows(*f, xy)
+    kd = np.einsum("nai,naj->nij", d, d) * (area * det * cm[:, 2, 2] * at(f[0]))[:, None, None]
     return km, kd
 
 
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 shear: np.ndarray, k6rot: float = shells.K6ROT, labels: list[str] | None = None,
                 condense_with: np.ndarray | None = None, coupling: np.ndarray | None = None,
-                curvature: np.ndarray | None = None):
+                curvature: np.ndarray | None = None, profile: np.ndarray | None = None):
     """:func:`eigenupdate.model.shells.local_parts` for CQUADR (xyz (n, 4, 3)) and CTRIAR
     (n, 3, 3): the same bending and shear, the membrane and drilling parts of
-    :func:`membrane_drilling` on u, v, rz. ``k6rot`` is not used (as NASTRAN ignores
-    K6ROT for them); ``condense_with`` neither (nothing is condensed, so a laminate's
-    membrane is the sum of its moduli's parts exactly); ``curvature`` neither (the
-    drilling rotation is tied to the membrane's anyway). An unsymmetric laminate's
-    ``coupling`` is refused."""
+    :func:`membrane_drilling` on u, v, rz (all with the corner thickness ``profile``).
+    ``k6rot`` is not used (as NASTRAN ignores K6ROT for them); ``condense_with``
+    neither (nothing is condensed, so a laminate's membrane is the sum of its moduli's
+    parts exactly); ``curvature`` neither (the drilling rotation is tied to the
+    membrane's anyway). An unsymmetric laminate's ``coupling`` is refused."""
     if coupling is not None and np.any(coupling):
         raise InputError(f"{labels[0] if labels else 'element'}: membrane-bending coupling "
                          f"(an unsymmetric laminate) is not supported on CQUADR/CTRIAR")
     xyz = np.asarray(xyz, float)
     k = xyz.shape[1]
     # CQUAD4's membrane is formed and replaced (any positive moduli: its condensation)
-    R, parts = shells.local_parts(xyz, np.eye(3), bending, shear, 0.0, labels)
+    R, parts = shells.local_parts(xyz, np.eye(3), bending, shear, 0.0, labels,
+                                  profile=profile)
     _, xy = shells.shell_axes(xyz, labels)
-    km, kd = membrane_drilling(xy, membrane)
+    km, kd = membrane_drilling(xy, membrane, profile)
     cols = (6 * np.arange(k)[:, None] + np.array(_COLUMNS)).ravel()
     mine = {"membrane": (cols, km), "drilling": (cols, kd)}
     parts.update(rigid_links.warp_links(mine, xyz, R) if k == 4 else mine)

@@ -19,13 +19,13 @@ from nastran_frames import need, read_quiet
 from numpy.polynomial import legendre
 from scipy.linalg import eigh, solve
 
-from eigenupdate.errors import InputError
+from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.model.parameters import Parameter
 from eigenupdate.solve.eigen import solve_elastic
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
-from eigenupdate.io.nastran import CardField  # noqa: E402
+from eigenupdate.io.nastran import CardField, read_nastran  # noqa: E402
 
 E, NU, RHO = 2.1e11, 0.3, 7850.0
 L, B, T0, T1 = 1.0, 0.1, 0.02, 0.01  # strip length, width, root and tip thickness
@@ -226,6 +226,9 @@ def test_own_corner_thicknesses_do_not_follow_t(tmp_path):
         assert abs(a - b).max() <= 1e-12 * abs(b).max()
     fixed = read_quiet(path).model  # the own half unchanged, the other moved
     assert abs(ref.stiffness() - fixed.stiffness()).max() > 0.1 * abs(fixed.stiffness()).max()
+    with pytest.warns(EigenupdateWarning, match=r"PSHELL 1: T is a parameter but 4 of its 8 "
+                      r"elements give their own corner thicknesses"):
+        read_nastran(path, _specs(FIELDS[:1]))
 
 
 def _edit(path, old, new):

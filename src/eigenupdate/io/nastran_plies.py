@@ -330,7 +330,14 @@ def thickness_terms(elems, rows, pindex, size, wtmass, deriv_k, deriv_m,
     pids = np.array([e.pid for e in elems])
     for (card, pid), slots in sorted(pindex.items()):
         on = (pids == pid) & (True if own is None else ~own)
-        if card not in ("PSHELL", "PQUAD2", "PTRIA2") or "T" not in slots or not on.any():
+        if card not in ("PSHELL", "PQUAD2", "PTRIA2") or "T" not in slots:
+            continue
+        if (kept := int(np.sum(pids == pid)) - int(on.sum())) > 0:  # NASTRAN's meaning
+            warnings.warn(f"{card} {pid}: T is a parameter but {kept} of its "
+                          f"{int(np.sum(pids == pid))} elements give their own corner "
+                          f"thicknesses T1-T4 (TFLAG 0) and do not follow it",
+                          EigenupdateWarning, stacklevel=2)
+        if not on.any():
             continue
         p = rows[int(np.flatnonzero(on)[0])]
         t = slots["T"]

@@ -169,6 +169,9 @@ class _Blanks:
                     require("thru_ids", n, f"{a} THRU {b} is {n:,} ids (pyNastran lists them)")
                 except InputError as exc:
                     raise ValueError(f"{exc}\ncard=['{fields[0]}', '{fields[1]}']") from None
+        why = genel.field_problem(fields) if self.cls.type == "GENEL" else None
+        if why:  # pyNastran would drop the field without a word
+            raise ValueError(f"{why}\ncard=['{fields[0]}', '{fields[1]}']")
         try:
             obj = self.cls.add_card(card, comment=comment)
         except Exception as exc:
@@ -225,8 +228,12 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
         if not name:
             raise InputError(f"{path.name}:{start + 1}: INCLUDE without a file name")
         folders = list(dict.fromkeys((path.parent, stack[0].parent)))
-        target = next(((f / name).resolve() for f in folders if (f / name).exists()),
-                      (path.parent / name).resolve())
+        try:
+            target = next(((f / name).resolve() for f in folders if (f / name).exists()),
+                          (path.parent / name).resolve())
+        except (OSError, RuntimeError, ValueError) as exc:  # a symlink loop, a NUL byte
+            raise InputError(f"{path.name}:{start + 1}: INCLUDE {name!r} cannot be opened: "
+                             f"{exc}") from None
         if target in stack:
             raise InputError(f"{path.name}:{start + 1}: INCLUDE {name} includes itself")
         if len(stack) > MAX_INCLUDE_DEPTH:

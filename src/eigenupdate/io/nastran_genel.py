@@ -74,6 +74,40 @@ def parse_error(exc: BaseException) -> str | None:
     return None
 
 
+_WORDS = ("UD", "K", "Z", "S")
+
+
+def field_problem(fields: list[str]) -> str | None:
+    """What pyNastran's GENEL reader would pass over without a word, in a GENEL's fields
+    (text, upper case, "" for blank; index 0 the card's name): field 3 or the field after
+    UD not blank (the QRG's layout leaves them blank; pyNastran skips them), or a value
+    after a blank inside a list (pyNastran ends the list at its first blank and drops the
+    rest, where the count of a UI or UD list is not checked against anything else).
+
+    >>> field_problem(["GENEL", "2", "", "1", "0", "", "", "2", "0", "K", "1.E4"])
+    "the UI list has '2' after a blank field: write the list without gaps"
+    """
+    if len(fields) > 2 and fields[2] and fields[2] not in _WORDS:
+        return f"field 3 holds {fields[2]!r}; it is blank (UI1 is in field 4)"
+    where = [(i, w) for i, w in enumerate(fields) if w in _WORDS]
+    for i, w in where:
+        if w == "UD" and i + 1 < len(fields) and fields[i + 1]:
+            return (f"the field after UD holds {fields[i + 1]!r}; it is blank (UD1 is two "
+                    f"fields after UD)")
+    lists = [(3, "UI")] + [(i + (2 if w == "UD" else 1), w) for i, w in where]
+    for start, name in lists:
+        end = next((j for j in range(start, len(fields)) if fields[j] in _WORDS), len(fields))
+        gap = next((j for j in range(start, end) if not fields[j]), end)
+        extra = [x for x in fields[gap:end] if x]
+        if extra and name in ("UI", "UD") and (gap - start) % 2:
+            return (f"a UI or UD grid without its component ({name} grid {fields[gap - 1]}; a "
+                    f"blank field ends the list: a scalar point's component is 0)")
+        if extra:
+            return (f"the {name} list has {extra[0]!r} after a blank field: write the list "
+                    f"without gaps")
+    return None
+
+
 def _stiffness(e, label: str, m: int) -> np.ndarray:
     """K, or Z^-1, as a full symmetric matrix, checked: K positive semi-definite to within
     the rounding of its printed digits (a stiffness with rigid-body modes, rounded, has

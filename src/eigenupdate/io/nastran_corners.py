@@ -59,6 +59,9 @@ def profiles(elems, rows: list[dict], labels: list[str], pindex: dict, k: int
                              f"and partly the PSHELL's (blank): its thickness is not "
                              f"proportional to T (give all or none, or TFLAG 1)")
         T = p["T"]
+        for j, x in enumerate(t):  # under TFLAG 1 the thickness is a product of two fields
+            if flag and x:
+                in_range(x * T, f"{where} {CORNERS[j]} times T = {T:g}, the thickness")
         rel = np.array([1.0 if x is None else x if flag else x / T for x in t])
         fixed[i] = flag == 0 and None not in t
         if np.allclose(rel, 1.0, rtol=1e-12, atol=0):

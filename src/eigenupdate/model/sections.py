@@ -73,6 +73,11 @@ def check_dimensions(shape: str, dim: Sequence[float]) -> np.ndarray:
         positive[1] = d[1] >= 0
     if not np.all(positive):
         raise InputError(f"section {shape} dimensions must be > 0, got DIM = {shown}")
+    # as every number read (io.numbers): beyond, a dimension is more likely corrupted than
+    # meant, and one of 1e-300 is a part left out that DIM = 0 would refuse
+    if np.any((d != 0) & ((d < 1e-100) | (d > 1e100))):
+        raise InputError(f"section {shape} dimensions must be 1e-100 to 1e100, got DIM = "
+                         f"{shown}")
     for text, ok in conditions:
         if not ok(d):
             raise InputError(f"section {shape} needs {text}, got DIM = {shown}")
@@ -254,6 +259,11 @@ def section_properties(shape: str, dim: np.ndarray) -> tuple:
 
 def _all(shape: str, d: np.ndarray) -> tuple:
     """A, I1, I2, I12, J of any shape (complex-step safe, unchecked)."""
+    if shape == "TUBE2":  # TUBE's from its wall t: ro^2 - ri^2 = t (2 ro - t), no cancellation
+        ro, t = d
+        a = np.pi * t * (2 * ro - t)
+        i = a * (ro**2 + (ro - t) ** 2) / 4
+        return a, i, i, 0.0, 2 * i
     base = library.as_base(shape, d)
     if base is not None:
         name, bd, turn = base

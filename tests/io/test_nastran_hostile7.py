@@ -4,6 +4,8 @@ each test fails without its fix.
 * GENEL: a value in field 3 or in the field after UD (the QRG leaves them blank) was
   skipped by pyNastran without a word; a value after a blank inside the UI or UD list was
   dropped (``UD,,1,0,,,3,0`` read as UD 1-0 alone: a wrong element, exit 0);
+* GENEL: a Z too ill-conditioned to invert to six digits (cond 2e13: K 7e-4 off, a
+  frequency 1.2e-4 off, exit 0) was read;
 * INCLUDE: a nested INCLUDE naming a symlink loop, or a name with a NUL byte, ended in a
   traceback (RuntimeError, ValueError) from the lookup beside the main deck;
 * corner thicknesses under TFLAG 1: Ti and the PSHELL's T each in range, their product
@@ -92,6 +94,27 @@ def test_genel_gap_is_one_line_through_the_cli(tmp_path):
     one_line(p.returncode, p.stderr, "deck.bdf", "GENEL 2", "after a blank field",
              warnings_allowed=True)
     assert sorted(x.name for x in d.iterdir()) == ["deck.bdf", "p.csv", "study.toml"]
+
+
+def test_genel_z_too_ill_conditioned_to_invert_is_refused(tmp_path):
+    """Z = [[1e-4, b], [b, 1e-4]] with 1e-4 - b = 1e-17 (cond 2e13): its computed inverse
+    was 7e-4 off the exact one and the first frequency 1.2e-4 (12.0317 Hz against the
+    closed form 12.0310), exit 0. Refused beyond m eps cond(Z) = 5e-7."""
+    z = "GENEL,2,,1,0,2,0\n,Z,1.e-4,.9999999999999e-4,1.e-4"
+    with pytest.raises(InputError, match="GENEL 2: Z's condition number 2e\\+13"):
+        _read(_write(tmp_path, CHAIN.format(z)))
+
+
+def test_genel_z_of_moderate_condition_is_its_exact_inverse(tmp_path):
+    """Source: the inverse of Z = [[1e-4, b], [b, 1e-4]], b = .99999e-4 (cond 2e5), in
+    exact rationals. Bound: m eps cond(Z) = 9e-11 relative in norm."""
+    b = 0.99999e-4
+    nm = _read(_write(tmp_path, CHAIN.format(f"GENEL,2,,1,0,2,0\n,Z,1.e-4,{b!r},1.e-4")))
+    a, fb = Fraction(1e-4), Fraction(b)
+    det = a * a - fb * fb
+    want = np.array([[float(a / det) + 3e4, float(-fb / det)], [float(-fb / det), float(a / det)]])
+    got = nm.model.stiffness().toarray()[:2, :2]
+    assert np.linalg.norm(got - want) <= 9e-11 * np.linalg.norm(want)
 
 
 PLATE = ("BEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,1.,0.,0.\nGRID,3,,1.,1.,0.\n"

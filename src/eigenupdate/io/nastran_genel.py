@@ -138,6 +138,14 @@ def _stiffness(e, label: str, m: int) -> np.ndarray:
         if lam[0] <= tiny:
             raise InputError(f"{label}: Z is singular (smallest eigenvalue {lam[0]:.3g} of "
                              f"{lam[-1]:.4g}): K = Z^-1 does not exist")
+        # the computed inverse errs by about m eps cond(Z) relative (Higham, Accuracy and
+        # Stability of Numerical Algorithms, 2002, 14.1): beyond half a unit of the six
+        # digits frequencies are printed to, the numbers would not be the deck's
+        cond = lam[-1] / lam[0]
+        if m * np.finfo(float).eps * cond > 5e-7:
+            raise InputError(f"{label}: Z's condition number {cond:.3g} is too large to invert "
+                             f"(K = Z^-1 would err by up to {m * np.finfo(float).eps * cond:.1g} "
+                             f"relative, beyond 5e-7); give K")
         return scipy.linalg.cho_solve(scipy.linalg.cho_factor(a), np.eye(m))
     # the printed entries are within half a unit of the true ones: the eigenvalues move by
     # at most ||half||_F (Weyl)

@@ -24,21 +24,16 @@ from __future__ import annotations
 
 import math
 import os
-import subprocess
-import sys
-import warnings
 from fractions import Fraction
 
 import numpy as np
 import pytest
-from conftest import ROOT
-from nastran_frames import need
+from nastran_frames import need, read_quiet
 from refusals import one_line
 
 pytestmark = pytest.mark.nastran
 need("pyNastran")
-from eigenupdate.errors import EigenupdateWarning, InputError  # noqa: E402
-from eigenupdate.io.nastran import read_nastran  # noqa: E402
+from eigenupdate.errors import InputError  # noqa: E402
 from eigenupdate.model import sections  # noqa: E402
 
 # two scalar points: k1 = 3e4 from point 1 to ground, the GENEL (or CELAS4) k2 = 1e4
@@ -52,12 +47,6 @@ def _write(tmp_path, text: str, name: str = "deck.bdf"):
     return path
 
 
-def _read(path):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", EigenupdateWarning)
-        return read_nastran(path)
-
-
 @pytest.mark.parametrize("genel,words", [
     ("GENEL,2,9,1,0,2,0\n,K,1.e4,-1.e4,1.e4", "field 3 holds '9'"),
     ("GENEL,2,,2,0\n,UD,7,1,0\n,K,1.e4\n,S,1.", "the field after UD holds '7'"),
@@ -67,33 +56,28 @@ def _read(path):
 def test_genel_fields_pyNastran_passes_over_are_refused(tmp_path, genel, words):
     """Each was read (the UD gap as UD 1-0 alone, a different element) before."""
     with pytest.raises(InputError, match="GENEL 2") as info:
-        _read(_write(tmp_path, CHAIN.format(genel)))
+        read_quiet(_write(tmp_path, CHAIN.format(genel)))
     assert words in str(info.value)
 
 
 def test_genel_without_gaps_reads_as_the_spring(tmp_path):
     """Source: the CELAS4 the GENEL stands for (K = [k, -k; -k, k]): the check passes the
     QRG's layout (blanks that end a list before the next word) and the same K results."""
-    gen = _read(_write(tmp_path, CHAIN.format("GENEL,2,,1,0,2,0,,\n,K,1.e4,-1.e4,1.e4,,,,")))
-    spring = _read(_write(tmp_path, CHAIN.format("CELAS4,2,1.e4,1,2"), "s.bdf"))
+    gen = read_quiet(_write(tmp_path, CHAIN.format("GENEL,2,,1,0,2,0,,\n,K,1.e4,-1.e4,1.e4,,,,")))
+    spring = read_quiet(_write(tmp_path, CHAIN.format("CELAS4,2,1.e4,1,2"), "s.bdf"))
     assert np.array_equal(gen.model.stiffness().toarray(), spring.model.stiffness().toarray())
 
 
-def test_genel_gap_is_one_line_through_the_cli(tmp_path):
-    d = tmp_path / "ex"
-    d.mkdir()
-    (d / "deck.bdf").write_text("SOL 103\nCEND\n" + CHAIN.format(
+def test_genel_gap_is_one_line_through_the_cli(tmp_path, run_cli):
+    (tmp_path / "deck.bdf").write_text("SOL 103\nCEND\n" + CHAIN.format(
         "GENEL,2,,2,0\n,UD,,1,0,,,3,0\n,K,1.e4\n,S,1."))
-    (d / "study.toml").write_text(
-        'title = "t"\n[model]\ntype = "nastran"\nbdf = "deck.bdf"\n[measurement]\n'
-        'frequencies = "p.csv"\nmodes = [1]\n')
-    (d / "p.csv").write_text("configuration,mode,frequency_hz,std_hz\nbase,1,10.0,1.0\n")
-    p = subprocess.run([sys.executable, "-m", "eigenupdate", "frequencies", "study.toml"],
-                       cwd=d, capture_output=True, text=True,
-                       env={"PYTHONPATH": str(ROOT / "src"), "PATH": "/usr/bin:/bin"})
-    one_line(p.returncode, p.stderr, "deck.bdf", "GENEL 2", "after a blank field",
-             warnings_allowed=True)
-    assert sorted(x.name for x in d.iterdir()) == ["deck.bdf", "p.csv", "study.toml"]
+    (tmp_path / "p.csv").write_text("configuration,mode,frequency_hz,std_hz\nbase,1,10.,1.\n")
+    study = tmp_path / "study.toml"
+    study.write_text('title = "t"\n[model]\ntype = "nastran"\nbdf = "deck.bdf"\n'
+                     '[measurement]\nfrequencies = "p.csv"\nmodes = [1]\n')
+    code, _, err = run_cli("frequencies", study)
+    one_line(code, err, "deck.bdf", "GENEL 2", "after a blank field", warnings_allowed=True)
+    assert sorted(x.name for x in tmp_path.iterdir()) == ["deck.bdf", "p.csv", "study.toml"]
 
 
 def test_genel_z_too_ill_conditioned_to_invert_is_refused(tmp_path):
@@ -102,14 +86,14 @@ def test_genel_z_too_ill_conditioned_to_invert_is_refused(tmp_path):
     closed form 12.0310), exit 0. Refused beyond m eps cond(Z) = 5e-7."""
     z = "GENEL,2,,1,0,2,0\n,Z,1.e-4,.9999999999999e-4,1.e-4"
     with pytest.raises(InputError, match="GENEL 2: Z's condition number 2e\\+13"):
-        _read(_write(tmp_path, CHAIN.format(z)))
+        read_quiet(_write(tmp_path, CHAIN.format(z)))
 
 
 def test_genel_z_of_moderate_condition_is_its_exact_inverse(tmp_path):
     """Source: the inverse of Z = [[1e-4, b], [b, 1e-4]], b = .99999e-4 (cond 2e5), in
     exact rationals. Bound: m eps cond(Z) = 9e-11 relative in norm."""
     b = 0.99999e-4
-    nm = _read(_write(tmp_path, CHAIN.format(f"GENEL,2,,1,0,2,0\n,Z,1.e-4,{b!r},1.e-4")))
+    nm = read_quiet(_write(tmp_path, CHAIN.format(f"GENEL,2,,1,0,2,0\n,Z,1.e-4,{b!r},1.e-4")))
     a, fb = Fraction(1e-4), Fraction(b)
     det = a * a - fb * fb
     want = np.array([[float(a / det) + 3e4, float(-fb / det)], [float(-fb / det), float(a / det)]])
@@ -135,14 +119,14 @@ def test_nested_include_lookup_failures_are_refused(tmp_path, name, make):
     deck = PLATE.format(quad="CQUAD4,1,1,1,2,3,4", t=".05").replace(
         "BEGIN BULK\n", "BEGIN BULK\nINCLUDE 'sub/a.dat'\n")
     with pytest.raises(InputError, match="a.dat:1: INCLUDE .* cannot be opened"):
-        _read(_write(tmp_path, deck))
+        read_quiet(_write(tmp_path, deck))
 
 
 def test_corner_thickness_product_out_of_range_names_the_element(tmp_path):
     """TFLAG 1: T1 = 1e60 of T = 1e60, a thickness of 1e120 (t^3 overflows)."""
     quad = "CQUAD4,1,1,1,2,3,4,,\n,,1,1e60,1e60,1e60,1e60"
     with pytest.raises(InputError, match=r"CQUAD4 1: corner thicknesses .* T1 times T"):
-        _read(_write(tmp_path, PLATE.format(quad=quad, t="1e60")))
+        read_quiet(_write(tmp_path, PLATE.format(quad=quad, t="1e60")))
 
 
 BAR = ("BEGIN BULK\nGRID,1,,0.,0.,0.\nGRID,2,,0.4,0.,0.\nCBAR,1,1,1,2,0.,1.,0.\n"
@@ -157,7 +141,7 @@ def test_section_dimension_below_1e_100_is_refused(tmp_path, shape, dims):
     without that part before, where DIM = 0 is refused."""
     with pytest.raises(InputError, match=f"PBARL 1: section {shape} dimensions must be "
                                          f"1e-100 to 1e100"):
-        _read(_write(tmp_path, BAR.format(shape=shape, dims=dims)))
+        read_quiet(_write(tmp_path, BAR.format(shape=shape, dims=dims)))
 
 
 @pytest.mark.parametrize("ratio", [1e-12, 1e-6, 0.5, 1.0])

@@ -56,7 +56,8 @@ def dimension_count(shape: str) -> int:
 
 
 def check_dimensions(shape: str, dim: Sequence[float]) -> np.ndarray:
-    """The dimensions as floats; InputError unless all are > 0 and make the shape.
+    """The dimensions as floats; InputError unless all are > 0 (1e-100 to 1e100) and make
+    the shape.
 
     >>> check_dimensions("BOX", [0.1, 0.2, 0.01, 0.06])
     Traceback (most recent call last):

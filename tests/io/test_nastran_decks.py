@@ -131,6 +131,30 @@ def test_nested_include_relative_to_the_main_deck(tmp_path, monkeypatch):
         read_nastran(main)
 
 
+def test_include_found_in_both_folders_is_named(tmp_path, monkeypatch):
+    """An INCLUDE name that answers to different files beside the including file and
+    beside the main deck: the including file's is read (NASTRAN-95's rule), and a warning
+    names both, since a job-relative reading (SimXpert's decks) would take the other."""
+    for folder in ("jobs/qs", "include", "bulk", "include/bulk"):
+        (tmp_path / folder).mkdir(parents=True, exist_ok=True)
+    (tmp_path / "include" / "bulk" / "bar.bdf").write_text(BAR)
+    (tmp_path / "jobs" / "qs" / "bulk").mkdir()
+    (tmp_path / "jobs" / "qs" / "bulk" / "bar.bdf").write_text(BAR.replace("GRID", "$GRID"))
+    (tmp_path / "include" / "parts.dat").write_text("INCLUDE 'bulk/bar.bdf'\n")
+    main = tmp_path / "jobs" / "qs" / "main.bdf"
+    main.write_text("BEGIN BULK\nINCLUDE '../../include/parts.dat'\nENDDATA\n")
+    monkeypatch.chdir(tmp_path)
+    with pytest.warns(EigenupdateWarning, match=r"parts\.dat:1: INCLUDE bulk/bar\.bdf names "
+                      r"two different files, .*include/bulk/bar\.bdf \(beside parts\.dat: "
+                      r"read\) and .*qs/bulk/bar\.bdf"):
+        assert read_nastran(main).model.n == 6
+    # the same text in both: nothing to say
+    (tmp_path / "jobs" / "qs" / "bulk" / "bar.bdf").write_text(BAR)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", EigenupdateWarning)
+        assert read_nastran(main).model.n == 6
+
+
 def test_missing_include_names_file_and_line(tmp_path):
     main = tmp_path / "main.bdf"
     main.write_text("BEGIN BULK\n$ comment\nINCLUDE 'nowhere.bdf'\nENDDATA\n")

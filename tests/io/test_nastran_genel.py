@@ -229,6 +229,22 @@ def test_bad_genel_is_refused_in_one_line(tmp_path, run_cli, case, body, words):
     _refused(tmp_path, run_cli, body, *words)
 
 
+def test_rounded_singular_k_is_read_as_printed(tmp_path):
+    """Source: the card's K by hand and Weyl's bound. Springs 1234.5678 and 2345.678 in a
+    chain of three points, printed to four digits: K11 1235, K22 3580 (their sum rounded),
+    K33 2346, K21 -1235, K32 -2346. The printed K is indefinite (ones' quadratic form -1:
+    a smallest eigenvalue below -1/3) but within half a unit of each printed entry (0.5 on
+    seven entries: ||.||_F = 0.5 sqrt 7 = 1.32) of the springs' singular K: read, as
+    printed (1e-12: exact small integers)."""
+    printed = np.array([[1235., -1235., 0.], [-1235., 3580., -2346.], [0., -2346., 2346.]])
+    lam = np.linalg.eigvalsh(printed)
+    assert -0.5 * np.sqrt(7) < lam[0] < -1 / 3  # the case this test is about
+    path = _deck(tmp_path, POINTS.replace("CELAS4,4,1.,3\n", "")
+                 + "GENEL,7,,1,0,2,0,3,0\n,K,1235.,-1235.,0.,3580.,-2346.,2346.\n")
+    k = read_quiet(path).model.stiffness().toarray()
+    assert np.allclose(np.linalg.eigvalsh(k), lam, rtol=0, atol=1e-12 * 3580)
+
+
 def test_nastran95_static_genel_beam_with_s_written_out(tmp_path):
     """Source: NASTRAN-95's D01-14-1A (inp/d01141a.inp of nasa/NASTRAN-95 commit 65e29e9,
     NASA Open Source Agreement 1.3), a cantilever of five GENELs (Z without UD; K 6 x 6; K

@@ -173,6 +173,20 @@ def test_pbarl_shear_factors(tmp_path, shape, dims, factor):
     assert abs(x - y).max() <= 1e-13 * abs(x).max()
 
 
+def test_tube2_is_the_tube_of_its_annulus(tmp_path):
+    """Source: MSC's TUBE2 is the annulus of outer radius DIM1 and wall DIM2, TUBE's with
+    inner radius DIM1 - DIM2: the same section, so the same K (its shear factors too)
+    and M, to round-off (1e-13)."""
+    models = []
+    for shape, dims in (("TUBE", "0.06,0.05"), ("TUBE2", "0.06,0.01")):
+        path = tmp_path / f"{shape}.bdf"
+        path.write_text(_bulk(f"PBARL,1,1,,{shape}\n,{dims}"))
+        models.append(read_nastran(path).model)
+    tube, tube2 = models
+    for a, b in ((tube.stiffness(), tube2.stiffness()), (tube.mass(), tube2.mass())):
+        assert abs(a - b).max() <= 1e-13 * abs(a).max()
+
+
 def test_material_parameter_on_pbarl_members(tmp_path):
     """MAT1 E stays a parameter on PBARL members: the same K_j as with PBAR."""
     spec = [(Parameter("E", 0.0), CardField("MAT1", 1, "E"))]

@@ -5,15 +5,18 @@ NASTRAN's convention (MSC QRG CQUAD4/CTRIA3 and PSHELL field T; NASTRAN CoFE's Q
 TFLAG 0 or blank: Ti is the thickness at grid Gi, a blank Ti the PSHELL's T;
 TFLAG 1: Ti is a fraction of the PSHELL's T (thickness Ti T), blank 1. A Ti of 0.0 is a
 thickness of zero (a bevelled edge: MSC's "Real >= 0.0 or blank, not all zero"; pyNastran's
-aero model ha145z tapers its 0.041 plate to 0.0 at its leading and trailing edges).
+aero model ha145z tapers its 0.041 plate to 0.0 at its leading and trailing edges;
+NASTRAN-95's quad4d.f and t3setd.f instead replace a zero Ti by T: MSC's reading is taken).
 The thickness is interpolated from the corners by the element's shape functions to each
 integration point (NASTRAN-95's quad4d.f: THK = sum SHP_i GPTH_i at each Gauss point,
 then I = 12I/T^3 THK^3 / 12 and TS/T THK there; NASTRAN CoFE's Cquad4.m the same), which
 :func:`eigenupdate.model.shells.local_parts` does with the corners' ``profile``, the
 thickness relative to the PSHELL's T. The mass per area is RHO t at each point and NSM
-uniform (per area, as CoFE). The transverse shear's stabilisation (CTRIA3's, CQUAD4's
-residual bending flexibility: element-level corrections that vanish with the mesh size)
-takes the element's mean corner thickness, where NASTRAN-95 evaluates its own per point.
+uniform (per area, as CoFE and NASTRAN-95's tria3d.f; its quad4d.f scales the whole
+mass matrix by (rho V + NSM A) / (rho V), spreading NSM as the thickness: the same total).
+The transverse shear's stabilisation (CTRIA3's, CQUAD4's residual bending flexibility:
+element-level corrections that vanish with the mesh size) takes the element's mean corner
+thickness, where NASTRAN-95 evaluates its own per point.
 
 A PSHELL's T as a parameter: under TFLAG 1 the element scales with T (membrane T,
 bending T^3, mass RHO T, the profile fixed); under TFLAG 0 with every Ti given it does

@@ -229,11 +229,18 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
             raise InputError(f"{path.name}:{start + 1}: INCLUDE without a file name")
         folders = list(dict.fromkeys((path.parent, stack[0].parent)))
         try:
-            target = next(((f / name).resolve() for f in folders if (f / name).exists()),
-                          (path.parent / name).resolve())
+            found = list(dict.fromkeys((f / name).resolve() for f in folders
+                                       if (f / name).is_file()))
+            target = found[0] if found else (path.parent / name).resolve()
         except (OSError, RuntimeError, ValueError) as exc:  # a symlink loop, a NUL byte
             raise InputError(f"{path.name}:{start + 1}: INCLUDE {name!r} cannot be opened: "
                              f"{exc}") from None
+        if len(found) > 1 and found[0].read_bytes() != found[1].read_bytes():
+            # two different files answer the name: which one NASTRAN takes depends on
+            # its version (the including file's folder, or the job's), so say which
+            warnings.warn(f"{path.name}:{start + 1}: INCLUDE {name} names two different "
+                          f"files, {found[0]} (beside {path.name}: read) and {found[1]} "
+                          f"(beside the main deck)", EigenupdateWarning, stacklevel=2)
         if target in stack:
             raise InputError(f"{path.name}:{start + 1}: INCLUDE {name} includes itself")
         if len(stack) > MAX_INCLUDE_DEPTH:

@@ -22,6 +22,7 @@ which pyNastran does not know, is dropped as well.
 from __future__ import annotations
 
 import contextlib
+import filecmp
 import io
 import math
 import re
@@ -235,7 +236,7 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
         except (OSError, RuntimeError, ValueError) as exc:  # a symlink loop, a NUL byte
             raise InputError(f"{path.name}:{start + 1}: INCLUDE {name!r} cannot be opened: "
                              f"{exc}") from None
-        if len(found) > 1 and found[0].read_bytes() != found[1].read_bytes():
+        if len(found) > 1 and not _same_content(found[0], found[1]):
             # two different files answer the name: which one NASTRAN takes depends on
             # its version (the including file's folder, or the job's), so say which
             warnings.warn(f"{path.name}:{start + 1}: INCLUDE {name} names two different "
@@ -255,6 +256,15 @@ def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tu
         if included is not None:
             included.append(target)
         _expand(target, out, origin, (*stack, target), included)
+
+
+def _same_content(a: Path, b: Path) -> bool:
+    """Whether two files hold the same bytes: sizes first, then in chunks (bounded
+    memory: the second file is never read whole)."""
+    try:
+        return filecmp.cmp(a, b, shallow=False)
+    except OSError:
+        return False
 
 
 def load_deck(path: str | Path) -> Deck:

@@ -266,3 +266,24 @@ def test_corner_thicknesses_refused_in_one_line(tmp_path, run_cli, edit, fields,
     one_line(code, err, "deck.bdf", message, warnings_allowed=True)
     with pytest.raises(InputError, match=re.escape(message.split(": ", 1)[-1][:30])):
         read_quiet(deck, _specs(fields))
+
+
+@pytest.mark.parametrize("card", ["CQUAD4", "CTRIA3"])
+def test_nsm_stays_uniform_per_area_under_a_taper(tmp_path, card):
+    """Source: MSC QRG PSHELL (NSM is mass per unit area) and NASTRAN-95's tria3d.f (NSM
+    spread by area, not by thickness; its quad4d.f scales it with the thickness instead:
+    the totals agree, the distribution is the convention this pins). With RHO = 0 the
+    mass is NSM's alone: a strip tapered 8:1 has the M of one without corners
+    (round-off)."""
+    pshell = f"PSHELL,1,1,{T!r},1,,1,,3.5"
+    mat = f"MAT1,1,{E!r},,{NU!r},{RHO!r}"
+
+    def mass(thick):
+        path = strip(tmp_path / f"{card}{thick is None}.bdf", 4, 1, card, pshell=pshell,
+                     thick=thick)
+        path.write_text(path.read_text().replace(mat, f"MAT1,1,{E!r},,{NU!r},0."))
+        return read_quiet(path).model.mass()
+
+    uniform, tapered = mass(lambda x: None), mass(lambda x: 0.04 - 0.035 * x / L)
+    assert abs(uniform).max() > 0
+    assert abs(tapered - uniform).max() <= 1e-12 * abs(uniform).max()

@@ -26,7 +26,7 @@ import scipy.linalg
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range
-from eigenupdate.io.numbers import printed_half_unit
+from eigenupdate.io.numbers import eigenvalues_with_slack, printed_half_unit
 from eigenupdate.model.constraints import rigid_equations
 
 
@@ -128,10 +128,8 @@ def _stiffness(e, label: str, m: int) -> np.ndarray:
     i, j = np.triu_indices(m)
     a[i, j] = a[j, i] = values
     half[i, j] = half[j, i] = [printed_half_unit(x) for x in values]
-    lam = np.linalg.eigvalsh(a)
-    # eigvalsh's eigenvalues are those of a matrix within m eps ||a||_2 of a
-    tiny = m * np.finfo(float).eps * np.abs(lam).max()
     if flexible:
+        lam, tiny = eigenvalues_with_slack(a)
         if lam[0] < -tiny:
             raise InputError(f"{label}: Z is not positive definite (smallest eigenvalue "
                              f"{lam[0]:.4g})")
@@ -147,9 +145,8 @@ def _stiffness(e, label: str, m: int) -> np.ndarray:
                              f"(K = Z^-1 would err by up to {m * np.finfo(float).eps * cond:.1g} "
                              f"relative, beyond 5e-7); give K")
         return scipy.linalg.cho_solve(scipy.linalg.cho_factor(a), np.eye(m))
-    # the printed entries are within half a unit of the true ones: the eigenvalues move by
-    # at most ||half||_F (Weyl)
-    slack = np.linalg.norm(half) + tiny
+    # the printed entries are within half a unit of the true ones
+    lam, slack = eigenvalues_with_slack(a, half)
     if lam[0] < -slack:
         raise InputError(f"{label}: K is not positive semi-definite (smallest eigenvalue "
                          f"{lam[0]:.4g}, beyond the rounding of its printed digits {slack:.2g})")

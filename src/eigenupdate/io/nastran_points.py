@@ -8,7 +8,7 @@ from scipy.sparse import csgraph
 
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import FIELDS, in_range, pbush_k
-from eigenupdate.io.numbers import printed_half_unit
+from eigenupdate.io.numbers import eigenvalues_with_slack, printed_half_unit
 from eigenupdate.model import frame3d, point_elements
 
 
@@ -94,9 +94,7 @@ def _check_coupling_masses(masses: list) -> None:
             sign = np.array([[1.0, -1.0], [-1.0, 1.0]])[:len(idx), :len(idx)]
             m[np.ix_(idx, idx)] += scale * value * sign
             half[np.ix_(idx, idx)] += scale * printed_half_unit(value)
-        lam = np.linalg.eigvalsh(m)
-        # Weyl: the printed values' rounding moves the eigenvalues by at most ||half||_F
-        slack = np.linalg.norm(half) + len(local) * np.finfo(float).eps * np.abs(lam).max()
+        lam, slack = eigenvalues_with_slack(m, half)
         if lam[0] < -slack:
             raise InputError(f"{first}: negative mass between two coordinates makes the scalar "
                              f"masses on them indefinite (smallest eigenvalue {lam[0]:.4g})")

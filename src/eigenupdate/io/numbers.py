@@ -10,6 +10,8 @@ from __future__ import annotations
 import re
 from decimal import Decimal
 
+import numpy as np
+
 _FLOAT = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
 _INT = re.compile(r"[+-]?\d+", re.ASCII)
 
@@ -61,3 +63,20 @@ def printed_half_unit(value: float) -> float:
     if text.endswith(".0"):
         text = text[:-2]
     return 0.5 * 10.0 ** int(Decimal(text).as_tuple().exponent)
+
+
+def eigenvalues_with_slack(a: np.ndarray, half: np.ndarray | None = None
+                           ) -> tuple[np.ndarray, float]:
+    """Eigenvalues (ascending) of the symmetric matrix ``a`` and how far below zero the
+    smallest may lie while ``a`` is still positive semi-definite: ``eigvalsh``'s own error
+    m eps max|lambda|, plus ||half||_F when ``a``'s entries are printed values each within
+    ``half`` (:func:`printed_half_unit`) of the true ones (Weyl's bound).
+
+    >>> lam, slack = eigenvalues_with_slack(np.array([[1.0, 1.0], [1.0, 1.0]]),
+    ...                                     np.full((2, 2), 0.05))
+    >>> [round(float(x), 12) for x in lam], round(slack, 12)
+    ([0.0, 2.0], 0.1)
+    """
+    lam = np.linalg.eigvalsh(a)
+    slack = a.shape[0] * np.finfo(float).eps * np.abs(lam).max()
+    return lam, float(slack + (0.0 if half is None else np.linalg.norm(half)))

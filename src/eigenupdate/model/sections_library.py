@@ -20,7 +20,9 @@ Most shapes are a base shape with other dimensions (:func:`as_base`), turned ove
   exchanging I1 and I2: :data:`CAVEATS`);
 * H: an I on its side: two vertical plates DIM2 / 2 thick and DIM3 high, DIM1 apart,
   joined at mid-height by a web DIM4 thick;
-* TUBE2: a TUBE given by its outer radius DIM1 and wall DIM2.
+* TUBE2: a TUBE given by its outer radius DIM1 and wall DIM2 (its values are computed
+  from the wall, :func:`eigenupdate.model.sections.section_values`: TUBE's
+  ro^2 - ri^2 would lose digits on a thin wall).
 
 Z, CROSS, BOX1 and HAT are rectangles summed with the parallel-axis theorem
 (:func:`rectangles`), HEXA a rectangle and two triangles (:func:`hexagon`).
@@ -100,8 +102,6 @@ def as_base(shape: str, d: np.ndarray):
         return "CHAN", _dims(d[2], d[3], d[1], d[0]), "swap"
     if shape == "H":  # I's flanges the vertical plates
         return "I", _dims(d[0] + d[1], d[2], d[2], d[3], d[1] / 2, d[1] / 2), "swap"
-    if shape == "TUBE2":
-        return "TUBE", _dims(d[0], d[0] - d[1]), ""
     return None
 
 

@@ -120,9 +120,8 @@ class _Facet:
         self.type, self.eid, self.pid = e.type, e.eid, e.pid
         self.node_ids = [e.node_ids[i] for i in facet]
         self.zoffset, self.tflag, self.theta_mcid = e.zoffset, e.tflag, e.theta_mcid
-        # a corner thickness differing from the property's is refused as for CTRIA6
-        self.T1, self.T2, self.T3 = e.T1, e.T2, e.T3
-        self.T4 = None
+        # the CTRIA6's corner thicknesses: nastran_corners takes its field at ``facet``
+        self.T1, self.T2, self.T3, self.facet = e.T1, e.T2, e.T3, facet
 
 
 def _linear_in_e(mat, slots) -> None:

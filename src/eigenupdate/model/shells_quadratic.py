@@ -385,9 +385,25 @@ def offset_geometry(xyz: np.ndarray, offset: np.ndarray | None = None,
     return xyz, V
 
 
+def nodal_profile(corners: np.ndarray) -> np.ndarray:
+    """Thickness (n, k) at every node of CQUAD8 (k = 8) or CTRIA6 (6) from its corners'
+    (n, 4) or (n, 3) (T1-T4, NASTRAN's corner thicknesses): a mid-side node the mean of
+    its edge's corners. The shape functions then interpolate the corners' bilinear
+    (CQUAD8) or linear (CTRIA6) field exactly: the serendipity and quadratic bases
+    contain it, and its values at the mid-sides are those means.
+
+    >>> nodal_profile(np.array([[1.0, 0.5, 0.5, 1.0]])).tolist()
+    [[1.0, 0.5, 0.5, 1.0, 0.75, 0.5, 0.75, 1.0]]
+    """
+    corners = np.asarray(corners, float)
+    k = {4: 8, 3: 6}[corners.shape[1]]
+    return np.concatenate([corners, corners[:, transition.EDGES[k]].mean(axis=2)], axis=1)
+
+
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None,
-                offset: np.ndarray | None = None, coupling: np.ndarray | None = None):
+                offset: np.ndarray | None = None, coupling: np.ndarray | None = None,
+                profile: np.ndarray | None = None):
     """As :func:`eigenupdate.model.shells.local_parts` for CQUAD8 (xyz (n, 8, 3)) or
     CTRIA6 (n, 6, 3): axes R and ``{part: (columns, (n, 6k, 6k) block)}`` per unit
     thickness power. The blocks are already in global axes (R is the identity: the
@@ -399,9 +415,15 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     ``coupling`` (n, 3, 3): a laminate's B / T^2 per unit of the membrane's factor: the
     part ``coupling`` (T^2) on the membrane's points, and the bending split (module
     docstring, "Laminates"), B A^-1 B from ``membrane`` and ``coupling``: per unit of
-    the bending's factor when that equals the membrane's, as a PCOMP's (E1 = E2)."""
+    the bending's factor when that equals the membrane's, as a PCOMP's (E1 = E2).
+    ``profile`` (n, k): the thickness at each node over the one the factors take
+    (:func:`nodal_profile`), interpolated by the shape functions to each integration
+    point, where each part takes it to its power (membrane, drilling, shear 1, bending
+    3, as :func:`eigenupdate.model.shells.local_parts`); None: uniform."""
     real, present = transition.fill(xyz)
     n, k = real.shape[:2]
+    if coupling is not None and profile is not None:
+        raise ValueError("coupling with a profile is not formed")
     C = None if present is None else transition.tie(present)
     xyz, V = offset_geometry(real, offset, labels)
     T = _offset_links(real, xyz)
@@ -410,11 +432,13 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     gd = (1e-6 * k6rot * cm[:, 2, 2]).reshape(n, 1, 1)
     moduli = {"membrane": cm, "bending": cb, "shear": cs, "drilling": gd}
     rows: dict = {name: ([], []) for name in STIFFNESS_PARTS}  # B, w D B of every point
-    points = []
+    points, thick = [], []  # thick: the thickness (n, 1, 1) at each point over the unit
     for rule, names in RULE_PARTS[k]:
         for p, q, weight in _RULES[k][rule]:
             N, R, G, det, Vp, dV, J = _point(xyz, V, k, p, q, C)
             points.append((names, p, q, weight * det, _b_matrices(N, R, G, Vp, dV, V), J))
+            thick.append(None if profile is None else
+                         np.einsum("nk,nk->n", N, profile)[:, None, None])
     if k == 8:  # MITC: the tied covariant strains, turned to the element axes
         full = _RULES[8]["full"]  # the first points: their mean over the square (area 4)
         mean = sum(w * (J @ b["shear"]) for (*_, b, J), (_, _, w)
@@ -446,10 +470,11 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
         split = cc @ np.linalg.solve(cm, cc)  # B A^-1 B per unit T^3, as cb
         moduli["bending"] = cb - split
         rows[shells.COUPLING] = ([], [])
-    for names, _, _, w, b, _ in points:
+    for (names, _, _, w, b, _), t in zip(points, thick, strict=True):
         for name in names:
             rows[name][0].append(b[name])
-            rows[name][1].append((moduli[name] @ b[name]) * w[:, None, None])
+            db = (moduli[name] @ b[name]) * w[:, None, None]
+            rows[name][1].append(db if t is None else db * t ** shells.THICKNESS_POWER[name])
         if coupling is not None and "membrane" in names:
             rows["bending"][0].append(b["bending"])
             rows["bending"][1].append((split @ b["bending"]) * w[:, None, None])
@@ -480,10 +505,13 @@ def material_axes(xyz: np.ndarray, labels: list[str] | None = None
 
 
 def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None,
-               offset: np.ndarray | None = None) -> np.ndarray:
+               offset: np.ndarray | None = None, profile: np.ndarray | None = None
+               ) -> np.ndarray:
     """Translational mass (n, 6k, 6k) per unit mass per area: consistent or HRZ-lumped;
     with ``offset`` (ZOFFS, n,), on the reference surface of :func:`offset_geometry`
-    rigidly linked to the grids (so moved with it, as the stiffness).
+    rigidly linked to the grids (so moved with it, as the stiffness). ``profile`` (n, k):
+    the mass per area at the nodes over the unit (:func:`local_parts`), interpolated to
+    the integration points (HRZ then scales the diagonal to the element's tapered mass).
 
     Examples
     --------
@@ -503,7 +531,9 @@ def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None,
     m = np.zeros((n, k, k))
     for p, q, weight in _RULES[k]["full"]:
         N, _, _, det, _, _, _ = _point(xyz, V, k, p, q, C)
-        m += (weight * det)[:, None, None] * N[:, :, None] * N[:, None, :]
+        w = weight * det if profile is None else weight * det * np.einsum("nk,nk->n", N,
+                                                                          profile)
+        m += w[:, None, None] * N[:, :, None] * N[:, None, :]
     if lumped:
         d = np.einsum("nii->ni", m)
         d = d * (m.sum(axis=(1, 2)) / d.sum(axis=1))[:, None]

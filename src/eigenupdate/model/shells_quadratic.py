@@ -84,6 +84,11 @@ integrate constant strains exactly (the patch test holds); B = 0 is the plain el
 A mass off the reference surface (a stack's first moment): :mod:`~eigenupdate.model.
 shells_quadratic_mass`.
 
+Corner thicknesses (NASTRAN's T1-T4): a ``profile`` of nodal thicknesses
+(:func:`nodal_profile`, a mid-side node the mean of its edge's corners) interpolated to
+every integration point, each part taking it to its power and the mass to the first; a
+laminate's coupling with it is not formed.
+
 Mass: translational (no rotary inertia, as :mod:`~eigenupdate.model.shells`),
 consistent ``sum w N_i N_j`` or lumped by the HRZ diagonal scaling (Hinton, Rock &
 Zienkiewicz, Earthq. Eng. Struct. Dyn. 4, 1976: positive nodal masses; the row sums of

@@ -430,7 +430,7 @@ def _solids(bdf, elems, kind, grid, xyz, frames, n_nodes, consistent, wtmass, pi
             aniso[i] = mat9(bdf, mat, cordm, where)
             mats.setdefault(prop.mid, mat)
         elif prop.mid not in mats:
-            mats[prop.mid] = _mat1(bdf, prop.mid, where)
+            mats[prop.mid] = _mat1(bdf, prop.mid, where, solid=True)
         mid[i] = prop.mid
     iso = [mats[m].type == "MAT1" for m in mid]
     E = np.array([mats[m].e if o else 1.0 for m, o in zip(mid, iso, strict=True)])

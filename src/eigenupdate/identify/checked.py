@@ -8,7 +8,12 @@ In order:
    (InputError) before any fit;
 2. the update (:func:`eigenupdate.identify.updating.update`);
 3. the chi-square test of its residuals (:mod:`eigenupdate.identify.consistency`): a fit
-   the data reject is not converged;
+   the data reject is not converged - unless its tracked modes changed order on the way
+   (a "re-paired" note): the start's order pairing of those modes was then wrong for the
+   structure, so the fit is run again from its own estimate with the modes paired by
+   order there, and taken if the data accept it (one more update; a stiffened plate whose
+   near-edge modes 1-2 cross between start and truth: rejected, then the truth,
+   tests/identify/test_refit_crossed_modes.py);
 4. uniqueness by multi-start (:func:`second_solution`): fits from a few draws of the
    prior; one that passes the same test and lies outside the first fit's confidence
    region at :data:`ALPHA_SECOND` is a second solution the frequencies cannot separate;
@@ -147,6 +152,29 @@ class CheckedUpdate:
         return self.outcome in (REJECTED, SECOND_SOLUTION, EXCHANGE)
 
 
+def _crossed(res: UpdateResult) -> str:
+    """Where the fit's tracked modes changed order ("configuration modes a, b; ..."), ""
+    if nowhere."""
+    notes = (res.pairing or {}).get("notes", [])
+    return "; ".join(f"{n['configuration']} modes {', '.join(map(str, n['modes']))}"
+                     for n in notes if n["kind"] == "re-paired")
+
+
+def _joined(first: UpdateResult, again: UpdateResult, crossed: str) -> UpdateResult:
+    """The refit ``again`` (started at ``first``'s estimate) as one update from the
+    study's model: ``first``'s initial frequencies, both histories, iterations, solves
+    and pairing notes."""
+    later = tuple(replace(h, iteration=h.iteration + first.nit) for h in again.history[1:])
+    pairing = dict(again.pairing or {}, notes=[*(first.pairing or {}).get("notes", []),
+                                                *(again.pairing or {}).get("notes", [])])
+    return replace(again, history=first.history + later, nit=first.nit + again.nit,
+                   nfev=first.nfev + again.nfev, initial_hz=first.initial_hz,
+                   pairing=pairing, message=(
+                       f"{again.message}; refitted from a first fit the data rejected, "
+                       f"whose tracked modes had crossed ({crossed}), with the modes "
+                       f"paired by order at it"))
+
+
 def _consistency(res: UpdateResult, meas, model, method) -> Consistency | None:
     return residual_consistency(res.rows, res.measured_hz, res.updated_hz, meas,
                                 res.identifiability.rank,
@@ -221,6 +249,18 @@ def checked_update(
     fit = _consistency(res, measurements, model, method)
     if fit is None:
         return CheckedUpdate(res, CONVERGED)
+    crossed = _crossed(res)
+    if fit.rejected and crossed:
+        # the start's order pairing was wrong for modes that crossed on the way: the fit
+        # followed it; pair again by order at the rejected fit, nearer the structure
+        if progress is not None:
+            progress(f"refit: the data reject the fit and its tracked modes crossed "
+                     f"({crossed}); fitting again from it, its modes paired by order there")
+        again = update(model, configurations, modes, measurements, source=source,
+                       progress=progress, start=res.x, **kw)
+        refit = _consistency(again, measurements, model, method) if again.success else None
+        if refit is not None and not refit.rejected:
+            res, fit = _joined(res, again, crossed), refit
     if fit.rejected:
         return CheckedUpdate(replace(res, success=False,
                                      message=f"{res.message}; but {fit.message()}"),

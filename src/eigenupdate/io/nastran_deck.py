@@ -1,8 +1,9 @@
 """Reading a NASTRAN deck as NASTRAN reads it, through pyNastran.
 
-:func:`load_deck` expands every INCLUDE itself (a relative path is looked up in the
-directory of the file that includes it, then in the main deck's, the job's directory where
-NASTRAN runs it: decks written by SimXpert nest INCLUDEs relative to the job), hands
+:func:`load_deck` expands every INCLUDE itself (:mod:`eigenupdate.io.nastran_include`: a
+relative path is looked up in the directory of the file that includes it, then in the main
+deck's, the job's directory where NASTRAN runs it; names and files as pre-processors
+write them on Windows), hands
 the text to pyNastran with its log silenced and stdout captured (no
 ``pyNastran_crash.bdf`` can be written: pyNastran never sees an INCLUDE), remembers where
 each card starts (``file:line``) for the messages, and sorts the cards into

@@ -146,6 +146,8 @@ def test_read_lines_keeps_windows_text_and_line_numbers(tmp_path):
     assert read_lines(p) == ["$ Femap: poutre \xe9\x85", "$ page\x0c", "GRID,1"]
     p.write_bytes(b"\xef\xbb\xbfGRID,1\nGRID,2")  # UTF-8 with its mark, no final newline
     assert read_lines(p) == ["GRID,1", "GRID,2"]
+    p.write_bytes(b"GRID,1\r\nGRID,2\r\n\x1a")  # DOS's end-of-file mark: was a card
+    assert read_lines(p) == ["GRID,1", "GRID,2"]
 
 
 # --- sections and delimiters ---------------------------------------------------------
@@ -214,8 +216,17 @@ FEMAP_HEAD = ("$ Femap with NX Nastran\nINIT MASTER(S)\nNASTRAN SYSTEM(442)=-1,S
     {"model.bdf": TEXT.split("BEGIN BULK\n")[1].replace("ENDDATA\n", ""),
      "frame.bdf": "SOL 103\nCEND\nSPC = 1\nMETHOD = 10\nBEGIN BULK\nINCLUDE 'model.bdf'\n"
                   "ENDDATA\n"},
+    # Patran: system-cell and direct-text comments, ENDDATA followed by a checksum
+    {"frame.bdf": "$ NASTRAN input file created by the Patran 2019 input file translator\n"
+                  + TEXT.replace("PARAM   COUPMASS       1", "PARAM   PATVER   3.\n"
+                                 "PARAM   COUPMASS       1").replace("ENDDATA",
+                                                                     "ENDDATA 2b4b6a8c")},
+    # Simcenter: $* comments, a Windows path in one, SOL by name, MDLPRM
+    {"frame.bdf": "$*  Simcenter 2306\n$*  FEM FILE: C:\\Users\\me\\frame_fem1.fem\n"
+                  + TEXT.replace("SOL 103", "SOL SEMODES").replace(
+                      "BEGIN BULK", "BEGIN BULK\n$*  PARAM CARDS\nPARAM,POST,-1\nMDLPRM,HDF5,0")},
 ], ids=["crlf", "bom", "cp1252", "femap-exec", "tabs", "trailing-comment",
         "begin-bulk-comment-no-enddata", "unquoted-lowercase", "split-comment",
-        "bulk-only", "bulk-included"])
+        "bulk-only", "bulk-included", "patran", "simcenter"])
 def test_pre_processor_conventions_read_as_the_clean_deck(tmp_path, run_cli, files):
     _same_as_clean(run_cli, _frame(tmp_path, files))

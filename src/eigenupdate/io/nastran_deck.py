@@ -216,10 +216,12 @@ def load_deck(path: str | Path) -> Deck:
     upper = [x.upper() for x in lines]
     has_cend = any(x.strip().startswith("CEND") for x in upper)
     begins = [i for i, x in enumerate(upper) if _BEGIN_BULK.match(x)]
-    if len(begins) > 1:  # an INCLUDEd bulk file that holds its own: NASTRAN's rule unknown
-        at = place(":".join(map(str, origin[begins[1]])), path.name)
-        raise InputError(f"{at}: BEGIN BULK a second time (first at "
-                         f"{place(':'.join(map(str, origin[begins[0]])), path.name)}); an "
+    # a plain one again (not MSC's partitioned BEGIN BULK SUPER = n): an INCLUDEd bulk
+    # file that holds its own, whose reading NASTRAN does not document
+    at = [place(":".join(map(str, origin[i])), path.name) for i in begins
+          if re.match(r"\s*BEGIN[\s,]+BULK\s*(\$|$)", upper[i])]
+    if len(at) > 1:
+        raise InputError(f"{at[1]}: BEGIN BULK a second time (first at {at[0]}); an "
                          f"INCLUDEd bulk data file must not repeat it: remove one",
                          source=str(path))
     begin = begins[0] if begins else None

@@ -5,7 +5,8 @@ list of lines. A file is text: UTF-8 (a byte-order mark dropped, as Notepad and 
 exporters write it) or, where it is not valid UTF-8, the one-byte Windows code page Femap
 and Patran write (read as Latin-1: each byte one character, so a fixed-field column is the
 byte NASTRAN counts; the accents live in comments and titles). A UTF-16 file or one with a
-NUL byte is refused. Lines end at LF or CRLF only (``str.splitlines`` also split at
+NUL byte is refused; DOS's end-of-file mark (Ctrl-Z, byte 0x1A) ending a file is dropped
+(it was an unknown card). Lines end at LF or CRLF only (``str.splitlines`` also split at
 form feeds and Latin-1's NEL, byte 0x85, shifting every later line number).
 
 INCLUDE (MSC and Autodesk QRG, INCLUDE): anywhere in the deck, nested; ``include`` in any
@@ -55,6 +56,7 @@ def read_lines(path: Path) -> list[str]:
         line = raw[:raw.index(b"\x00")].count(b"\n") + 1
         raise InputError(f"{path.name}:{line}: a NUL byte: not a text file (UTF-16 without "
                          f"its mark, or binary)")
+    raw = raw.rstrip(b"\x1a")  # DOS's end-of-file mark (Ctrl-Z), not a card
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError:  # a Windows code page: its accents in comments and titles
@@ -118,6 +120,15 @@ def _refuse_foreign(name: str, where: str) -> None:
                          f"system; copy the file beside the deck and name it relatively")
 
 
+def local_name(name: str) -> str:
+    r"""An INCLUDE name with Windows' separators (``..\se0.dat``) as this system's ``/``.
+
+    >>> local_name("..\\mesh\\se0.dat")
+    '../mesh/se0.dat'
+    """
+    return name.replace("\\", "/")
+
+
 def _case_twin(folder: Path, name: str) -> Path | None:
     """A file that ``folder / name`` names up to letter case, if one exists."""
     here = folder
@@ -164,7 +175,7 @@ def expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tup
 
 def _resolve(name: str, path: Path, stack: tuple, where: str) -> Path:
     """The file an INCLUDE ``name`` in ``path`` reads, checked."""
-    local = name.replace("\\", "/")  # written on Windows
+    local = local_name(name)  # written on Windows
     folders = list(dict.fromkeys((path.parent, stack[0].parent)))
     try:
         found = list(dict.fromkeys((f / local).resolve() for f in folders

@@ -40,6 +40,7 @@ MAX_INCLUDE_DEPTH = 100
 _INCLUDE = re.compile(r"^\s*INCLUDE(?=[\s'\"]|$)\s*(.*)$", re.IGNORECASE)
 _DRIVE = re.compile(r"^[A-Za-z]:")
 _SYMBOL = re.compile(r"^([A-Za-z_][A-Za-z0-9_]+):")
+_PATH_MAX = 4096  # Linux's longest path: a quoted name running past it lost its quote
 
 
 def read_lines(path: Path) -> list[str]:
@@ -89,32 +90,42 @@ def include_name(lines: list[str], i: int, where: str) -> tuple[str, int] | None
     name, j = rest[1:], i
     while "'" not in name:
         j += 1
-        if j >= len(lines):
-            raise InputError(f"{where}: INCLUDE: the file name's quote is never closed "
-                             f"(no second ' before the end of the file)")
+        if j >= len(lines) or len(name) > _PATH_MAX:
+            raise InputError(f"{where}: INCLUDE '{_short(name)}: the file name's quote is "
+                             f"never closed (no second ' "
+                             + ("before the end of the file)" if j >= len(lines) else
+                                f"within {_PATH_MAX} characters)"))
         if not lines[j].lstrip().startswith("$"):  # a comment line between the parts
             name += lines[j].strip()
     name, after = name.split("'", 1)
     if after.split("$")[0].strip():
-        raise InputError(f"{where}: INCLUDE '{name}' is followed by {after.strip()!r}: a "
-                         f"name pieced from several quoted and unquoted parts is not read; "
-                         f"write it in one pair of quotes")
+        raise InputError(f"{where}: INCLUDE '{_short(name)}' is followed by "
+                         f"{_short(after.strip())!r}: a name pieced from several quoted and "
+                         f"unquoted parts is not read; write it in one pair of quotes")
     return name.strip(), j + 1
+
+
+def _short(text: str, n: int = 60) -> str:
+    """``text`` cut to ``n`` characters for a message."""
+    return text if len(text) <= n else text[:n] + "..."
 
 
 def _refuse_foreign(name: str, where: str) -> None:
     """A name that cannot be opened here whatever the folder: refused, saying why."""
+    symbol = _SYMBOL.match(name)
+    if symbol:
+        raise InputError(f"{where}: INCLUDE {name}: {symbol.group(1)} is a logical symbol "
+                         f"(MSC's SYMBOL:filename, set in the nastran command or its rc "
+                         f"file, not in the deck); write the path instead")
     why = None
-    if name.startswith(("\\\\", "//")):
+    if os.name == "nt":  # Windows names: they may exist here
+        return
+    if name.startswith("\\\\"):
         why = "a Windows network path"
     elif _DRIVE.match(name):
         why = f"a Windows absolute path (drive {name[:2]})"
     elif name.startswith("\\"):
         why = "a Windows path from the root of the current drive"
-    elif _SYMBOL.match(name):
-        raise InputError(f"{where}: INCLUDE {name}: {_SYMBOL.match(name).group(1)} is a "
-                         f"logical symbol (MSC's SYMBOL:filename, set in the nastran "
-                         f"command or its rc file, not in the deck); write the path instead")
     if why:
         raise InputError(f"{where}: INCLUDE {name}: {why}, which does not exist on this "
                          f"system; copy the file beside the deck and name it relatively")

@@ -369,7 +369,7 @@ for label, flag in [("2", "2"), ("-1", "-1"), ("1.", "1."), ("nan", "nan"), ("A"
 bad("corners TFLAG 2 with all Ti blank", PL, (Q1, corners(Q1, 2)))
 bad("corners TFLAG 0 partly blank with T a parameter", PL, (Q1, corners(Q1, 0, .03, .04)), param=("PSHELL", "T"))
 bad("corners differing on a PCOMP", PL, (PS, "PCOMP,1\n,1,.025,0.,YES,1,.025,90.,YES"), (Q1, corners(Q1, 0, .03, .04, .05, .05)))
-bad("corners on CQUAD8 differing", PL, ("GRID,6,,2.,1.,0.", "GRID,6,,2.,1.,0.\nGRID,7,,.5,0.,0.\nGRID,8,,1.,.5,0.\nGRID,9,,.5,1.,0.\nGRID,10,,0.,.5,0."),
+ok("corners on CQUAD8 differing (read: io/nastran_corners.py)", PL, ("GRID,6,,2.,1.,0.", "GRID,6,,2.,1.,0.\nGRID,7,,.5,0.,0.\nGRID,8,,1.,.5,0.\nGRID,9,,.5,1.,0.\nGRID,10,,0.,.5,0."),
     (Q1, "CQUAD8,1,1,1,2,5,4,7,8\n,9,10,.03,.04,.05,.05"))
 bad("ctria3 a value in T4's place", PL, (Q1, "CTRIA3,1,1,1,2,5,,,\n,,0,.05,.05,.05,.05"))
 

@@ -1,6 +1,7 @@
-"""Corner thicknesses T1-T4 with TFLAG of CQUAD4, CTRIA3, CQUADR, CTRIAR
-(io/nastran_corners.py; the thickness interpolated to each integration point,
-model/shells.py ``profile``). Independent references: the deck without T1-T4 (equal
+"""Corner thicknesses T1-T4 with TFLAG of CQUAD4, CTRIA3, CQUADR, CTRIAR, CQUAD8 and
+CTRIA6 (io/nastran_corners.py; the thickness interpolated to each integration point,
+model/shells.py and model/shells_quadratic.py ``profile``; the quadratic elements' own
+checks: test_nastran_corners_quadratic.py). Independent references: the deck without T1-T4 (equal
 corners are the property's T), a second method (a Timoshenko beam of the strip's section
 solved by Ritz to 1e-9), a second code (CalculiX 2.20's S8R with *NODAL THICKNESS),
 central differences of K, M, and the deck edited and read again. Runs in .venv-nastran
@@ -34,12 +35,15 @@ T = 0.02  # PSHELL T
 
 def strip(path, nx, ny=1, card="CQUAD4", tflag=0, thick=None, held="", zoffs="",
           own=None, pshell=f"PSHELL,1,1,{T!r},1,,1"):
-    """A cantilever strip L x B (clamped at x = 0) of nx x ny CQUAD4 (CQUADR), or each
-    split in two CTRIA3 (CTRIAR), whose corner thickness is ``thick(x)`` (default
-    linear from T0 to T1; None: blank), written as TFLAG ``tflag`` (TFLAG 1: over T);
-    the corners of elements whose centre x fails ``own`` are left blank; ``held``:
-    components held at every grid besides the clamp; ``zoffs``: every element's ZOFFS."""
+    """A cantilever strip L x B (clamped at x = 0) of nx x ny CQUAD4 (CQUADR, CQUAD8), or
+    each split in two CTRIA3 (CTRIAR, CTRIA6), whose corner thickness is ``thick(x)``
+    (default linear from T0 to T1; None: blank), written as TFLAG ``tflag`` (TFLAG 1:
+    over T); the corners of elements whose centre x fails ``own`` are left blank;
+    ``held``: components held at every grid besides the clamp; ``zoffs``: every
+    element's ZOFFS."""
     thick = thick or (lambda x: T0 + (T1 - T0) * x / L)
+    if card in ("CQUAD8", "CTRIA6"):
+        return _quadratic_strip(path, nx, ny, card, tflag, thick, held, zoffs, own, pshell)
     nid = np.arange((nx + 1) * (ny + 1)).reshape(ny + 1, nx + 1) + 1
     x = np.tile(np.linspace(0.0, L, nx + 1), ny + 1)
     y = np.repeat(np.linspace(0.0, B, ny + 1), nx + 1)
@@ -63,12 +67,56 @@ def strip(path, nx, ny=1, card="CQUAD4", tflag=0, thick=None, held="", zoffs="",
     return path
 
 
+def _quadratic_strip(path, nx, ny, card, tflag, thick, held, zoffs, own, pshell):
+    """:func:`strip` of nx x ny CQUAD8, or each split in two CTRIA6 along its G1-G3
+    diagonal, on a grid of corners and mid-sides (2 nx + 1 by 2 ny + 1 grids, a
+    CQUAD8's centre unused)."""
+    ids = (np.arange((2 * nx + 1) * (2 * ny + 1)) + 1).reshape(2 * ny + 1, 2 * nx + 1)
+    x = np.linspace(0.0, L, 2 * nx + 1)
+    y = np.linspace(0.0, B, 2 * ny + 1)
+    used = set()
+    elems = []
+    for j in range(0, 2 * ny, 2):
+        for i in range(0, 2 * nx, 2):
+            c = ids[j:j + 3, i:i + 3]  # c[row (y), column (x)]
+            if card == "CQUAD8":
+                elems.append([c[0, 0], c[0, 2], c[2, 2], c[2, 0], c[0, 1], c[1, 2], c[2, 1],
+                              c[1, 0]])
+            else:
+                elems.append([c[0, 0], c[0, 2], c[2, 2], c[0, 1], c[1, 2], c[1, 1]])
+                elems.append([c[0, 0], c[2, 2], c[2, 0], c[1, 1], c[2, 1], c[1, 0]])
+    lines = ["BEGIN BULK", "PARAM,COUPMASS,1", pshell, f"MAT1,1,{E!r},,{NU!r},{RHO!r}"]
+    xg = {int(ids[j, i]): x[i] for j in range(2 * ny + 1) for i in range(2 * nx + 1)}
+    for k, g in enumerate(elems):
+        used.update(g)
+        corners = g[:4] if card == "CQUAD8" else g[:3]
+        mine = own is None or own(np.mean([xg[n] for n in corners]))
+        ts = [thick(xg[n]) for n in corners]
+        ts = ["" if not mine or t is None else repr(t / T if tflag else t) for t in ts]
+        g = [str(n) for n in g]
+        if card == "CQUAD8":
+            lines.append(f"CQUAD8,{k + 1},1,{','.join(g[:6])}\n,{','.join(g[6:])},"
+                         f"{','.join(ts)},,{zoffs}\n,{tflag}")
+        else:
+            lines.append(f"CTRIA6,{k + 1},1,{','.join(g)}\n,,{zoffs},{','.join(ts)},{tflag}")
+    for n in sorted(used):
+        j, i = np.argwhere(ids == n)[0]
+        lines.append(f"GRID,{n},,{x[i]!r},{y[j]!r},0.")
+        if i == 0:
+            lines.append(f"SPC1,1,123456,{n}")
+        elif held:
+            lines.append(f"SPC1,1,{held},{n}")
+    path.write_text("\n".join(lines) + "\nENDDATA\n")
+    return path
+
+
 def _hz(path, count):
     m = read_quiet(path).model
     return solve_elastic(m.stiffness(), m.mass(), count).frequencies_hz
 
 
-@pytest.mark.parametrize("card", ["CQUAD4", "CTRIA3", "CQUADR", "CTRIAR"])
+@pytest.mark.parametrize("card", ["CQUAD4", "CTRIA3", "CQUADR", "CTRIAR", "CQUAD8",
+                                  "CTRIA6"])
 def test_corners_equal_to_t_read_as_without_them(tmp_path, card):
     """Source: NASTRAN's convention (QRG CQUAD4: blank Ti are the PSHELL's T; TFLAG 1:
     fractions of it): T1-T4 all equal to T (TFLAG 0), all 1.0 (TFLAG 1) or blank give
@@ -109,7 +157,7 @@ def timoshenko(order=14, modes=3):
     return np.sqrt(eigh(K, M, eigvals_only=True)[:modes]) / (2 * np.pi)
 
 
-@pytest.mark.parametrize("card", ["CQUAD4", "CTRIA3", "CQUADR"])
+@pytest.mark.parametrize("card", ["CQUAD4", "CTRIA3", "CQUADR", "CQUAD8", "CTRIA6"])
 def test_tapered_strip_in_cylindrical_bending_is_the_timoshenko_beam(tmp_path, card):
     """Source: a second method, the linearly tapered (T0 to T0/2) cantilever strip with
     rx held everywhere (no curvature across it: cylindrical bending) is a Timoshenko
@@ -120,7 +168,9 @@ def test_tapered_strip_in_cylindrical_bending_is_the_timoshenko_beam(tmp_path, c
     change bounds it. The mesh is refined across too (nx / 10 elements: a CTRIA3 strip
     one element wide converges to a limit 0.1-1 % soft, uniform or tapered). Measured
     at 40 elements: CQUAD4 2.3e-4, 4.9e-4, 2.2e-3 from the beam, bounds 6.8e-4, 1.5e-3,
-    6.6e-3; CTRIA3 1.7e-4, 7.4e-4, 2.8e-3, bounds 5.2e-4, 2.2e-3, 8.3e-3."""
+    6.6e-3; CTRIA3 1.7e-4, 7.4e-4, 2.8e-3, bounds 5.2e-4, 2.2e-3, 8.3e-3; CQUAD8 (as h^4)
+    7.7e-9, 3.2e-7, 2.6e-6, bounds 1.0e-7, 4.4e-6, 3.7e-5; CTRIA6 (as h^2) -2.8e-5,
+    -1.2e-4, -2.7e-4, bounds 7.9e-5, 2.6e-4, 5.2e-4."""
     ref = timoshenko()
     nx = (20, 40)
     got = [_hz(strip(tmp_path / f"s{n}.bdf", n, n // 10, card, held="4"), 6) for n in nx]
@@ -189,7 +239,8 @@ FIELDS = [("PSHELL", 1, "T"), ("MAT1", 1, "E"), ("MAT1", 1, "RHO")]
 NSM = "PSHELL,1,1,0.02,1,,1,,0.7"  # NSM 0.7 per area, uniform
 
 
-@pytest.mark.parametrize("card", ["CQUAD4", "CTRIA3", "CQUADR", "CTRIAR"])
+@pytest.mark.parametrize("card", ["CQUAD4", "CTRIA3", "CQUADR", "CTRIAR", "CQUAD8",
+                                  "CTRIA6"])
 def test_thickness_parameter_scales_a_tflag1_taper(tmp_path, card):
     """Sources: central differences of K, M (tests/bounds.py: K is a polynomial in T,
     E, RHO but the shear's stabilisation, smooth) of a strip tapered by fractions of T
@@ -251,10 +302,22 @@ PCOMP = "PCOMP,1\n,1,0.02,0."
      "be 0 (blank) or 1"),
     (lambda p: strip(p, 4, pshell=PCOMP), (), "CQUAD4 1: corner thicknesses T1-T4 (TFLAG "
      "0): differing from PCOMP 1's thickness 0.02 (the sum of its plies)"),
-], ids=["mixed-with-T", "negative", "all-zero", "TFLAG-2", "PCOMP"])
+    (lambda p: strip(p, 4, card="CQUAD8", pshell=PCOMP), (), "CQUAD8 1: corner "
+     "thicknesses T1-T4 (TFLAG 0): differing from PCOMP 1's thickness 0.02 (the sum of "
+     "its plies)"),
+    (lambda p: strip(p, 4, card="CTRIA6", pshell=PCOMP), (), "CTRIA6 1: corner "
+     "thicknesses T1-T3 (TFLAG 0): differing from PCOMP 1's thickness 0.02"),
+    (lambda p: strip(p, 4, card="CTRIA6", thick=lambda x: 0.0), (), "CTRIA6 1: corner "
+     "thicknesses T1-T3 (TFLAG 0): all zero"),
+    (lambda p: strip(p, 4, card="CQUAD8", thick=lambda x: T if x < 0.6 else None),
+     FIELDS[:1], "PSHELL 1 field T: not a parameter of CQUAD8 3, whose corner "
+     "thicknesses are partly its own"),
+], ids=["mixed-with-T", "negative", "all-zero", "TFLAG-2", "PCOMP", "CQUAD8-PCOMP",
+        "CTRIA6-PCOMP", "CTRIA6-all-zero", "CQUAD8-mixed-with-T"])
 def test_corner_thicknesses_refused_in_one_line(tmp_path, run_cli, edit, fields, message):
-    """Bad or unsupported corner thicknesses: one line naming the element (or the
-    parameter's card) and the problem, exit 2, through the CLI."""
+    """Bad or unsupported corner thicknesses (a laminate's, whose coupling with a taper
+    is not formed, on any element): one line naming the element (or the parameter's
+    card) and the problem, exit 2, through the CLI."""
     from refusals import one_line
 
     deck = edit(tmp_path / "deck.bdf")
@@ -268,7 +331,7 @@ def test_corner_thicknesses_refused_in_one_line(tmp_path, run_cli, edit, fields,
         read_quiet(deck, _specs(fields))
 
 
-@pytest.mark.parametrize("card", ["CQUAD4", "CTRIA3"])
+@pytest.mark.parametrize("card", ["CQUAD4", "CTRIA3", "CQUAD8", "CTRIA6"])
 def test_nsm_stays_uniform_per_area_under_a_taper(tmp_path, card):
     """Source: MSC QRG PSHELL (NSM is mass per unit area) and NASTRAN-95's tria3d.f (NSM
     spread by area, not by thickness; its quad4d.f scales it with the thickness instead:

@@ -84,3 +84,29 @@ def test_continued_free_field_cards_are_read_silently(tmp_path, run_cli):
                    "PBAR,9,1,1.e-3\n,,,,,,,,,\n,1.\n")  # a continuation of blank fields
     code, out, err = _run(tmp_path, run_cli, text)
     assert code == 0 and "continuation" not in err and "error" not in err, err
+
+
+# free-field replication (MSC QRG, Bulk Data free field: '=' repeats a field, '*(x)' adds x,
+# '==' repeats the rest, '=n' makes n more cards), expanded by hand: the cards written out
+
+
+def test_a_third_replication_in_a_row_is_refused_naming_its_line(tmp_path, run_cli):
+    """Issue 20 acceptance (accept8): three '=' cards in a row, valid for MSC, failed with
+    pyNastran's 'ReplicationError: dig=False...old_card=' and no line; two in a row and
+    '=n' are expanded (grids 2-5 at x = 1..4, by hand)."""
+    rep = "=,*(1),=,*(1.),==\n"
+    beam = BARS.replace("CBAR,2,1,2,3,0.,1.,0.\n", "CBAR,2,1,2,3,0.,1.,0.\nCBAR,3,1,3,4,0.,1.,0.\n"
+                        "CBAR,4,1,4,5,0.,1.,0.\n") + "SPC1,1,123456,1\n"
+    written = beam.replace("GRID,3,,2.,0.,0.\n", "GRID,3,,2.,0.,0.\nGRID,4,,3.,0.,0.\n"
+                           "GRID,5,,4.,0.,0.\n")
+    two = beam.replace("GRID,2,,1.,0.,0.\nGRID,3,,2.,0.,0.\n", rep * 2 + "GRID,4,,3.,0.,0.\n"
+                       "GRID,5,,4.,0.,0.\n")
+    repeat = beam.replace("GRID,2,,1.,0.,0.\nGRID,3,,2.,0.,0.\n", rep + "=3\n")
+    outs = [_run(tmp_path, run_cli, t) for t in (written, two, repeat)]
+    assert all(c == 0 for c, _, _ in outs) and outs[0][1] == outs[1][1] == outs[2][1], outs
+    code, out, err = _run(tmp_path, run_cli, beam.replace("GRID,2,,1.,0.,0.\nGRID,3,,2.,0.,0.\n",
+                                                          rep * 4))
+    errors = [x for x in err.splitlines() if "error" in x]
+    assert code == 2 and len(errors) == 1 and "Traceback" not in err, err
+    assert "deck.bdf: line 5: free-field replication" in errors[0], errors[0]
+    assert "dig=False" not in errors[0]

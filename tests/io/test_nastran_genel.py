@@ -229,6 +229,27 @@ def test_bad_genel_is_refused_in_one_line(tmp_path, run_cli, case, body, words):
     _refused(tmp_path, run_cli, body, *words)
 
 
+def test_huge_genel_is_refused_before_its_matrices_are_built(tmp_path, run_cli, monkeypatch):
+    """Source: the resource standard (eigenupdate.budget): a GENEL of m UI coordinates
+    is checked as three dense m x m matrices (24 m^2 bytes) before they are allocated;
+    m = 300 is 2.16 MB, beyond a 1 MB memory limit."""
+    m = 300
+    monkeypatch.setenv("EIGENUPDATE_MAX_MEMORY_MB", "1")
+    pairs = [x for g in range(1, m + 1) for x in (str(g), "0")]
+    i, j = np.triu_indices(m)
+    k = ["1." if a == b else "0." for a, b in zip(i, j, strict=True)]
+
+    def lines(head: list[str], vals: list[str], first: int) -> str:  # 8 fields a line
+        rows = [head + vals[:first]] + [[""] + vals[a:a + 8]
+                                        for a in range(first, len(vals), 8)]
+        return "".join(",".join(r) + "\n" for r in rows)
+
+    body = (f"SPOINT,1,THRU,{m}\n" + "".join(f"CMASS4,{g},1.,{g}\n" for g in range(1, m + 1))
+            + lines(["GENEL", str(m + 1), ""], pairs, 6) + lines(["", "K"], k, 7))
+    _refused(tmp_path, run_cli, body, f"GENEL {m + 1}: K of 300 UI coordinates would take 2 MB",
+             "EIGENUPDATE_MAX_MEMORY_MB")
+
+
 def test_rounded_singular_k_is_read_as_printed(tmp_path):
     """Source: the card's K by hand and Weyl's bound. Springs 1234.5678 and 2345.678 in a
     chain of three points, printed to four digits: K11 1235, K22 3580 (their sum rounded),

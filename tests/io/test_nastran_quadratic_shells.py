@@ -14,7 +14,6 @@ from nastran_frames import need
 from plates import plate_fixed
 from quadratic_meshes import NU, RHO, E, plate_frequency, plate_mesh
 
-from eigenupdate.errors import InputError
 from eigenupdate.solve.eigen import solve_elastic
 
 pytestmark = pytest.mark.nastran
@@ -190,21 +189,6 @@ def test_ply_angle_follows_the_element_axes(tmp_path, card):
         mats.append(_read(deck).model.stiffness())
     a, b = mats
     assert abs(a - b).max() <= 1e-12 * abs(a).max()
-
-
-@pytest.mark.parametrize(("edit", "message"), [
-    (lambda line: line + ",.004,.004,.005,.004", "corner thicknesses T1-T4"),
-], ids=["T1-T4"])
-def test_unsupported_cquad8_fields_are_refused(tmp_path, edit, message):
-    """Source: as CQUAD4 (io/nastran_continuum.py): corner thicknesses differing from
-    the PSHELL's T are refused, naming the element."""
-    path = plate(tmp_path / "a.bdf", nx=2)
-    text = path.read_text().splitlines()
-    i = next(k for k, line in enumerate(text) if line.startswith("CQUAD8,1,"))
-    text[i + 1] = edit(text[i + 1])
-    path.write_text("\n".join(text) + "\n")
-    with pytest.raises(InputError, match=f"CQUAD8 1: {message}"):
-        _read(path)
 
 
 def _cylinder_deck(path, nc, nl, facets=False, R=1.0, L=1.0, h=0.01):

@@ -110,6 +110,24 @@ def test_tet10_deck_agrees_with_msc():
     assert np.all(np.abs(err) <= ref["tolerance"]), err
 
 
+
+def test_lumped_tet10_mass_is_said_to_differ_from_msc(tmp_path):
+    """Source: the xfail above (MSC 2005 lumps a CTETRA10 on its mid-edge grids, we use
+    HRZ): a deck that asks for lumped mass on CTETRA10 is told so once, naming the count
+    and the first element; PARAM,COUPMASS,1 (coupled mass, which every NASTRAN shares)
+    silences it."""
+    deck, _ = _ref("pyn_tet10")
+    with pytest.warns(EigenupdateWarning) as got:
+        read_nastran(deck)
+    said = [str(w.message) for w in got if "HRZ" in str(w.message)]
+    assert len(said) == 1 and said[0].startswith("2 CTETRA10 (the first CTETRA 1)")
+    coupled = tmp_path / deck.name
+    coupled.write_text(deck.read_text().replace("BEGIN BULK", "BEGIN BULK\nPARAM,COUPMASS,1", 1))
+    with warnings.catch_warnings(record=True) as got:
+        warnings.simplefilter("always")
+        read_nastran(coupled)
+    assert not [w for w in got if "HRZ" in str(w.message)]
+
 # MSC 2005's static displacements of pyn_tet10 under its unit FX at grid 2154 (SOL 111,
 # FREQUENCY = 0, after augmentation with residual vectors, so K^-1 f exactly): pyNastran's
 # models/complex/tet10/simple_example.f06 (commit 1d25a92, page 16), T1 T2 T3 per grid.

@@ -270,7 +270,8 @@ def trust_region(fit: Fit, point: Point) -> tuple[int, str, Point, bool]:
     if final is None:
         final = fit.evaluate(res.x) if not np.array_equal(res.x, state["point"].z) \
             else state["point"]
-    message = res.message if state["why"] is None else f"{state['why']} ({res.message})"
+    # our own stop (status -2): its reason, not SciPy's "callback raised StopIteration"
+    message = res.message if state["why"] is None else state["why"]
     success = res.status in (1, 2, 3, 4) or message.startswith("converged")
     if state["refused_since"] and res.status in (2, 3, 4):
         success = False  # the region shrank on refused points only: no convergence

@@ -97,3 +97,18 @@ def _thru_line(text: str, lines: list[str], origin, main: str) -> str | None:
         if rng.search(line[8:] if "," not in line[:10] else line.split(",", 1)[-1]):
             return place(f"{name}:{number}", main)
     return None
+
+
+def replication_line(lines: list[str], origin, main: str) -> str:
+    """``line N`` of the first free-field replication card (``=`` in field 1) that is the
+    third in a row (pyNastran expands a replication of a replication, no further), else of
+    the first one; "" if the deck has none."""
+    first, run = "", 0
+    for text, (name, number) in zip(lines, origin, strict=True):
+        if not text or text[0] in " \t+*,$":  # continuation, comment or blank line
+            continue
+        run = run + 1 if text.startswith("=") else 0
+        if run == 3:
+            return place(f"{name}:{number}", main)
+        first = first or (place(f"{name}:{number}", main) if run else "")
+    return first

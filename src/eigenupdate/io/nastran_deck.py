@@ -36,7 +36,14 @@ from eigenupdate.budget import require
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io import nastran_genel as genel
 from eigenupdate.io import nastran_solution
-from eigenupdate.io.nastran_blame import FIRST, blamed_card, card_in_traceback, card_starts, place
+from eigenupdate.io.nastran_blame import (
+    FIRST,
+    blamed_card,
+    card_in_traceback,
+    card_starts,
+    place,
+    replication_line,
+)
 from eigenupdate.io.nastran_include import expand
 from eigenupdate.io.nastran_plates95 import CARDS as PLATES95
 
@@ -266,6 +273,10 @@ def load_deck(path: str | Path) -> Deck:
             first = "G1, G2 and G3 must be three different grids (QRG CORD1R/C/S)"
         elif re.search(r"GENEL \d+$", blamed or "") and genel.parse_error(exc):
             first = genel.parse_error(exc)
+        elif type(exc).__name__ == "ReplicationError":  # its message names no line
+            blamed = replication_line(lines, origin, path.name)
+            first = ("free-field replication ('=' card): pyNastran expands at most two '=' "
+                     "cards in a row ('=n' repeats are read); write the cards out")
         elif isinstance(exc, TypeError | AttributeError | IndexError):  # its own failure
             first = (f"pyNastran fails on the card ({type(exc).__name__}: {first}); a "
                      f"blank or invalid field?")

@@ -24,6 +24,7 @@ import re
 import numpy as np
 import scipy.linalg
 
+from eigenupdate.budget import require
 from eigenupdate.errors import InputError
 from eigenupdate.io.nastran_fields import in_range
 from eigenupdate.io.numbers import eigenvalues_with_slack, printed_half_unit
@@ -121,6 +122,10 @@ def _stiffness(e, label: str, m: int) -> np.ndarray:
     if values.size != need:
         raise InputError(f"{label}: {name} lists {values.size} values; {m} UI coordinates need "
                          f"{need} (the lower triangle by columns; a blank field ends the list)")
+    # dense m x m matrices: K (or Z), its rounding, and the eigen-solve's work copy
+    mb = 3 * 8.0 * m * m / 1e6
+    require("memory_mb", mb, f"{label}: {name} of {m:,} UI coordinates would take {mb:,.0f} "
+            f"MB as dense matrices")
     for x in values:
         in_range(x, f"{label}: {name} entry")
     a, half = np.zeros((m, m)), np.zeros((m, m))

@@ -29,8 +29,9 @@ RIGID_SHEAR = 1e3
 multiple of MID2's E / (2 (1 + NU)) T (:func:`reference_shear` for a MAT8)."""
 
 
-def mat1(bdf, mid, where: str):
-    """A MAT1 for a shell or solid, its fields checked."""
+def mat1(bdf, mid, where: str, solid: bool = False):
+    """A MAT1 for a shell or solid, its fields checked: NU in (-1, 0.5] (QRG MAT1), 0.5
+    refused for a ``solid`` (its bulk modulus E / (3 (1 - 2 NU)) infinite)."""
     mat = bdf.materials.get(mid)
     if mat is None:
         raise InputError(f"{where}: {undefined_material(bdf, mid)}")
@@ -42,8 +43,9 @@ def mat1(bdf, mid, where: str):
             in_range(getattr(mat, name), f"MAT1 {mid}: {name.upper()}")
     if not (mat.e and mat.e > 0):
         raise InputError(f"MAT1 {mid}: E must be > 0 for a shell or solid, got {mat.e}")
-    if mat.nu is None or not -1.0 < mat.nu < 0.5:
-        raise InputError(f"MAT1 {mid}: NU = {mat.nu} must be in (-1, 0.5) for a shell or solid")
+    if mat.nu is None or not -1.0 < mat.nu <= 0.5 or (solid and mat.nu == 0.5):
+        limits = "(-1, 0.5) for a solid" if solid else "(-1, 0.5] for a shell"
+        raise InputError(f"MAT1 {mid}: NU = {mat.nu} must be in {limits}")
     if (mat.rho or 0.0) < 0:
         raise InputError(f"MAT1 {mid}: negative density RHO = {mat.rho:g}")
     if (mat.g or 0.0) < 0:

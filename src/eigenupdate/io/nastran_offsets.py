@@ -113,7 +113,7 @@ def stiffness_parts(elem, xyz: np.ndarray, cm, cb, cs, k6rot: float, labels: lis
     if elem is quadratic:  # its blocks are global: the offset enters its geometry
         return quadratic.local_parts(xyz, cm, cb, cs, k6rot, labels,
                                      offset=zk if np.any(zk) else None,
-                                     coupling=kw.get("coupling"))
+                                     coupling=kw.get("coupling"), profile=kw.get("profile"))
     R, parts = elem.local_parts(xyz, cm, cb, cs, k6rot, labels, **kw)
     if xyz.shape[1] == 4:
         _warn_warp(xyz, R, labels)
@@ -140,12 +140,16 @@ def unit_masses(elem, xyz: np.ndarray, lumped: bool, labels: list[str], zo: np.n
     """The masses per unit m0, m1, m2 (:func:`mass_moments`; global axes): CQUAD4's and
     CTRIA3's translation, first and second moment (per unit thickness with the corners'
     ``profile``, :func:`eigenupdate.model.shells.shell_mass`); a quadratic element's
-    translation on its reference surface, or with ``off_surface`` (a property's mass off
-    it, :func:`off_surface`) its three of :mod:`eigenupdate.model.shells_quadratic_mass`."""
+    translation on its reference surface (its ``profile`` too), or with ``off_surface``
+    (a property's mass off it, :func:`off_surface`) its three of
+    :mod:`eigenupdate.model.shells_quadratic_mass`."""
     if elem is quadratic and off_surface:
+        if profile is not None:  # a laminate's (nastran_corners refuses its taper)
+            raise ValueError("a mass off the reference surface with a profile is not formed")
         return shells_quadratic_mass.unit_masses(xyz, lumped, labels, zo)
     if elem is quadratic:
-        return [quadratic.shell_mass(xyz, lumped, labels, zo if np.any(zo) else None)]
+        return [quadratic.shell_mass(xyz, lumped, labels, zo if np.any(zo) else None,
+                                     profile)]
     out = [shells.shell_mass(xyz, lumped, labels, profile)]
     if np.any(moments[1:]) or np.any(zo):  # a mass off the grid plane
         out += list(shell_offsets.offset_mass(xyz, lumped, labels, profile))

@@ -84,6 +84,11 @@ integrate constant strains exactly (the patch test holds); B = 0 is the plain el
 A mass off the reference surface (a stack's first moment): :mod:`~eigenupdate.model.
 shells_quadratic_mass`.
 
+Corner thicknesses (NASTRAN's T1-T4): a ``profile`` of nodal thicknesses
+(:func:`nodal_profile`, a mid-side node the mean of its edge's corners) interpolated to
+every integration point, each part taking it to its power and the mass to the first; a
+laminate's coupling with it is not formed.
+
 Mass: translational (no rotary inertia, as :mod:`~eigenupdate.model.shells`),
 consistent ``sum w N_i N_j`` or lumped by the HRZ diagonal scaling (Hinton, Rock &
 Zienkiewicz, Earthq. Eng. Struct. Dyn. 4, 1976: positive nodal masses; the row sums of
@@ -95,7 +100,8 @@ from __future__ import annotations
 import numpy as np
 
 from eigenupdate.errors import InputError
-from eigenupdate.model import laminate, shells
+from eigenupdate.model import shells
+from eigenupdate.model import shells_quadratic_stabilisation as stabilisation
 from eigenupdate.model import shells_transition as transition
 
 STIFFNESS_PARTS = shells.STIFFNESS_PARTS
@@ -105,6 +111,8 @@ MAX_OFFSET = 0.05
 """Largest distance of a CTRIA6's mid-side node from its corners' plane, over
 sqrt(area), that the flat projection accepts (as :data:`eigenupdate.model.shells.MAX_WARP`
 for CQUAD4)."""
+stabilisation_size = stabilisation.stabilisation_size  # CTRIA6's shear, its own module
+stabilisation_ratio = stabilisation.stabilisation_ratio
 
 _QXI = np.array([-1.0, 1.0, 1.0, -1.0, 0.0, 1.0, 0.0, -1.0])
 _QETA = np.array([-1.0, -1.0, 1.0, 1.0, -1.0, 0.0, 1.0, 0.0])
@@ -382,9 +390,25 @@ def offset_geometry(xyz: np.ndarray, offset: np.ndarray | None = None,
     return xyz, V
 
 
+def nodal_profile(corners: np.ndarray) -> np.ndarray:
+    """Thickness (n, k) at every node of CQUAD8 (k = 8) or CTRIA6 (6) from its corners'
+    (n, 4) or (n, 3) (T1-T4, NASTRAN's corner thicknesses): a mid-side node the mean of
+    its edge's corners. The shape functions then interpolate the corners' bilinear
+    (CQUAD8) or linear (CTRIA6) field exactly: the serendipity and quadratic bases
+    contain it, and its values at the mid-sides are those means.
+
+    >>> nodal_profile(np.array([[1.0, 0.5, 0.5, 1.0]])).tolist()
+    [[1.0, 0.5, 0.5, 1.0, 0.75, 0.5, 0.75, 1.0]]
+    """
+    corners = np.asarray(corners, float)
+    k = {4: 8, 3: 6}[corners.shape[1]]
+    return np.concatenate([corners, corners[:, transition.EDGES[k]].mean(axis=2)], axis=1)
+
+
 def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
                 shear: np.ndarray, k6rot: float = K6ROT, labels: list[str] | None = None,
-                offset: np.ndarray | None = None, coupling: np.ndarray | None = None):
+                offset: np.ndarray | None = None, coupling: np.ndarray | None = None,
+                profile: np.ndarray | None = None):
     """As :func:`eigenupdate.model.shells.local_parts` for CQUAD8 (xyz (n, 8, 3)) or
     CTRIA6 (n, 6, 3): axes R and ``{part: (columns, (n, 6k, 6k) block)}`` per unit
     thickness power. The blocks are already in global axes (R is the identity: the
@@ -396,9 +420,15 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     ``coupling`` (n, 3, 3): a laminate's B / T^2 per unit of the membrane's factor: the
     part ``coupling`` (T^2) on the membrane's points, and the bending split (module
     docstring, "Laminates"), B A^-1 B from ``membrane`` and ``coupling``: per unit of
-    the bending's factor when that equals the membrane's, as a PCOMP's (E1 = E2)."""
+    the bending's factor when that equals the membrane's, as a PCOMP's (E1 = E2).
+    ``profile`` (n, k): the thickness at each node over the one the factors take
+    (:func:`nodal_profile`), interpolated by the shape functions to each integration
+    point, where each part takes it to its power (membrane, drilling, shear 1, bending
+    3, as :func:`eigenupdate.model.shells.local_parts`); None: uniform."""
     real, present = transition.fill(xyz)
     n, k = real.shape[:2]
+    if coupling is not None and profile is not None:
+        raise ValueError("coupling with a profile is not formed")
     C = None if present is None else transition.tie(present)
     xyz, V = offset_geometry(real, offset, labels)
     T = _offset_links(real, xyz)
@@ -407,11 +437,13 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
     gd = (1e-6 * k6rot * cm[:, 2, 2]).reshape(n, 1, 1)
     moduli = {"membrane": cm, "bending": cb, "shear": cs, "drilling": gd}
     rows: dict = {name: ([], []) for name in STIFFNESS_PARTS}  # B, w D B of every point
-    points = []
+    points, thick = [], []  # thick: the thickness (n, 1, 1) at each point over the unit
     for rule, names in RULE_PARTS[k]:
         for p, q, weight in _RULES[k][rule]:
             N, R, G, det, Vp, dV, J = _point(xyz, V, k, p, q, C)
             points.append((names, p, q, weight * det, _b_matrices(N, R, G, Vp, dV, V), J))
+            thick.append(None if profile is None else
+                         np.einsum("nk,nk->n", N, profile)[:, None, None])
     if k == 8:  # MITC: the tied covariant strains, turned to the element axes
         full = _RULES[8]["full"]  # the first points: their mean over the square (area 4)
         mean = sum(w * (J @ b["shear"]) for (*_, b, J), (_, _, w)
@@ -443,10 +475,11 @@ def local_parts(xyz: np.ndarray, membrane: np.ndarray, bending: np.ndarray,
         split = cc @ np.linalg.solve(cm, cc)  # B A^-1 B per unit T^3, as cb
         moduli["bending"] = cb - split
         rows[shells.COUPLING] = ([], [])
-    for names, _, _, w, b, _ in points:
+    for (names, _, _, w, b, _), t in zip(points, thick, strict=True):
         for name in names:
             rows[name][0].append(b[name])
-            rows[name][1].append((moduli[name] @ b[name]) * w[:, None, None])
+            db = (moduli[name] @ b[name]) * w[:, None, None]
+            rows[name][1].append(db if t is None else db * t ** shells.THICKNESS_POWER[name])
         if coupling is not None and "membrane" in names:
             rows["bending"][0].append(b["bending"])
             rows["bending"][1].append((split @ b["bending"]) * w[:, None, None])
@@ -477,10 +510,13 @@ def material_axes(xyz: np.ndarray, labels: list[str] | None = None
 
 
 def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None,
-               offset: np.ndarray | None = None) -> np.ndarray:
+               offset: np.ndarray | None = None, profile: np.ndarray | None = None
+               ) -> np.ndarray:
     """Translational mass (n, 6k, 6k) per unit mass per area: consistent or HRZ-lumped;
     with ``offset`` (ZOFFS, n,), on the reference surface of :func:`offset_geometry`
-    rigidly linked to the grids (so moved with it, as the stiffness).
+    rigidly linked to the grids (so moved with it, as the stiffness). ``profile`` (n, k):
+    the mass per area at the nodes over the unit (:func:`local_parts`), interpolated to
+    the integration points (HRZ then scales the diagonal to the element's tapered mass).
 
     Examples
     --------
@@ -500,7 +536,9 @@ def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None,
     m = np.zeros((n, k, k))
     for p, q, weight in _RULES[k]["full"]:
         N, _, _, det, _, _, _ = _point(xyz, V, k, p, q, C)
-        m += (weight * det)[:, None, None] * N[:, :, None] * N[:, None, :]
+        w = weight * det if profile is None else weight * det * np.einsum("nk,nk->n", N,
+                                                                          profile)
+        m += w[:, None, None] * N[:, :, None] * N[:, None, :]
     if lumped:
         d = np.einsum("nii->ni", m)
         d = d * (m.sum(axis=(1, 2)) / d.sum(axis=1))[:, None]
@@ -511,51 +549,6 @@ def shell_mass(xyz: np.ndarray, lumped: bool, labels: list[str] | None = None,
     if offset is None or not np.any(offset):
         return out  # at the grids: a CTRIA6's projection changes only its stiffness
     return _linked(out, _offset_links(real, xyz))
-
-
-def stabilisation_size(xyz: np.ndarray) -> np.ndarray:
-    """h_e (n,) of :func:`eigenupdate.model.shells.shear_thickness`: half a CTRIA6's
-    longest corner-to-corner edge, 0 for a CQUAD8 (MITC8 shear needs none)."""
-    xyz, present = transition.fill(xyz)
-    if xyz.shape[1] == 8:
-        return np.zeros(xyz.shape[0])
-    return transition.edge_spacing(xyz, present)
-
-
-def stabilisation_ratio(bending: np.ndarray, shear: np.ndarray,
-                        membrane: np.ndarray | None = None,
-                        coupling: np.ndarray | None = None) -> np.ndarray:
-    """rho (n,) scaling CTRIA6's alpha h_e^2 (:func:`stabilisation_size` times sqrt(rho)):
-    the transverse shear stiffness over the bending's, H T^2 / (6 k (U1 - U4)), against
-    an isotropic plate's (1 for any NU: U1 - U4 = (1 - NU) D there, k = 5/6). The
-    stabilisation's added shear compliance alpha h^2 / (H T^2) then is alpha h^2 /
-    (6 k (U1 - U4)): a fraction of the bending's, as Lyly & Stenberg's T^2 is for an
-    isotropic plate, whatever H. U1 - U4 = (D11 + D22) / 4 - D12 / 2 + D66 and the trace
-    of H are invariant under turning the axes. ``bending`` (n, 3, 3) and ``shear``
-    (n, 2, 2): moduli per T^3 and per T; rho = 1 where either is zero. With ``coupling``
-    (B / T^2, :func:`local_parts`) and ``membrane`` (per T), the bending is the coupled
-    section's D - B A^-1 B. For plies of one material and B = 0 rho is that material's
-    (U1 - U4 and tr H are sums over the plies of a ply's invariants), whatever the stack.
-
-    A shear-soft laminate ([0/90/90/0], E1/G13 = 50: rho 0.10) was stabilised ten times
-    too much: -6.7, -1.9 % at 4, 8 per side against Navier (a/h = 100), -0.51 % at 16.
-
-    >>> from eigenupdate.model.shells import pshell_moduli
-    >>> [round(float(stabilisation_ratio(*pshell_moduli(1.0, nu)[1:])[0]), 12)
-    ...  for nu in (0.0, 0.3, 0.45)]
-    [1.0, 1.0, 1.0]
-    """
-    cb, cs = np.asarray(bending, float), np.asarray(shear, float)
-    if coupling is not None and np.any(coupling):
-        cc, cm = np.asarray(coupling, float), np.asarray(membrane, float)
-        ok = np.linalg.det(cm) > 0  # no membrane: no coupled bending
-        safe = np.where(ok[..., None, None], cm, np.eye(3))
-        cb = cb - np.where(ok[..., None, None], cc @ np.linalg.solve(safe, cc), 0.0)
-    u = (cb[..., 0, 0] + cb[..., 1, 1]) / 4 - cb[..., 0, 1] / 2 + cb[..., 2, 2]
-    h = (cs[..., 0, 0] + cs[..., 1, 1]) / 2
-    with np.errstate(invalid="ignore", divide="ignore"):
-        r = h / (6 * laminate.SHEAR_FACTOR * u)
-    return np.where(np.isfinite(r) & (r > 0), r, 1.0)
 
 
 def pshell_matrices(xyz: np.ndarray, T: np.ndarray, membrane: np.ndarray,

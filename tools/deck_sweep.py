@@ -42,6 +42,8 @@ CONTINUUM = ("CQUAD", "CTRIA", "CSHEAR", "CHEXA", "CPENTA", "CTETRA", "CPYRAM")
 
 def decks(folder: Path) -> tuple[list[Path], list[Path]]:
     """(decks, include-only fragments) under ``folder``."""
+    from eigenupdate.io.nastran_include import local_name
+
     files = sorted(p for p in folder.rglob("*") if p.is_file()
                    and p.suffix.lower() in EXTENSIONS)
     included: set[Path] = set()
@@ -49,7 +51,7 @@ def decks(folder: Path) -> tuple[list[Path], list[Path]]:
         for line in p.read_text(errors="replace").splitlines():
             m = _INCLUDE.match(line)
             if m:
-                included.add((p.parent / m.group(1).strip()).resolve())
+                included.add((p.parent / local_name(m.group(1).strip())).resolve())
     main, fragments = [], []
     for p in files:
         text = p.read_text(errors="replace").splitlines()

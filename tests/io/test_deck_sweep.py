@@ -79,6 +79,16 @@ def test_included_files_are_fragments(tmp_path):
     assert sorted(p.name for p in fragments) == ["geom.inc", "loads.blk"]
 
 
+def test_an_include_with_windows_separators_names_a_fragment(tmp_path):
+    """NASTRAN_CoFE's superelement decks: INCLUDE '..\\se0.dat' (was swept as a deck)."""
+    (tmp_path / "job").mkdir()
+    (tmp_path / "job" / "main.bdf").write_text("BEGIN BULK\nINCLUDE '..\\se0.dat'\nENDDATA\n")
+    (tmp_path / "se0.dat").write_text("GRID,1,,0.,0.,0.\n")
+    found, fragments = deck_sweep.decks(tmp_path)
+    assert [p.name for p in found] == ["main.bdf"]
+    assert [p.name for p in fragments] == ["se0.dat"]
+
+
 def test_ref_json_that_names_the_deck_is_the_reference(tmp_path):
     """The layout of ../shared/data/nastran/: ref.json's cycles_hz, for the deck it names
     (another deck of the folder has none from it); a NASTRAN-95 .inp deck is a deck."""

@@ -1,8 +1,9 @@
 """Reading a NASTRAN deck as NASTRAN reads it, through pyNastran.
 
-:func:`load_deck` expands every INCLUDE itself (a relative path is looked up in the
-directory of the file that includes it, then in the main deck's, the job's directory where
-NASTRAN runs it: decks written by SimXpert nest INCLUDEs relative to the job), hands
+:func:`load_deck` expands every INCLUDE itself (:mod:`eigenupdate.io.nastran_include`: a
+relative path is looked up in the directory of the file that includes it, then in the main
+deck's, the job's directory where NASTRAN runs it; names and files as pre-processors
+write them on Windows), hands
 the text to pyNastran with its log silenced and stdout captured (no
 ``pyNastran_crash.bdf`` can be written: pyNastran never sees an INCLUDE), remembers where
 each card starts (``file:line``) for the messages, and sorts the cards into
@@ -22,7 +23,6 @@ which pyNastran does not know, is dropped as well.
 from __future__ import annotations
 
 import contextlib
-import filecmp
 import io
 import math
 import re
@@ -36,7 +36,6 @@ from eigenupdate.budget import require
 from eigenupdate.errors import EigenupdateWarning, InputError
 from eigenupdate.io import nastran_genel as genel
 from eigenupdate.io import nastran_solution
-from eigenupdate.io.inputs import require_size
 from eigenupdate.io.nastran_blame import (
     FIRST,
     blamed_card,
@@ -45,6 +44,7 @@ from eigenupdate.io.nastran_blame import (
     place,
     replication_line,
 )
+from eigenupdate.io.nastran_include import expand
 from eigenupdate.io.nastran_plates95 import CARDS as PLATES95
 
 # cards that define K, M or the coordinates and are assembled (io/nastran.py)
@@ -110,6 +110,11 @@ PARAMS_READ = frozenset({"WTMASS", "COUPMASS", "AUTOSPC", "K6ROT", "SNORM", "CK2
 TEMPERATURE_TABLES = frozenset({"MATT1", "MATT8"})
 _TEMPERATURE = re.compile(r"^\s*TEMP", re.IGNORECASE)
 _APPROACH = re.compile(r"^\s*APP\b", re.IGNORECASE)
+# case control's ECHOON/ECHOOFF (MSC QRG: they turn the input echo on and off), which
+# pyNastran takes for ECHO = ... and fails on (no '=')
+_ECHO = re.compile(r"^\s*ECHO(ON|OFF)\b", re.IGNORECASE)
+_ENDDATA = re.compile(r"^\s*ENDDATA\b", re.IGNORECASE)
+_BEGIN_BULK = re.compile(r"^\s*BEGIN[\s,]+BULK\b", re.IGNORECASE)
 
 
 @dataclass
@@ -200,80 +205,6 @@ class _Blanks:
         return obj
 
 
-MAX_INCLUDE_DEPTH = 100
-"""Deepest INCLUDE nesting read (each level is a frame of :func:`_expand`'s recursion)."""
-_INCLUDE = re.compile(r"^\s*INCLUDE\s*(.*)$", re.IGNORECASE)
-
-
-def _expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tuple,
-            included: list | None = None) -> None:
-    """Append ``path``'s lines to ``out`` with every INCLUDE replaced by its file's lines
-    (relative to ``path``'s directory, else to the main deck's, ``stack[0]``);
-    ``origin[i]`` is where ``out[i]`` came from, and ``included`` collects the files included."""
-    if path.exists() and not path.is_file():  # a directory, /dev/zero, a pipe: unbounded
-        raise InputError(f"cannot read {path}: not a regular file")
-    try:
-        require_size(path, path.stat().st_size, "NASTRAN file")
-        text = path.read_text(errors="replace")
-    except OSError as exc:
-        raise InputError(f"cannot read {path}: {exc.strerror or exc}") from None
-    lines = text.splitlines()
-    i = 0
-    while i < len(lines):
-        m = _INCLUDE.match(lines[i].split("$")[0]) if not lines[i].startswith("$") else None
-        if m is None:
-            out.append(lines[i])
-            origin.append((path.name, i + 1))
-            i += 1
-            continue
-        start, spec = i, m.group(1).strip()
-        # a quoted file name may continue on the next lines
-        while spec.startswith("'") and (spec.count("'") < 2) and i + 1 < len(lines):
-            i += 1
-            spec += lines[i].split("$")[0].strip()
-        i += 1
-        name = spec.strip().strip("'").strip()
-        if not name:
-            raise InputError(f"{path.name}:{start + 1}: INCLUDE without a file name")
-        folders = list(dict.fromkeys((path.parent, stack[0].parent)))
-        try:
-            found = list(dict.fromkeys((f / name).resolve() for f in folders
-                                       if (f / name).is_file()))
-            target = found[0] if found else (path.parent / name).resolve()
-        except (OSError, RuntimeError, ValueError) as exc:  # a symlink loop, a NUL byte
-            raise InputError(f"{path.name}:{start + 1}: INCLUDE {name!r} cannot be opened: "
-                             f"{exc}") from None
-        if len(found) > 1 and not _same_content(found[0], found[1]):
-            # two different files answer the name: which one NASTRAN takes depends on
-            # its version (the including file's folder, or the job's), so say which
-            warnings.warn(f"{path.name}:{start + 1}: INCLUDE {name} names two different "
-                          f"files, {found[0]} (beside {path.name}: read) and {found[1]} "
-                          f"(beside the main deck)", EigenupdateWarning, stacklevel=2)
-        if target in stack:
-            raise InputError(f"{path.name}:{start + 1}: INCLUDE {name} includes itself")
-        if len(stack) > MAX_INCLUDE_DEPTH:
-            raise InputError(f"{path.name}:{start + 1}: INCLUDE {name}: more than "
-                             f"{MAX_INCLUDE_DEPTH} nested INCLUDE levels")
-        if target.exists() and not target.is_file():  # was "not found" for /dev/zero
-            raise InputError(f"{path.name}:{start + 1}: INCLUDE {name} is not a regular "
-                             f"file (a directory, device or FIFO)")
-        if not target.is_file():
-            raise InputError(f"{path.name}:{start + 1}: INCLUDE file {name} not found "
-                             f"(looked in {' and '.join(str(f) for f in folders)})")
-        if included is not None:
-            included.append(target)
-        _expand(target, out, origin, (*stack, target), included)
-
-
-def _same_content(a: Path, b: Path) -> bool:
-    """Whether two files hold the same bytes: sizes first, then in chunks (bounded
-    memory: the second file is never read whole)."""
-    try:
-        return filecmp.cmp(a, b, shallow=False)
-    except OSError:
-        return False
-
-
 def load_deck(path: str | Path) -> Deck:
     """Read a deck (executive and case control optional) and sort its cards.
 
@@ -287,27 +218,35 @@ def load_deck(path: str | Path) -> Deck:
     lines: list[str] = []
     origin: list[tuple[str, int]] = []
     included: list[Path] = []
-    _expand(path.resolve(), lines, origin, (path.resolve(),), included)
+    expand(path.resolve(), lines, origin, (path.resolve(),), included)
     text = list(lines)
     upper = [x.upper() for x in lines]
     has_cend = any(x.strip().startswith("CEND") for x in upper)
-    begin = next((i for i, x in enumerate(upper) if x.startswith("BEGIN BULK")
-                  or x.startswith("BEGIN,BULK")), None)
+    begins = [i for i, x in enumerate(upper) if _BEGIN_BULK.match(x)]
+    # a plain one again (not MSC's partitioned BEGIN BULK SUPER = n): an INCLUDEd bulk
+    # file that holds its own, whose reading NASTRAN does not document
+    at = [place(":".join(map(str, origin[i])), path.name) for i in begins
+          if re.match(r"\s*BEGIN[\s,]+BULK\s*(\$|$)", upper[i])]
+    if len(at) > 1:
+        raise InputError(f"{at[1]}: BEGIN BULK a second time (first at {at[0]}); an "
+                         f"INCLUDEd bulk data file must not repeat it: remove one",
+                         source=str(path))
+    begin = begins[0] if begins else None
     first = 0
     if not has_cend and begin is not None:  # bulk data only, after BEGIN BULK
         nastran_solution.check(lines, origin, begin, begin, path)  # a SOL line before it
         first = begin + 1
         lines, origin = lines[first:], origin[first:]
     cend = next((i for i, x in enumerate(lines) if x.upper().strip().startswith("CEND")), -1)
-    bulk = next((i for i, x in enumerate(lines) if x.upper().startswith(("BEGIN BULK",
-                                                                         "BEGIN,BULK"))),
-                len(lines))
+    bulk = next((i for i, x in enumerate(lines) if _BEGIN_BULK.match(x)), len(lines))
     temperature = cend >= 0 and any(_TEMPERATURE.match(x) for x in lines[cend + 1:bulk])
     nastran_solution.check(lines, origin, cend, bulk, path)
     # a comment keeps the line numbers
-    lines = ["$" + x if i < cend and _APPROACH.match(x) else x for i, x in enumerate(lines)]
-    lines, origin = _one_per_card(lines, origin)
+    lines = ["$" + x if (i < cend and _APPROACH.match(x)) or (cend < i < bulk and _ECHO.match(x))
+             else x for i, x in enumerate(lines)]
     start = bulk + 1 if bulk < len(lines) else (len(lines) if cend >= 0 else 0)
+    lines, origin = _to_enddata(lines, origin, start, path.name)
+    lines, origin = _one_per_card(lines, origin)
     lines[start:] = [_small_field_marker(x) for x in lines[start:]]
     _free_field_overflow(lines[start:], origin[start:], path)
     _blank_ids(lines[start:], origin[start:], path.name)
@@ -351,6 +290,25 @@ def load_deck(path: str | Path) -> Deck:
                 bulk=first, temperature=temperature)
     _sort_cards(deck)
     return deck
+
+
+def _to_enddata(lines: list[str], origin: list, start: int, main: str) -> tuple[list, list]:
+    """The lines up to the bulk data's ENDDATA (QRG ENDDATA: the end of the Bulk Data
+    Section; NASTRAN and pyNastran read nothing after it), with a warning naming what
+    follows it where that holds data (a bulk file INCLUDEd with its own ENDDATA ends the
+    deck there: the main deck's cards after the INCLUDE are not read)."""
+    ends = [i for i in range(start, len(lines)) if _ENDDATA.match(lines[i])]
+    if not ends:
+        return lines, origin
+    end = ends[0]
+    after = [i for i in range(end + 1, len(lines)) if lines[i].strip() and not
+             lines[i].lstrip().startswith("$") and i not in ends]  # a second ENDDATA: no data
+    if after:
+        warnings.warn(f"{place(':'.join(map(str, origin[end])), main)}: ENDDATA ends the "
+                      f"bulk data: {len(after)} line(s) after it are not read, from "
+                      f"{place(':'.join(map(str, origin[after[0]])), main)} "
+                      f"({lines[after[0]].strip()[:24]!r})", EigenupdateWarning, stacklevel=3)
+    return lines[:end + 1], origin[:end + 1]
 
 
 # NASTRAN-95's scalar elements that may define two elements on one card (User's Manual,

@@ -158,7 +158,7 @@ def test_include_found_in_both_folders_is_named(tmp_path, monkeypatch):
 def test_missing_include_names_file_and_line(tmp_path):
     main = tmp_path / "main.bdf"
     main.write_text("BEGIN BULK\n$ comment\nINCLUDE 'nowhere.bdf'\nENDDATA\n")
-    with pytest.raises(InputError, match=r"main\.bdf:3: INCLUDE file nowhere\.bdf not found"):
+    with pytest.raises(InputError, match=r"main\.bdf: line 3: INCLUDE file nowhere\.bdf not found"):
         read_nastran(main)
 
 

@@ -97,7 +97,7 @@ def test_windows_absolute_names_are_refused_by_name(tmp_path, run_cli, name, why
     line and why (was "not found (looked in ...)", as if it were a relative name)."""
     study = _frame(tmp_path, _included(f"INCLUDE '{name}'"))
     code, _, err = run_cli("frequencies", study)
-    one_line(code, err, f"frame.bdf:14: INCLUDE {name}: {why}", "copy the file beside")
+    one_line(code, err, f"frame.bdf: line 14: INCLUDE {name}: {why}", "copy the file beside")
 
 
 @pytest.mark.parametrize("include, fragment", [
@@ -117,7 +117,7 @@ def test_include_names_not_read_are_refused_in_one_line(tmp_path, run_cli, inclu
     swallowed the rest of the file into the name: a line of 8,000 characters), each
     named with its file and line."""
     code, _, err = run_cli("frequencies", _frame(tmp_path, _included(include)))
-    one_line(code, err, "frame.bdf:14: INCLUDE", fragment)
+    one_line(code, err, "frame.bdf: line 14: INCLUDE", fragment)
     assert len(err) < 400
 
 

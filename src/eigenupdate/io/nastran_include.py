@@ -167,7 +167,8 @@ def expand(path: Path, out: list[str], origin: list[tuple[str, int]], stack: tup
     lines = read_lines(path)
     i = 0
     while i < len(lines):
-        where = f"{path.name}:{i + 1}"
+        # the main deck's own lines as "line N" (the reader prefixes its name), as cards
+        where = f"line {i + 1}" if path == stack[0] else f"{path.name}:{i + 1}"
         found_name = include_name(lines, i, where)
         if found_name is None:
             out.append(lines[i])

@@ -115,6 +115,7 @@ _APPROACH = re.compile(r"^\s*APP\b", re.IGNORECASE)
 _ECHO = re.compile(r"^\s*ECHO(ON|OFF)\b", re.IGNORECASE)
 _ENDDATA = re.compile(r"^\s*ENDDATA\b", re.IGNORECASE)
 _BEGIN_BULK = re.compile(r"^\s*BEGIN[\s,]+BULK\b", re.IGNORECASE)
+_PLAIN_BEGIN_BULK = re.compile(r"^\s*BEGIN[\s,]+BULK\s*(\$|$)", re.IGNORECASE)  # no SUPER
 
 
 @dataclass
@@ -226,7 +227,7 @@ def load_deck(path: str | Path) -> Deck:
     # a plain one again (not MSC's partitioned BEGIN BULK SUPER = n): an INCLUDEd bulk
     # file that holds its own, whose reading NASTRAN does not document
     at = [place(":".join(map(str, origin[i])), path.name) for i in begins
-          if re.match(r"\s*BEGIN[\s,]+BULK\s*(\$|$)", upper[i])]
+          if _PLAIN_BEGIN_BULK.match(upper[i])]
     if len(at) > 1:
         raise InputError(f"{at[1]}: BEGIN BULK a second time (first at {at[0]}); an "
                          f"INCLUDEd bulk data file must not repeat it: remove one",
@@ -297,12 +298,11 @@ def _to_enddata(lines: list[str], origin: list, start: int, main: str) -> tuple[
     Section; NASTRAN and pyNastran read nothing after it), with a warning naming what
     follows it where that holds data (a bulk file INCLUDEd with its own ENDDATA ends the
     deck there: the main deck's cards after the INCLUDE are not read)."""
-    ends = [i for i in range(start, len(lines)) if _ENDDATA.match(lines[i])]
-    if not ends:
+    end = next((i for i in range(start, len(lines)) if _ENDDATA.match(lines[i])), None)
+    if end is None:
         return lines, origin
-    end = ends[0]
-    after = [i for i in range(end + 1, len(lines)) if lines[i].strip() and not
-             lines[i].lstrip().startswith("$") and i not in ends]  # a second ENDDATA: no data
+    after = [i for i in range(end + 1, len(lines)) if lines[i].strip() and not  # a second
+             lines[i].lstrip().startswith("$") and not _ENDDATA.match(lines[i])]  # ENDDATA
     if after:
         warnings.warn(f"{place(':'.join(map(str, origin[end])), main)}: ENDDATA ends the "
                       f"bulk data: {len(after)} line(s) after it are not read, from "
